@@ -1,0 +1,45 @@
+// softpbr/raster/clip.h — culling and clipping in homogeneous clip space.
+//
+// Triangles entirely outside one frustum plane are culled. The rest are clipped only
+// against the planes that matter for correctness: near (z ≥ −w, GL convention), far
+// (z ≤ w), w ≥ kMinClipW (so a triangle partly behind the camera is clipped, never
+// mirrored), and — only when a vertex leaves it — the guard band of setup.h, so fixed
+// point never overflows. Everything else is left to the scissor of the rasterizer.
+//
+// Intersections are always computed from the inside vertex towards the outside one, so an
+// edge shared by two triangles is cut at the same point in both: clipping stays watertight.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+#include "softpbr/raster/setup.h"
+#include "softpbr/raster/shader.h"
+
+namespace softpbr::raster {
+
+// Smallest clip w kept: positions with w below it are behind or at the eye.
+inline constexpr float kMinClipW = 1e-5f;
+
+// Most vertices a clipped triangle can have: 3 + one per clipping plane (7).
+inline constexpr int kMaxClipVertices = 10;
+
+struct ClipVertex {
+  glm::vec4 position;
+  float varyings[kMaxVaryings];
+};
+
+enum class ClipResult : std::uint8_t {
+  Culled,    // nothing left
+  Inside,    // no clipping needed: use the triangle as it is
+  Clipped    // a convex polygon of ≥ 3 vertices in the output
+};
+
+// Classifies a triangle; rejects non-finite positions. When clipping is needed, writes
+// the clipped polygon (positions and `varying_count` varyings) to `out` and its size to
+// `count`.
+ClipResult clip_triangle(const glm::vec4 position[3], const float* const varyings[3], int varying_count,
+                         Viewport viewport, ClipVertex out[kMaxClipVertices], int& count);
+
+}  // namespace softpbr::raster

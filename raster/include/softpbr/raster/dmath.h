@@ -1,0 +1,94 @@
+// softpbr/raster/dmath.h — deterministic elementary functions.
+//
+// Every function here is built from IEEE-754 basic operations (+, −, ×, ÷, sqrt) in a
+// fixed order, so it returns the same bits on every compiler, libm and CPU (DESIGN.md §3).
+// Use them wherever a value can reach an image: libm's sin/cos/pow may differ in the last
+// bit between platforms. All work in double; callers round to float where they store.
+#pragma once
+
+#include <cstdint>
+
+namespace softpbr::dmath {
+
+inline constexpr double kPi = 3.141592653589793238462643383279502884;
+
+namespace detail {
+// sin and cos of r for |r| <= π/4 by their Taylor series to the r^17 / r^16 term:
+// the first omitted term is below (π/4)^19/19! ≈ 1.3e-19, far under double's 2^-53.
+constexpr double sin_kernel(double r) {
+  const double r2 = r * r;
+  double p = 1.0 / 355687428096000.0;                    // 1/17!
+  p = p * r2 - 1.0 / 1307674368000.0;                    // 1/15!
+  p = p * r2 + 1.0 / 6227020800.0;                       // 1/13!
+  p = p * r2 - 1.0 / 39916800.0;                         // 1/11!
+  p = p * r2 + 1.0 / 362880.0;                           // 1/9!
+  p = p * r2 - 1.0 / 5040.0;                             // 1/7!
+  p = p * r2 + 1.0 / 120.0;                              // 1/5!
+  p = p * r2 - 1.0 / 6.0;                                // 1/3!
+  return r + r * r2 * p;
+}
+constexpr double cos_kernel(double r) {
+  const double r2 = r * r;
+  double p = 1.0 / 20922789888000.0;                     // 1/16!
+  p = p * r2 - 1.0 / 87178291200.0;                      // 1/14!
+  p = p * r2 + 1.0 / 479001600.0;                        // 1/12!
+  p = p * r2 - 1.0 / 3628800.0;                          // 1/10!
+  p = p * r2 + 1.0 / 40320.0;                            // 1/8!
+  p = p * r2 - 1.0 / 720.0;                              // 1/6!
+  p = p * r2 + 1.0 / 24.0;                               // 1/4!
+  p = p * r2 - 0.5;                                      // 1/2!
+  return 1.0 + r2 * p;
+}
+// Round to nearest integer (ties away from zero) with basic operations only; exact for
+// |x| < 2^52.
+constexpr double round_int(double x) {
+  return x >= 0 ? static_cast<double>(static_cast<std::int64_t>(x + 0.5))
+                : -static_cast<double>(static_cast<std::int64_t>(-x + 0.5));
+}
+// Cody–Waite reduction: x = k·π/2 + r with π/2 split into three parts so that k·part is
+// exact for |k| < 2^20; accurate for |x| up to about 1e6, which covers angles in scenes.
+struct Reduced {
+  double r;
+  std::int64_t quadrant;
+};
+constexpr Reduced reduce(double x) {
+  constexpr double kTwoOverPi = 0.636619772367581343075535053490057448;
+  constexpr double kPio2_1 = 1.57079632673412561417e+00;  // first 33 bits of π/2
+  constexpr double kPio2_2 = 6.07710050630396597660e-11;  // next 33 bits
+  constexpr double kPio2_3 = 2.02226624879595063154e-21;  // π/2 − (kPio2_1 + kPio2_2)
+  const double k = round_int(x * kTwoOverPi);
+  const double r = ((x - k * kPio2_1) - k * kPio2_2) - k * kPio2_3;
+  return {r, static_cast<std::int64_t>(k)};
+}
+}  // namespace detail
+
+// sin(x), accurate to a few ulp for |x| <= 1e6; NaN for non-finite x.
+constexpr double sin(double x) {
+  if (!(x - x == 0.0)) return x - x;  // NaN or ±Inf → NaN
+  const auto [r, q] = detail::reduce(x);
+  switch (q & 3) {
+    case 0: return detail::sin_kernel(r);
+    case 1: return detail::cos_kernel(r);
+    case 2: return -detail::sin_kernel(r);
+    default: return -detail::cos_kernel(r);
+  }
+}
+
+// cos(x), accurate to a few ulp for |x| <= 1e6; NaN for non-finite x.
+constexpr double cos(double x) {
+  if (!(x - x == 0.0)) return x - x;
+  const auto [r, q] = detail::reduce(x);
+  switch (q & 3) {
+    case 0: return detail::cos_kernel(r);
+    case 1: return -detail::sin_kernel(r);
+    case 2: return -detail::cos_kernel(r);
+    default: return detail::sin_kernel(r);
+  }
+}
+
+// tan(x) = sin(x)/cos(x): one correctly rounded division of two deterministic values.
+constexpr double tan(double x) { return sin(x) / cos(x); }
+
+constexpr double radians(double degrees) { return degrees * (kPi / 180.0); }
+
+}  // namespace softpbr::dmath

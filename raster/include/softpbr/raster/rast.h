@@ -1,0 +1,161 @@
+// softpbr/raster/rast.h — the tile kernel: coverage, depth, interpolation and shading.
+//
+// One thread owns a tile at a time; inside it the triangles of a draw run in submission
+// order. Each triangle is walked in 2×2 quads aligned to even pixel coordinates (tiles
+// have even sizes, so a quad never straddles two tiles). Every value a pixel gets — edge
+// functions, depth, varyings, derivatives — is computed from the triangle's plane
+// equations at that pixel alone, never accumulated along a span, so it cannot depend on
+// where a tile or span starts.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+#include "softpbr/raster/bin.h"
+#include "softpbr/raster/shader.h"
+#include "softpbr/raster/target.h"
+#include "softpbr/raster/vertex.h"
+
+namespace softpbr::raster {
+
+namespace detail {
+
+inline bool depth_passes(DepthTest test, float z, float stored) {
+  switch (test) {
+    case DepthTest::Less: return z < stored;
+    case DepthTest::LessEqual: return z <= stored;
+    default: return true;
+  }
+}
+
+inline glm::vec4 blend(Blend mode, glm::vec4 src, glm::vec4 dst) {
+  if (mode == Blend::Replace) return src;
+  const float k = 1.0f - src.a;  // premultiplied "over"
+  return {src.r + dst.r * k, src.g + dst.g * k, src.b + dst.b * k, src.a + dst.a * k};
+}
+
+template <Shader S>
+void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
+                     const Triangle& t, const TileRect& tile, Target& target) {
+  using V = typename S::Varyings;
+  constexpr int kN = kVaryingCount<V>;
+  constexpr std::int64_t kStep = kSubpixelScale;  // one pixel in fixed point
+  constexpr std::int64_t kHalf = kSubpixelScale / 2;
+
+  // Quads cover [x0, x1] × [y0, y1]; tile origins are even, so x0, y0 stay inside it.
+  const int x0 = std::max(t.min_x, tile.x0) & ~1;
+  const int y0 = std::max(t.min_y, tile.y0) & ~1;
+  const int x1 = std::min(t.max_x, tile.x1 - 1);
+  const int y1 = std::min(t.max_y, tile.y1 - 1);
+  if (x0 > x1 || y0 > y1) return;
+
+  // Varyings as v0 + λ1·(v1 − v0) + λ2·(v2 − v0), with perspective-correct λ.
+  float v0[kN > 0 ? kN : 1], d1[kN > 0 ? kN : 1], d2[kN > 0 ? kN : 1];
+  {
+    const float* p0 = geometry.varyings(chunk, t.vertex[0]);
+    const float* p1 = geometry.varyings(chunk, t.vertex[1]);
+    const float* p2 = geometry.varyings(chunk, t.vertex[2]);
+    for (int k = 0; k < kN; ++k) {
+      v0[k] = p0[k];
+      d1[k] = p1[k] - p0[k];
+      d2[k] = p2[k] - p0[k];
+    }
+  }
+
+  const DrawState& state = geometry.state;
+  const int width = target.width();
+  glm::vec4* colors = target.colors().data();
+  float* depths = target.depths().data();
+
+  for (int qy = y0; qy <= y1; qy += 2) {
+    const std::int64_t sy = qy * kStep + kHalf;
+    for (int qx = x0; qx <= x1; qx += 2) {
+      const std::int64_t sx = qx * kStep + kHalf;
+      // Lanes: 0 = (qx, qy), 1 = (qx+1, qy), 2 = (qx, qy+1), 3 = (qx+1, qy+1).
+      const int lane_x[4] = {qx, qx + 1, qx, qx + 1};
+      const int lane_y[4] = {qy, qy, qy + 1, qy + 1};
+      std::int64_t e[3][4];
+      for (int i = 0; i < 3; ++i) {
+        e[i][0] = t.a[i] * sx + t.b[i] * sy + t.c[i];
+        e[i][1] = e[i][0] + t.a[i] * kStep;
+        e[i][2] = e[i][0] + t.b[i] * kStep;
+        e[i][3] = e[i][1] + t.b[i] * kStep;
+      }
+      unsigned mask = 0;
+      for (int j = 0; j < 4; ++j) {
+        const bool inside = (e[0][j] | e[1][j] | e[2][j]) >= 0;  // all three non-negative
+        if (inside && lane_x[j] < tile.x1 && lane_y[j] < tile.y1) mask |= 1u << j;
+      }
+      if (mask == 0) continue;
+
+      // Unbiased edge values as floats: the screen-space barycentric weights × 2·area.
+      float w[3][4];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) w[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
+
+      // Early depth test (shaders cannot change depth).
+      float z[4];
+      for (int j = 0; j < 4; ++j) {
+        if (!(mask & (1u << j))) continue;
+        const float l1 = w[1][j] * t.inv_area;
+        const float l2 = w[2][j] * t.inv_area;
+        z[j] = std::clamp(t.z0 + l1 * t.dz1 + l2 * t.dz2, 0.0f, 1.0f);
+        const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+        if (!depth_passes(state.depth_test, z[j], depths[idx])) mask &= ~(1u << j);
+      }
+      if (mask == 0) continue;
+
+      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives).
+      float values[4][kN > 0 ? kN : 1];
+      for (int j = 0; j < 4; ++j) {
+        const float a0 = w[0][j] * t.inv_w[0];
+        const float a1 = w[1][j] * t.inv_w[1];
+        const float a2 = w[2][j] * t.inv_w[2];
+        const float s = a0 + a1 + a2;
+        float b1 = 0.0f, b2 = 0.0f;  // beyond the horizon (helper lanes only): use v0
+        if (s > 0.0f) {
+          const float rs = 1.0f / s;
+          b1 = a1 * rs;
+          b2 = a2 * rs;
+        }
+        for (int k = 0; k < kN; ++k) values[j][k] = v0[k] + b1 * d1[k] + b2 * d2[k];
+      }
+      float ddx[kN > 0 ? kN : 1], ddy[kN > 0 ? kN : 1];
+      for (int k = 0; k < kN; ++k) {
+        ddx[k] = values[1][k] - values[0][k];
+        ddy[k] = values[2][k] - values[0][k];
+      }
+      const V vddx = varyings_from_floats<V>(ddx);
+      const V vddy = varyings_from_floats<V>(ddy);
+
+      for (int j = 0; j < 4; ++j) {
+        if (!(mask & (1u << j))) continue;
+        const Fragment<V> f{varyings_from_floats<V>(values[j]),
+                            vddx,
+                            vddy,
+                            {static_cast<float>(lane_x[j]) + 0.5f, static_cast<float>(lane_y[j]) + 0.5f},
+                            z[j],
+                            t.front_facing};
+        const glm::vec4 src = shader.fragment(f);
+        const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+        colors[idx] = blend(state.blend, src, colors[idx]);
+        if (state.depth_write) depths[idx] = z[j];
+      }
+    }
+  }
+}
+
+}  // namespace detail
+
+// Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`.
+template <Shader S>
+void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
+                 Target& target) {
+  for (const TriangleChunk& chunk : geometry.chunks)
+    for (const std::uint32_t i : chunk.tile(tile))
+      detail::raster_triangle(shader, geometry, chunk, chunk.triangles[i], rect, target);
+}
+
+}  // namespace softpbr::raster

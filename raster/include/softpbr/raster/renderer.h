@@ -1,0 +1,109 @@
+// softpbr/raster/renderer.h — the Renderer: frames of draws, on a pool of threads.
+//
+//   softpbr::raster::Renderer renderer({.threads = 0, .tile_size = 64});
+//   softpbr::raster::Target target(640, 480);
+//   target.clear({0, 0, 0, 1});
+//   renderer.begin_frame(target);
+//   renderer.draw(my_shader, vertices, indices);        // any number, any shader types
+//   renderer.end_frame();                               // rasterizes every tile
+//
+// draw() runs the vertex stage, clipping, setup and binning at once (in parallel) and
+// keeps a copy of the shader; end_frame() rasterizes the tiles in parallel, each tile on
+// one thread, each tile's triangles in submission order across all draws of the frame.
+// The image is bit-identical for every thread count and tile size.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <span>
+#include <stdexcept>
+#include <vector>
+
+#include "softpbr/raster/bin.h"
+#include "softpbr/raster/pool.h"
+#include "softpbr/raster/rast.h"
+#include "softpbr/raster/shader.h"
+#include "softpbr/raster/target.h"
+#include "softpbr/raster/vertex.h"
+
+namespace softpbr::raster {
+
+struct RendererOptions {
+  unsigned threads = 0;  // 0: all hardware threads; 1: everything inline on the caller
+  int tile_size = 64;    // even, in [kMinTileSize, kMaxTileSize]
+};
+
+inline constexpr int kMinTileSize = 8;
+inline constexpr int kMaxTileSize = 4096;
+
+class Renderer {
+ public:
+  // Throws std::invalid_argument for a tile size that is odd or out of range.
+  explicit Renderer(RendererOptions options = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  unsigned threads() const { return pool_.size(); }
+  int tile_size() const { return tile_size_; }
+
+  // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
+  // if a frame is already open.
+  void begin_frame(Target& target);
+
+  // Draws indexed triangles (three indices each). Throws std::logic_error outside a
+  // frame, std::invalid_argument if indices.size() is not a multiple of 3 and
+  // std::out_of_range for an index past the vertices; nothing is drawn then.
+  template <Shader S>
+  void draw(const S& shader, std::span<const typename S::Vertex> vertices, std::span<const std::uint32_t> indices,
+            const DrawState& state = {}) {
+    require_frame();
+    validate_indices(indices, vertices.size());
+    auto call = std::make_unique<TypedDrawCall<S>>(shader);
+    call->geometry.state = state;
+    run_vertex_stage(pool_, call->shader, vertices, call->geometry.vertices);
+    assemble_triangles(pool_, indices, grid_, call->geometry);
+    draws_.push_back(std::move(call));
+  }
+
+  // Draws vertices 3k, 3k+1, 3k+2 as triangle k; the count must be a multiple of 3.
+  template <Shader S>
+  void draw(const S& shader, std::span<const typename S::Vertex> vertices, const DrawState& state = {}) {
+    if (vertices.size() > std::numeric_limits<std::uint32_t>::max())
+      throw std::length_error("Renderer::draw: more than 2^32 - 1 vertices");
+    std::vector<std::uint32_t> indices(vertices.size());  // validated: a multiple of 3
+    std::iota(indices.begin(), indices.end(), 0u);
+    draw(shader, vertices, indices, state);
+  }
+
+  // Rasterizes the frame's draws into the target and closes the frame.
+  void end_frame();
+
+ private:
+  struct DrawCall {
+    virtual ~DrawCall() = default;
+    // One virtual call per draw and tile; the shader inlines inside.
+    virtual void raster(std::size_t tile, const TileRect& rect, Target& target) const = 0;
+    DrawGeometry geometry;
+  };
+  template <Shader S>
+  struct TypedDrawCall final : DrawCall {
+    explicit TypedDrawCall(const S& s) : shader(s) {}
+    void raster(std::size_t tile, const TileRect& rect, Target& target) const override {
+      raster_tile(shader, this->geometry, tile, rect, target);
+    }
+    S shader;
+  };
+
+  void require_frame() const;
+
+  ThreadPool pool_;
+  int tile_size_;
+  Target* target_ = nullptr;
+  TileGrid grid_;
+  std::vector<std::unique_ptr<DrawCall>> draws_;
+};
+
+}  // namespace softpbr::raster

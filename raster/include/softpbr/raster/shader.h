@@ -1,0 +1,80 @@
+// softpbr/raster/shader.h — the shader interface: C++ types inlined into the pipeline.
+//
+// A shader is a plain type with
+//   using Vertex   = ...;   // what the user's vertex buffer holds
+//   using Varyings = ...;   // what the vertex stage hands to the fragment stage: a
+//                           // trivially copyable struct of floats only (glm vectors are
+//                           // fine), at most kMaxVaryings floats, or an empty struct
+//   glm::vec4 vertex(const Vertex& in, Varyings& out) const;   // → clip-space position
+//   glm::vec4 fragment(const Fragment<Varyings>& f) const;     // → colour
+// draw<Shader>() instantiates the tile kernel for the type, so both stages inline; no
+// virtual call happens per vertex or per pixel. Uniforms are the shader's members; the
+// renderer keeps a copy of the shader until the frame ends.
+//
+// Fragments are shaded in 2×2 quads. Each fragment gets its varyings interpolated
+// (perspective-correct) at its pixel centre and the quad's screen-space derivatives
+// (coarse: ddx = v(x+1, y) − v(x, y), ddy = v(x, y+1) − v(x, y) taken at the quad's
+// top-left pixel, as GL's dFdxCoarse). Lanes of a quad outside the triangle ("helper
+// lanes") only feed the derivatives: they are never shaded and never write.
+//
+// A SIMD packet path will shade the same quads with a lane type in place of float; it
+// computes every value with the same operations in the same order, so it cannot change
+// what a shader written against this interface means, nor an image bit.
+#pragma once
+
+#include <concepts>
+#include <cstdint>
+#include <type_traits>
+
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+namespace softpbr::raster {
+
+// Most floats one vertex may pass to the fragment stage.
+inline constexpr int kMaxVaryings = 32;
+
+template <class V>
+struct Fragment {
+  V v;             // varyings at the pixel centre
+  V ddx;           // quad derivative along +x (one pixel right)
+  V ddy;           // quad derivative along +y (one pixel down)
+  glm::vec2 pos;   // pixel centre in pixels, (0.5, 0.5) at the top-left pixel
+  float depth;     // window depth in [0, 1]
+  bool front_facing;
+};
+
+template <class V>
+concept VaryingsType = std::is_trivially_copyable_v<V> && std::is_default_constructible_v<V> &&
+                       (std::is_empty_v<V> || (sizeof(V) % sizeof(float) == 0 &&
+                                               sizeof(V) <= kMaxVaryings * sizeof(float)));
+
+template <class S>
+concept Shader = VaryingsType<typename S::Varyings> && std::is_copy_constructible_v<S> &&
+                 requires(const S& s, const typename S::Vertex& in, typename S::Varyings& out,
+                          const Fragment<typename S::Varyings>& f) {
+                   { s.vertex(in, out) } -> std::convertible_to<glm::vec4>;
+                   { s.fragment(f) } -> std::convertible_to<glm::vec4>;
+                 };
+
+// Number of floats in a varyings struct.
+template <class V>
+inline constexpr int kVaryingCount = std::is_empty_v<V> ? 0 : static_cast<int>(sizeof(V) / sizeof(float));
+
+enum class DepthTest : std::uint8_t { Less, LessEqual, Always };
+enum class Cull : std::uint8_t { None, Back, Front };
+enum class FrontFace : std::uint8_t { CounterClockwise, Clockwise };  // as seen on screen
+enum class Blend : std::uint8_t {
+  Replace,  // dst = src
+  Over      // premultiplied "over": dst = src + dst · (1 − src.a)
+};
+
+struct DrawState {
+  DepthTest depth_test = DepthTest::Less;
+  bool depth_write = true;
+  Cull cull = Cull::None;
+  FrontFace front_face = FrontFace::CounterClockwise;
+  Blend blend = Blend::Replace;
+};
+
+}  // namespace softpbr::raster

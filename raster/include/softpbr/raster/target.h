@@ -1,0 +1,75 @@
+// softpbr/raster/target.h — render targets (float RGBA colour + float depth) and 8-bit images.
+//
+// A Target is what a frame draws into: linear float RGBA (straight values as the shaders
+// write them; the "over" blend expects premultiplied alpha) and a float depth buffer,
+// row-major with row 0 at the top of the image.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+namespace softpbr::raster {
+
+// Largest width or height of a target: keeps fixed-point edge functions inside int64
+// (see setup.h) and a full target under 16384² × 20 bytes ≈ 5 GiB.
+inline constexpr int kMaxTargetSize = 16384;
+
+class Target {
+ public:
+  // Throws std::invalid_argument unless 1 <= width, height <= kMaxTargetSize.
+  Target(int width, int height);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+  void clear(glm::vec4 color = {0, 0, 0, 1}, float depth = 1.0f);
+  void clear_color(glm::vec4 color);
+  void clear_depth(float depth);
+
+  // Direct access to the pixels: index y * width() + x.
+  std::span<glm::vec4> colors() { return color_; }
+  std::span<const glm::vec4> colors() const { return color_; }
+  std::span<float> depths() { return depth_; }
+  std::span<const float> depths() const { return depth_; }
+  glm::vec4& color(int x, int y) { return color_[index(x, y)]; }
+  const glm::vec4& color(int x, int y) const { return color_[index(x, y)]; }
+  float& depth(int x, int y) { return depth_[index(x, y)]; }
+  float depth(int x, int y) const { return depth_[index(x, y)]; }
+
+ private:
+  std::size_t index(int x, int y) const {
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
+  }
+  int width_;
+  int height_;
+  std::vector<glm::vec4> color_;
+  std::vector<float> depth_;
+};
+
+// An 8-bit RGBA image, row-major, row 0 at the top.
+struct Image8 {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;  // width * height * 4 bytes
+};
+
+// Linear colour → 8-bit sRGB (colour channels through the exact sRGB curve, alpha
+// linear). Values are clamped to [0, 1]; NaN becomes 0. Tone mapping belongs to pbr/.
+Image8 resolve_srgb8(const Target& target);
+
+// Writes a PNG with stb_image_write. The file is written to a temporary name in the same
+// folder and renamed, so a failure never leaves a partial image. Throws std::runtime_error
+// naming the path on failure.
+void write_png(const std::filesystem::path& path, const Image8& image);
+
+// 64-bit FNV-1a over the colour buffer's float bits (little-endian byte order, row-major,
+// RGBA): equal hashes mean equal pixels, for determinism tests and golden checks.
+std::uint64_t hash_colors(const Target& target);
+// The same over the depth buffer.
+std::uint64_t hash_depths(const Target& target);
+
+}  // namespace softpbr::raster

@@ -1,0 +1,76 @@
+// softpbr/raster/vertex.h — the vertex stage: the shader's vertex() over a vertex buffer.
+//
+// Every vertex is transformed exactly once into the post-transform buffer (clip-space
+// position + varyings), in parallel chunks; indexed triangles then share the results.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "softpbr/raster/pool.h"
+#include "softpbr/raster/shader.h"
+
+namespace softpbr::raster {
+
+// Vertices per parallel task of the vertex stage.
+inline constexpr std::size_t kVertexChunk = 4096;
+
+struct TransformedVertices {
+  int varyings = 0;                // floats per vertex
+  std::vector<glm::vec4> position;  // clip space
+  std::vector<float> values;        // varyings, `varyings` floats per vertex
+
+  std::size_t size() const { return position.size(); }
+  const float* varyings_of(std::size_t i) const { return values.data() + i * static_cast<std::size_t>(varyings); }
+};
+
+template <class V>
+inline std::array<float, kVaryingCount<V>> varyings_to_floats(const V& v) {
+  if constexpr (kVaryingCount<V> == 0) {
+    return {};
+  } else {
+    return std::bit_cast<std::array<float, kVaryingCount<V>>>(v);
+  }
+}
+
+template <class V>
+inline V varyings_from_floats(const float* f) {
+  if constexpr (kVaryingCount<V> == 0) {
+    return V{};
+  } else {
+    std::array<float, kVaryingCount<V>> a;
+    std::memcpy(a.data(), f, sizeof(a));
+    return std::bit_cast<V>(a);
+  }
+}
+
+template <Shader S>
+void run_vertex_stage(ThreadPool& pool, const S& shader, std::span<const typename S::Vertex> vertices,
+                      TransformedVertices& out) {
+  using V = typename S::Varyings;
+  constexpr int kN = kVaryingCount<V>;
+  out.varyings = kN;
+  out.position.resize(vertices.size());
+  out.values.resize(vertices.size() * kN);
+  const std::size_t chunks = (vertices.size() + kVertexChunk - 1) / kVertexChunk;
+  pool.parallel_for(chunks, [&](std::size_t c) {
+    const std::size_t end = std::min(vertices.size(), (c + 1) * kVertexChunk);
+    for (std::size_t i = c * kVertexChunk; i < end; ++i) {
+      V v{};
+      out.position[i] = shader.vertex(vertices[i], v);
+      if constexpr (kN > 0) {
+        const auto f = varyings_to_floats(v);
+        std::memcpy(out.values.data() + i * kN, f.data(), sizeof(f));
+      }
+    }
+  });
+}
+
+}  // namespace softpbr::raster

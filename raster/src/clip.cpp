@@ -1,0 +1,107 @@
+// Culling and clipping in homogeneous clip space (see clip.h).
+#include "softpbr/raster/clip.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace softpbr::raster {
+
+namespace {
+
+// A clip plane: inside where a·x + b·y + c·z + d·w + e ≥ 0, evaluated in this order.
+struct Plane {
+  float a, b, c, d, e;
+  float distance(const glm::vec4& p) const { return a * p.x + b * p.y + c * p.z + d * p.w + e; }
+};
+
+bool finite(const glm::vec4& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
+}
+
+// Sutherland–Hodgman against one plane. The intersection on an edge is computed from its
+// inside end towards its outside end, whichever way the polygon runs along it.
+int clip_polygon(const Plane& plane, const ClipVertex* in, int n, ClipVertex* out, int varying_count) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const ClipVertex& p = in[i];
+    const ClipVertex& q = in[(i + 1) % n];
+    const float dp = plane.distance(p.position);
+    const float dq = plane.distance(q.position);
+    const bool p_in = dp >= 0.0f;
+    const bool q_in = dq >= 0.0f;
+    if (p_in) out[m++] = p;
+    if (p_in != q_in) {
+      const ClipVertex& inside = p_in ? p : q;
+      const ClipVertex& outside = p_in ? q : p;
+      const float di = p_in ? dp : dq;
+      const float dout = p_in ? dq : dp;
+      const float t = di / (di - dout);
+      ClipVertex& r = out[m++];
+      r.position = inside.position + t * (outside.position - inside.position);
+      for (int k = 0; k < varying_count; ++k)
+        r.varyings[k] = inside.varyings[k] + t * (outside.varyings[k] - inside.varyings[k]);
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+ClipResult clip_triangle(const glm::vec4 position[3], const float* const varyings[3], int varying_count,
+                         Viewport viewport, ClipVertex out[kMaxClipVertices], int& count) {
+  count = 0;
+  if (!finite(position[0]) || !finite(position[1]) || !finite(position[2])) return ClipResult::Culled;
+
+  // Guard band in NDC: pixel x = (ndc + 1) · W/2 must stay in [−G, G]; pixel y = (1 − ndc) · H/2 too.
+  const float gx_max = 2.0f * kGuardBand / viewport.width - 1.0f;
+  const float gx_min = -2.0f * kGuardBand / viewport.width - 1.0f;
+  const float gy_max = 1.0f + 2.0f * kGuardBand / viewport.height;
+  const float gy_min = 1.0f - 2.0f * kGuardBand / viewport.height;
+  const Plane planes[] = {
+      {0, 0, 1, 1, 0},             // near: z ≥ −w
+      {0, 0, -1, 1, 0},            // far: z ≤ w
+      {0, 0, 0, 1, -kMinClipW},    // w ≥ kMinClipW: never mirror what is behind the eye
+      {-1, 0, 0, gx_max, 0},       // guard band, right
+      {1, 0, 0, -gx_min, 0},       // guard band, left
+      {0, 1, 0, -gy_min, 0},       // guard band, top (y up in NDC)
+      {0, -1, 0, gy_max, 0},       // guard band, bottom
+  };
+
+  // Frustum culling: all three vertices outside one of the six view planes.
+  auto all_outside = [&](auto&& outside) {
+    return outside(position[0]) && outside(position[1]) && outside(position[2]);
+  };
+  if (all_outside([](const glm::vec4& p) { return p.x > p.w; }) ||
+      all_outside([](const glm::vec4& p) { return p.x < -p.w; }) ||
+      all_outside([](const glm::vec4& p) { return p.y > p.w; }) ||
+      all_outside([](const glm::vec4& p) { return p.y < -p.w; }) ||
+      all_outside([](const glm::vec4& p) { return p.z > p.w; }) ||
+      all_outside([](const glm::vec4& p) { return p.z < -p.w; }) ||
+      all_outside([](const glm::vec4& p) { return p.w < kMinClipW; }))
+    return ClipResult::Culled;
+
+  unsigned needed = 0;
+  for (int i = 0; i < 7; ++i)
+    for (int v = 0; v < 3; ++v)
+      if (!(planes[i].distance(position[v]) >= 0.0f)) needed |= 1u << i;
+  if (needed == 0) return ClipResult::Inside;
+
+  ClipVertex buffers[2][kMaxClipVertices];
+  int n = 3;
+  for (int v = 0; v < 3; ++v) {
+    buffers[0][v].position = position[v];
+    if (varying_count > 0) std::memcpy(buffers[0][v].varyings, varyings[v], sizeof(float) * varying_count);
+  }
+  int current = 0;
+  for (int i = 0; i < 7 && n >= 3; ++i) {
+    if (!(needed & (1u << i))) continue;
+    n = clip_polygon(planes[i], buffers[current], n, buffers[1 - current], varying_count);
+    current = 1 - current;
+  }
+  if (n < 3) return ClipResult::Culled;
+  for (int v = 0; v < n; ++v) out[v] = buffers[current][v];
+  count = n;
+  return ClipResult::Clipped;
+}
+
+}  // namespace softpbr::raster
