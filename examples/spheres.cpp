@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
     const pbr::Mesh sphere = pbr::uv_sphere(0.42f, 64, 32);
     const glm::mat4 vp = pbr::perspective(static_cast<float>(softpbr::dmath::radians(40.0)),
                                           static_cast<float>(width) / height, 0.1f, 100.0f) *
-                         pbr::look_at({0, 0, 7.5f}, {0, 0, 0}, {0, 1, 0});
+                         pbr::look_at({0, 0, 5.6f}, {0, 0, 0}, {0, 1, 0});
     const glm::vec3 colors[3][5] = {
         {{0.80f, 0.10f, 0.10f}, {0.90f, 0.45f, 0.05f}, {0.85f, 0.80f, 0.10f}, {0.20f, 0.70f, 0.15f}, {0.10f, 0.50f, 0.80f}},
         {{0.30f, 0.20f, 0.80f}, {0.65f, 0.20f, 0.75f}, {0.90f, 0.90f, 0.90f}, {0.40f, 0.40f, 0.40f}, {0.10f, 0.10f, 0.10f}},

@@ -31,8 +31,10 @@ void write_png(const std::filesystem::path& path, const Image8& image) {
 
   // A unique temporary name in the destination folder, so rename() is atomic.
   std::random_device rd;
-  const std::filesystem::path tmp =
-      path.parent_path() / ("." + path.filename().string() + ".tmp" + std::to_string(rd()));
+  std::string name = path.filename().string();
+  name.insert(name.begin(), '.');
+  name.append(".tmp").append(std::to_string(rd()));
+  const std::filesystem::path tmp = path.parent_path() / name;
   {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
     if (!f) throw std::runtime_error(path.string() + ": cannot create " + tmp.string());

@@ -1,0 +1,39 @@
+# scripts/setup.sh — shared by scripts/demo and scripts/test: installs the Debian packages
+# softpbr needs when they are missing, then configures and builds what is stale.
+# Sourced, not run. Honours BUILD_DIR (default: build) and BUILD_TYPE (default: Release).
+set -euo pipefail
+
+SOFTPBR_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD_DIR=${BUILD_DIR:-$SOFTPBR_ROOT/build}
+BUILD_TYPE=${BUILD_TYPE:-Release}
+
+# Debian 12 package names. Keep in step with the find_package calls in CMakeLists.txt.
+SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev)
+
+softpbr_install_packages() {
+  local missing=() p
+  for p in "${SOFTPBR_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  if [ "$(id -u)" -eq 0 ]; then
+    echo "softpbr: installing missing Debian packages: ${missing[*]}" >&2
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+  else
+    echo "softpbr: missing Debian packages. Install them with:" >&2
+    echo "  sudo apt-get install -y ${missing[*]}" >&2
+    exit 1
+  fi
+}
+
+softpbr_build() {
+  # Configure once (or again if the cache is gone); make then rebuilds only what is stale.
+  if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
+    cmake -S "$SOFTPBR_ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "$@" >&2
+  fi
+  cmake --build "$BUILD_DIR" --parallel "$(nproc)" >&2
+}
+
+softpbr_install_packages
