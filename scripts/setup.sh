@@ -29,9 +29,10 @@ softpbr_install_packages() {
 }
 
 softpbr_build() {
-  # Configure once (or again if the cache is gone); make then rebuilds only what is stale.
-  if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
-    cmake -S "$SOFTPBR_ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "$@" >&2
+  # Configure once (again if a configure failed); the build then reruns CMake itself when a
+  # CMakeLists.txt changes and rebuilds only what is stale.
+  if [ ! -f "$BUILD_DIR/Makefile" ]; then
+    cmake -S "$SOFTPBR_ROOT" -B "$BUILD_DIR" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "$@" >&2
   fi
   cmake --build "$BUILD_DIR" --parallel "$(nproc)" >&2
 }

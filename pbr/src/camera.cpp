@@ -1,11 +1,27 @@
-// View and projection matrices.
+// Cameras and their matrices (see camera.h).
 #include "softpbr/pbr/camera.h"
 
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softpbr/raster/dmath.h"
 
 namespace softpbr::pbr {
+
+namespace {
+float fsin(float x) { return static_cast<float>(dmath::sin(x)); }
+float fcos(float x) { return static_cast<float>(dmath::cos(x)); }
+constexpr float kMaxPitch = 1.5533430342749532f;  // 89° in radians
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+void require(bool ok, const char* field, const char* what) {
+  if (!ok) throw std::invalid_argument(std::string("camera ") + field + ": " + what);
+}
+}  // namespace
 
 glm::mat4 perspective(float fovy, float aspect, float near, float far) {
   const float f = static_cast<float>(1.0 / dmath::tan(0.5 * static_cast<double>(fovy)));
@@ -22,5 +38,44 @@ glm::mat4 look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up) {
   // glm::lookAt is basic arithmetic and sqrt only: deterministic as it is.
   return glm::lookAt(eye, target, up);
 }
+
+void validate(const Camera& c) {
+  require(finite3(c.position), "position", "must be finite");
+  require(finite3(c.target), "target", "must be finite");
+  require(finite3(c.up), "up", "must be finite");
+  const glm::vec3 dir = c.target - c.position;
+  require(glm::dot(dir, dir) > 0.0f, "target", "must differ from position");
+  const glm::vec3 side = glm::cross(dir, c.up);
+  require(glm::dot(side, side) > 1e-12f * glm::dot(dir, dir) * glm::dot(c.up, c.up), "up",
+          "must not be zero or parallel to the view direction");
+  require(c.fovy > 0.0f && c.fovy < 3.14159f, "fovy", "must be in (0, pi) radians");
+  require(c.near > 0.0f && std::isfinite(c.near), "near", "must be > 0");
+  require(c.far > c.near && std::isfinite(c.far), "far", "must be finite and > near");
+}
+
+glm::vec3 FlyCamera::front() const {
+  const float cp = fcos(pitch);
+  return {fsin(yaw) * cp, fsin(pitch), -fcos(yaw) * cp};
+}
+
+glm::vec3 FlyCamera::right() const { return glm::normalize(glm::cross(front(), glm::vec3(0.0f, 1.0f, 0.0f))); }
+
+void FlyCamera::move(float forward, float rightward, float upward) {
+  position += front() * forward + right() * rightward + glm::vec3(0.0f, upward, 0.0f);
+}
+
+void FlyCamera::turn(float dyaw, float dpitch) {
+  yaw += dyaw;
+  pitch = std::clamp(pitch + dpitch, -kMaxPitch, kMaxPitch);
+}
+
+Camera FlyCamera::camera() const { return {position, position + front(), {0.0f, 1.0f, 0.0f}, fovy, near, far}; }
+
+glm::vec3 OrbitCamera::position() const {
+  const float cp = fcos(pitch);
+  return target + distance * glm::vec3(fsin(yaw) * cp, fsin(pitch), fcos(yaw) * cp);
+}
+
+Camera OrbitCamera::camera() const { return {position(), target, {0.0f, 1.0f, 0.0f}, fovy, near, far}; }
 
 }  // namespace softpbr::pbr

@@ -1,4 +1,4 @@
-// PNG output through stb_image_write, written to a temporary file and renamed.
+// PNG output through stb_image_write; every file is written to a temporary name and renamed.
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -29,6 +29,10 @@ void write_png(const std::filesystem::path& path, const Image8& image) {
   if (!stbi_write_png_to_func(append_bytes, &png, image.width, image.height, 4, image.rgba.data(), image.width * 4))
     throw std::runtime_error(path.string() + ": PNG encoding failed");
 
+  write_file_atomic(path, png);
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::span<const unsigned char> bytes) {
   // A unique temporary name in the destination folder, so rename() is atomic.
   std::random_device rd;
   std::string name = path.filename().string();
@@ -38,7 +42,7 @@ void write_png(const std::filesystem::path& path, const Image8& image) {
   {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
     if (!f) throw std::runtime_error(path.string() + ": cannot create " + tmp.string());
-    f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     f.close();
     if (!f) {
       std::error_code ignored;

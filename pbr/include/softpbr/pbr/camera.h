@@ -1,7 +1,8 @@
-// softpbr/pbr/camera.h — view and projection matrices (GL conventions: right-handed view
+// softpbr/pbr/camera.h — cameras and their matrices (GL conventions: right-handed view
 // space looking down −z, clip z in [−w, w]).
 //
-// The projection uses the deterministic dmath::tan, so its bits are the same everywhere.
+// Angles go through the deterministic dmath functions, so a camera gives the same matrix
+// bits on every platform.
 #pragma once
 
 #include <glm/mat4x4.hpp>
@@ -14,5 +15,59 @@ glm::mat4 perspective(float fovy, float aspect, float near, float far);
 
 // View matrix looking from `eye` at `target` with `up` roughly up, as glm::lookAt.
 glm::mat4 look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up);
+
+// A perspective look-at camera: what a scene stores. The aspect ratio comes from the
+// target at render time.
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 3.0f};
+  glm::vec3 target{0.0f, 0.0f, 0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fovy = 0.7853981633974483f;  // vertical field of view, radians (45°)
+  float near = 0.1f;
+  float far = 100.0f;
+
+  glm::mat4 view() const { return look_at(position, target, up); }
+  glm::mat4 projection(float aspect) const { return perspective(fovy, aspect, near, far); }
+};
+
+// Throws std::invalid_argument naming the field when the camera cannot make an image:
+// non-finite values, position == target, up parallel to the view direction, fovy outside
+// (0, π), near ≤ 0 or far ≤ near.
+void validate(const Camera& camera);
+
+// The fly camera of the paper's program (as LearnOpenGL's Camera class): yaw and pitch in
+// radians, front = (sin yaw · cos pitch, sin pitch, −cos yaw · cos pitch), so yaw 0 looks
+// down −z and positive yaw turns right. Pitch is kept within ±89°.
+struct FlyCamera {
+  glm::vec3 position{0.0f, 0.0f, 3.0f};
+  float yaw = 0.0f;
+  float pitch = 0.0f;
+  float fovy = 0.7853981633974483f;
+  float near = 0.1f;
+  float far = 100.0f;
+
+  glm::vec3 front() const;
+  glm::vec3 right() const;  // normalize(front × world up)
+  // Moves along front/right/world up by the given distances.
+  void move(float forward, float rightward, float upward);
+  // Turns by the given angles (radians), clamping pitch.
+  void turn(float dyaw, float dpitch);
+  Camera camera() const;
+};
+
+// An orbit (turntable) camera around `target`: yaw around the world y axis, pitch above
+// the horizon, both in radians; yaw 0 puts the camera on +z looking towards −z.
+struct OrbitCamera {
+  glm::vec3 target{0.0f, 0.0f, 0.0f};
+  float distance = 5.0f;
+  float yaw = 0.0f;
+  float pitch = 0.0f;
+  float fovy = 0.7853981633974483f;
+  float near = 0.1f;
+  float far = 100.0f;
+
+  glm::vec3 position() const;
+  Camera camera() const;
+};
 
 }  // namespace softpbr::pbr

@@ -6,7 +6,9 @@
 // bit between platforms. All work in double; callers round to float where they store.
 #pragma once
 
+#include <bit>
 #include <cstdint>
+#include <limits>
 
 namespace softpbr::dmath {
 
@@ -88,6 +90,74 @@ constexpr double cos(double x) {
 
 // tan(x) = sin(x)/cos(x): one correctly rounded division of two deterministic values.
 constexpr double tan(double x) { return sin(x) / cos(x); }
+
+// e^x, accurate to a few ulp; 0 below about −745, +Inf above about 709.78, NaN for NaN.
+constexpr double exp(double x) {
+  if (x != x) return x;
+  if (x > 709.782712893384) return std::numeric_limits<double>::infinity();
+  if (x < -745.1332191019412) return 0.0;
+  // x = k·ln2 + r, |r| ≤ ln2/2, ln 2 split so k·kLn2Hi is exact.
+  constexpr double kLn2Hi = 6.93147180369123816490e-01;
+  constexpr double kLn2Lo = 1.90821492927058770002e-10;
+  constexpr double kInvLn2 = 1.44269504088896338700e+00;
+  const double k = detail::round_int(x * kInvLn2);
+  const double r = (x - k * kLn2Hi) - k * kLn2Lo;
+  // Taylor series of e^r to r^18/18!: the first omitted term is below 0.35^19/19! ≈ 3e-26.
+  double p = 1.0 / 6402373705728000.0;  // 1/18!
+  constexpr double kInvFactorial[] = {1.0 / 355687428096000.0, 1.0 / 20922789888000.0, 1.0 / 1307674368000.0,
+                                      1.0 / 87178291200.0,     1.0 / 6227020800.0,     1.0 / 479001600.0,
+                                      1.0 / 39916800.0,        1.0 / 3628800.0,        1.0 / 362880.0,
+                                      1.0 / 40320.0,           1.0 / 5040.0,           1.0 / 720.0,
+                                      1.0 / 120.0,             1.0 / 24.0,             1.0 / 6.0,
+                                      1.0 / 2.0,               1.0,                    1.0};
+  for (double c : kInvFactorial) p = p * r + c;
+  // Scale by 2^k in two steps so subnormal results and k = 1024 stay exact.
+  const auto ki = static_cast<std::int64_t>(k);
+  const std::int64_t k1 = ki / 2, k2 = ki - k1;
+  const double s1 = std::bit_cast<double>(static_cast<std::uint64_t>(k1 + 1023) << 52);
+  const double s2 = std::bit_cast<double>(static_cast<std::uint64_t>(k2 + 1023) << 52);
+  return p * s1 * s2;
+}
+
+// 2^x.
+constexpr double exp2(double x) { return exp(x * 0.693147180559945309417232121458176568); }
+
+// Natural logarithm, accurate to a few ulp; −Inf at 0, NaN below 0 or for NaN.
+constexpr double log(double x) {
+  if (x != x || x < 0.0) return std::numeric_limits<double>::quiet_NaN();
+  if (x == 0.0) return -std::numeric_limits<double>::infinity();
+  if (x == std::numeric_limits<double>::infinity()) return x;
+  // x = m · 2^e with m in [√½, √2), read from the bits (subnormals scaled up first).
+  std::int64_t e = 0;
+  if (x < 2.2250738585072014e-308) {
+    x *= 18014398509481984.0;  // 2^54
+    e = -54;
+  }
+  const auto bits = std::bit_cast<std::uint64_t>(x);
+  e += static_cast<std::int64_t>((bits >> 52) & 0x7ff) - 1023;
+  double m = std::bit_cast<double>((bits & 0x000fffffffffffffull) | 0x3ff0000000000000ull);
+  if (m > 1.4142135623730951) {
+    m *= 0.5;
+    ++e;
+  }
+  // ln m = 2 atanh(s), s = (m − 1)/(m + 1), |s| ≤ 0.1716: the series to s^25 leaves < 1e-20.
+  const double s = (m - 1.0) / (m + 1.0);
+  const double s2 = s * s;
+  double p = 1.0 / 25.0;
+  for (int n = 23; n >= 1; n -= 2) p = p * s2 + 1.0 / n;
+  constexpr double kLn2Hi = 6.93147180369123816490e-01;
+  constexpr double kLn2Lo = 1.90821492927058770002e-10;
+  const double de = static_cast<double>(e);
+  return de * kLn2Hi + (2.0 * s * p + de * kLn2Lo);
+}
+
+// x^y for x ≥ 0 as exp(y · ln x): relative error about |y ln x| · 1e-16, ample for
+// gamma curves and exposure. 0^y = 0 for y > 0, 1 for y = 0; NaN for x < 0.
+constexpr double pow(double x, double y) {
+  if (y == 0.0) return 1.0;
+  if (x == 0.0) return y > 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+  return exp(y * log(x));
+}
 
 constexpr double radians(double degrees) { return degrees * (kPi / 180.0); }
 

@@ -66,6 +66,11 @@ Image8 resolve_srgb8(const Target& target);
 // naming the path on failure.
 void write_png(const std::filesystem::path& path, const Image8& image);
 
+// Writes `bytes` to a temporary file in the destination folder, then renames it over
+// `path`: readers see the old file or the whole new one, never a partial one. Throws
+// std::runtime_error naming the path on failure (and removes the temporary file).
+void write_file_atomic(const std::filesystem::path& path, std::span<const unsigned char> bytes);
+
 // 64-bit FNV-1a over the colour buffer's float bits (little-endian byte order, row-major,
 // RGBA): equal hashes mean equal pixels, for determinism tests and golden checks.
 std::uint64_t hash_colors(const Target& target);

@@ -1,0 +1,54 @@
+// softpbr/pbr/tonemap.h — from HDR linear radiance to an image: exposure → tone map →
+// transfer curve → RGBA8, and linear float output (Radiance .hdr).
+//
+// Every step is basic arithmetic; the transfer curves (exact piecewise sRGB, or a power
+// law "gamma") are applied through 255 precomputed thresholds per curve, computed with
+// the deterministic dmath functions, so the 8-bit code of a value is exact and the same
+// on every platform.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string_view>
+
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
+
+#include "softpbr/raster/target.h"
+
+namespace softpbr::pbr {
+
+enum class ToneMap {
+  None,      // clamp to [0, 1]
+  Reinhard,  // c / (1 + c) per channel (Reinhard et al. 2002, simple form)
+  Aces,      // ACES filmic curve fit by K. Narkowicz (2015), per channel
+  Neutral    // Khronos PBR Neutral tone mapper (2024)
+};
+
+// "none", "reinhard", "aces", "neutral" ↔ ToneMap.
+std::optional<ToneMap> tone_map_from_name(std::string_view name);
+std::string_view tone_map_name(ToneMap op);
+
+struct OutputSettings {
+  float exposure = 0.0f;      // photographic stops: colour × 2^exposure before tone mapping
+  ToneMap tone_map = ToneMap::Reinhard;
+  float gamma = 0.0f;         // 0: the exact sRGB curve; > 0: encoded = linear^(1/gamma), e.g. 2.2
+};
+
+// Applies one tone-mapping operator to linear colour (after exposure).
+glm::vec3 apply_tone_map(ToneMap op, glm::vec3 c);
+
+// Tone maps and encodes the target's colour to 8 bits; alpha stays linear. Throws
+// std::invalid_argument for a non-finite exposure or a gamma that is negative or not finite.
+raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSettings& settings);
+
+// Writes the linear colour (× 2^exposure, no tone map) as a Radiance RGBE .hdr file
+// through stb_image_write, atomically. Throws std::runtime_error naming the path.
+void write_hdr(const std::filesystem::path& path, const raster::Target& target, float exposure = 0.0f);
+
+// The 255 thresholds of an encoding curve: threshold k is the linear value whose encoding
+// is (k + 0.5)/255. gamma 0 selects sRGB.
+std::array<float, 255> transfer_thresholds(float gamma);
+
+}  // namespace softpbr::pbr

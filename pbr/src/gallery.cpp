@@ -1,0 +1,71 @@
+// The paper's gallery scene (see gallery.h).
+#include "softpbr/pbr/gallery.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <glm/common.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "softpbr/raster/dmath.h"
+
+namespace softpbr::pbr {
+
+namespace {
+// Scale and offset that fit a mesh's bounding box, centred, into a cube of side `size`.
+glm::mat4 fit_transform(const Mesh& mesh, float size) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const MeshVertex& v : mesh.vertices) {
+    lo = glm::min(lo, v.position);
+    hi = glm::max(hi, v.position);
+  }
+  const glm::vec3 extent = hi - lo;
+  const float largest = std::max({extent.x, extent.y, extent.z});
+  if (!(largest > 0.0f)) return glm::mat4(1.0f);
+  const float s = size / largest;
+  return glm::scale(glm::mat4(1.0f), glm::vec3(s)) * glm::translate(glm::mat4(1.0f), -(lo + hi) * 0.5f);
+}
+}  // namespace
+
+Scene make_gallery(const GalleryOptions& o) {
+  if (o.rows.empty() || o.columns < 1) throw std::invalid_argument("gallery: needs at least one row and one column");
+  std::shared_ptr<const Mesh> mesh = o.mesh;
+  glm::mat4 fit(1.0f);
+  if (mesh) {
+    fit = fit_transform(*mesh, 0.8f);
+  } else {
+    mesh = std::make_shared<Mesh>(uv_sphere(0.4f, o.segments, std::max(2, o.segments / 2)));
+  }
+
+  Scene scene;
+  scene.camera.position = {0.0f, 0.0f, 9.0f};
+  scene.camera.target = {0.0f, 0.0f, 0.0f};
+  scene.camera.fovy = static_cast<float>(dmath::radians(45.0));
+  scene.camera.near = 0.1f;
+  scene.camera.far = 100.0f;
+  scene.ambient = glm::vec3(0.03f);
+  for (const glm::vec3 p : {glm::vec3(-4, 4, 6), glm::vec3(4, 4, 6), glm::vec3(0, -4, 6)}) {
+    Light l;
+    l.type = LightType::Point;
+    l.position = p;
+    l.intensity = 60.0f;
+    scene.lights.push_back(l);
+  }
+
+  const int rows = static_cast<int>(o.rows.size());
+  for (int r = 0; r < rows; ++r) {
+    const auto preset = material_preset(o.rows[r]);
+    if (!preset) throw std::invalid_argument("gallery: unknown material preset \"" + o.rows[r] + "\"");
+    for (int c = 0; c < o.columns; ++c) {
+      Material m = *preset;
+      const float t = o.columns > 1 ? static_cast<float>(c) / static_cast<float>(o.columns - 1) : 0.0f;
+      m.roughness = std::clamp(o.first_roughness + (o.last_roughness - o.first_roughness) * t, 0.0f, 1.0f);
+      const glm::vec3 centre(static_cast<float>(c) - 0.5f * static_cast<float>(o.columns - 1),
+                             0.5f * static_cast<float>(rows - 1) - static_cast<float>(r), 0.0f);
+      scene.objects.push_back({mesh, m, glm::translate(glm::mat4(1.0f), centre) * fit});
+    }
+  }
+  return scene;
+}
+
+}  // namespace softpbr::pbr
