@@ -49,10 +49,9 @@ void render(const Scene& scene, raster::Renderer& renderer, raster::Target& targ
     shaders.push_back(s);
   }
 
-  target.clear(scene.background, 1.0f);
   raster::DrawState state;
   state.cull = raster::Cull::Back;
-  renderer.begin_frame(target);
+  renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f});
   try {
     for (std::size_t i = 0; i < scene.objects.size(); ++i)
       renderer.draw(shaders[i], scene.objects[i].mesh->vertices, scene.objects[i].mesh->indices, state);

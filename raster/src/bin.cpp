@@ -23,6 +23,17 @@ TileRect TileGrid::rect(std::size_t t) const {
           std::min(height, (ty + 1) * tile_size)};
 }
 
+void DrawGeometry::recycle() {
+  vertices.position.clear();
+  vertices.values.clear();
+  for (TriangleChunk& c : chunks) {
+    c.triangles.clear();
+    c.clip_varyings.clear();
+    c.offsets.clear();
+    c.list.clear();
+  }
+}
+
 void validate_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("draw: " + std::to_string(indices.size()) +
@@ -39,7 +50,7 @@ namespace {
 
 // Triangles per assembly chunk, and a cap on chunks × tiles so the per-chunk tile offsets
 // stay small even for huge targets cut into tiny tiles.
-constexpr std::size_t kTrianglesPerChunk = 2048;
+constexpr std::size_t kTrianglesPerChunk = 1024;
 constexpr std::size_t kMaxOffsetEntries = std::size_t{1} << 23;
 
 void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t> indices, std::size_t first,
@@ -47,8 +58,9 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
   const TransformedVertices& verts = geometry.vertices;
   const int nvar = verts.varyings;
   const Viewport viewport{grid.width, grid.height};
-  std::vector<std::uint32_t> tile_of;  // (tile, triangle) pairs as two parallel lists
-  std::vector<std::uint32_t> tri_of;
+  // (triangle, tile) pairs, interleaved, in submission order.
+  std::vector<std::uint32_t>& pairs = chunk.scratch;
+  pairs.clear();
 
   auto add = [&](const glm::vec4 clip[3], const std::uint32_t ids[3]) {
     Triangle t;
@@ -59,8 +71,8 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
     const int ty0 = t.min_y / grid.tile_size, ty1 = t.max_y / grid.tile_size;
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) {
-        tile_of.push_back(static_cast<std::uint32_t>(ty * grid.columns + tx));
-        tri_of.push_back(index);
+        pairs.push_back(index);
+        pairs.push_back(static_cast<std::uint32_t>(ty * grid.columns + tx));
       }
   };
 
@@ -93,12 +105,18 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
   }
 
   // Counting sort of the pairs by tile, stable, so each tile keeps submission order.
-  chunk.offsets.assign(grid.count() + 1, 0);
-  for (const std::uint32_t t : tile_of) ++chunk.offsets[t + 1];
-  for (std::size_t t = 0; t < grid.count(); ++t) chunk.offsets[t + 1] += chunk.offsets[t];
-  chunk.list.resize(tile_of.size());
-  std::vector<std::uint32_t> cursor(chunk.offsets.begin(), chunk.offsets.end() - 1);
-  for (std::size_t i = 0; i < tile_of.size(); ++i) chunk.list[cursor[tile_of[i]]++] = tri_of[i];
+  // offsets[t + 1] first counts tile t's pairs, then becomes its end after the prefix sum;
+  // the scatter then moves each tile's start up to where the next tile starts, and a
+  // final shift restores the starts.
+  const std::size_t tiles = grid.count();
+  chunk.offsets.assign(tiles + 1, 0);
+  const std::size_t n = pairs.size() / 2;
+  for (std::size_t i = 0; i < n; ++i) ++chunk.offsets[pairs[2 * i + 1] + 1];
+  for (std::size_t t = 0; t < tiles; ++t) chunk.offsets[t + 1] += chunk.offsets[t];
+  chunk.list.resize(n);
+  for (std::size_t i = 0; i < n; ++i) chunk.list[chunk.offsets[pairs[2 * i + 1]]++] = pairs[2 * i];
+  for (std::size_t t = tiles; t > 0; --t) chunk.offsets[t] = chunk.offsets[t - 1];
+  chunk.offsets[0] = 0;
 }
 
 }  // namespace
@@ -110,7 +128,7 @@ void assemble_triangles(ThreadPool& pool, std::span<const std::uint32_t> indices
   std::size_t chunks = (triangles + kTrianglesPerChunk - 1) / kTrianglesPerChunk;
   chunks = std::max<std::size_t>(1, std::min(chunks, kMaxOffsetEntries / (grid.count() + 1)));
   const std::size_t per_chunk = (triangles + chunks - 1) / chunks;
-  geometry.chunks.assign(chunks, {});
+  geometry.chunks.resize(chunks);  // recycled chunks keep their memory
   pool.parallel_for(chunks, [&](std::size_t c) {
     const std::size_t first = c * per_chunk;
     const std::size_t last = std::min(triangles, first + per_chunk);

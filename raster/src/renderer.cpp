@@ -1,6 +1,7 @@
 // The Renderer (see renderer.h).
 #include "softpbr/raster/renderer.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +13,15 @@ int checked_tile_size(int tile) {
     throw std::invalid_argument("Renderer: tile size " + std::to_string(tile) + " must be even and in [" +
                                 std::to_string(kMinTileSize) + ", " + std::to_string(kMaxTileSize) + "]");
   return tile;
+}
+void clear_tile(Target& target, const TileRect& r, const ClearValues& clear) {
+  glm::vec4* colors = target.colors().data();
+  float* depths = target.depths().data();
+  for (int y = r.y0; y < r.y1; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width());
+    std::fill(colors + row + r.x0, colors + row + r.x1, clear.color);
+    std::fill(depths + row + r.x0, depths + row + r.x1, clear.depth);
+  }
 }
 }  // namespace
 
@@ -25,6 +35,19 @@ void Renderer::begin_frame(Target& target) {
   target_ = &target;
   grid_ = TileGrid(target.width(), target.height(), tile_size_);
   draws_.clear();
+  clear_.reset();
+}
+
+void Renderer::begin_frame(Target& target, const ClearValues& clear) {
+  begin_frame(target);
+  clear_ = clear;
+}
+
+DrawGeometry Renderer::take_geometry() {
+  if (spare_.empty()) return {};
+  DrawGeometry g = std::move(spare_.back());
+  spare_.pop_back();
+  return g;
 }
 
 void Renderer::require_frame() const {
@@ -35,13 +58,20 @@ void Renderer::end_frame() {
   if (!target_) throw std::logic_error("Renderer::end_frame: no frame is open");
   Target& target = *target_;
   target_ = nullptr;
-  if (!draws_.empty()) {
+  if (!draws_.empty() || clear_) {
+    const std::optional<ClearValues> clear = clear_;
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
+      if (clear) clear_tile(target, rect, *clear);
       for (const auto& draw : draws_) draw->raster(tile, rect, target);
     });
   }
+  for (auto& draw : draws_) {
+    draw->geometry.recycle();
+    spare_.push_back(std::move(draw->geometry));
+  }
   draws_.clear();
+  clear_.reset();
 }
 
 }  // namespace softpbr::raster

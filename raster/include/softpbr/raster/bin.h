@@ -42,6 +42,7 @@ struct TriangleChunk {
   std::vector<float> clip_varyings;    // varyings of vertices made by clipping
   std::vector<std::uint32_t> offsets;  // per tile: its triangles are list[offsets[t], offsets[t+1])
   std::vector<std::uint32_t> list;     // indices into `triangles`
+  std::vector<std::uint32_t> scratch;  // assembly's working memory, kept to save allocations
 
   std::span<const std::uint32_t> tile(std::size_t t) const {
     if (offsets.empty()) return {};
@@ -54,6 +55,9 @@ struct DrawGeometry {
   DrawState state;
   TransformedVertices vertices;
   std::vector<TriangleChunk> chunks;
+
+  // Empties everything but keeps the memory for the next draw.
+  void recycle();
 
   // Varyings of vertex `id` of a triangle in chunk `chunk`.
   const float* varyings(const TriangleChunk& chunk, std::uint32_t id) const {

@@ -2,8 +2,7 @@
 //
 //   softpbr::raster::Renderer renderer({.threads = 0, .tile_size = 64});
 //   softpbr::raster::Target target(640, 480);
-//   target.clear({0, 0, 0, 1});
-//   renderer.begin_frame(target);
+//   renderer.begin_frame(target, softpbr::raster::ClearValues{{0, 0, 0, 1}, 1.0f});
 //   renderer.draw(my_shader, vertices, indices);        // any number, any shader types
 //   renderer.end_frame();                               // rasterizes every tile
 //
@@ -17,6 +16,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -35,6 +35,12 @@ struct RendererOptions {
   int tile_size = 64;    // even, in [kMinTileSize, kMaxTileSize]
 };
 
+// What begin_frame() clears the target to.
+struct ClearValues {
+  glm::vec4 color{0.0f, 0.0f, 0.0f, 1.0f};
+  float depth = 1.0f;
+};
+
 inline constexpr int kMinTileSize = 8;
 inline constexpr int kMaxTileSize = 4096;
 
@@ -50,8 +56,11 @@ class Renderer {
   int tile_size() const { return tile_size_; }
 
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
-  // if a frame is already open.
+  // if a frame is already open. The first form draws over the target's contents; the
+  // second clears it (each tile just before it is rasterized, in parallel: cheaper than
+  // Target::clear()).
   void begin_frame(Target& target);
+  void begin_frame(Target& target, const ClearValues& clear);
 
   // Draws indexed triangles (three indices each). Throws std::logic_error outside a
   // frame, std::invalid_argument if indices.size() is not a multiple of 3 and
@@ -62,6 +71,7 @@ class Renderer {
     require_frame();
     validate_indices(indices, vertices.size());
     auto call = std::make_unique<TypedDrawCall<S>>(shader);
+    call->geometry = take_geometry();
     call->geometry.state = state;
     run_vertex_stage(pool_, call->shader, vertices, call->geometry.vertices);
     assemble_triangles(pool_, indices, grid_, call->geometry);
@@ -98,12 +108,15 @@ class Renderer {
   };
 
   void require_frame() const;
+  DrawGeometry take_geometry();
 
   ThreadPool pool_;
   int tile_size_;
   Target* target_ = nullptr;
   TileGrid grid_;
   std::vector<std::unique_ptr<DrawCall>> draws_;
+  std::optional<ClearValues> clear_;
+  std::vector<DrawGeometry> spare_;  // geometry of past draws, kept for their memory
 };
 
 }  // namespace softpbr::raster

@@ -20,7 +20,7 @@
 namespace softpbr::raster {
 
 // Vertices per parallel task of the vertex stage.
-inline constexpr std::size_t kVertexChunk = 4096;
+inline constexpr std::size_t kVertexChunk = 1024;
 
 struct TransformedVertices {
   int varyings = 0;                // floats per vertex
