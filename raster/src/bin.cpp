@@ -26,6 +26,8 @@ TileRect TileGrid::rect(std::size_t t) const {
 void DrawGeometry::recycle() {
   vertices.position.clear();
   vertices.values.clear();
+  vertices.outcode.clear();
+  vertices.screen.clear();
   for (TriangleChunk& c : chunks) {
     c.triangles.clear();
     c.clip_varyings.clear();
@@ -62,9 +64,9 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
   std::vector<std::uint32_t>& pairs = chunk.scratch;
   pairs.clear();
 
-  auto add = [&](const glm::vec4 clip[3], const std::uint32_t ids[3]) {
+  auto add = [&](const ScreenVertex screen[3], const std::uint32_t ids[3]) {
     Triangle t;
-    if (!setup_triangle(clip, ids, viewport, geometry.state, t)) return;
+    if (!setup_triangle(screen, ids, viewport, geometry.state, t)) return;
     const auto index = static_cast<std::uint32_t>(chunk.triangles.size());
     chunk.triangles.push_back(t);
     const int tx0 = t.min_x / grid.tile_size, tx1 = t.max_x / grid.tile_size;
@@ -79,24 +81,39 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
   ClipVertex polygon[kMaxClipVertices];
   for (std::size_t tri = first; tri < last; ++tri) {
     const std::uint32_t ids[3] = {indices[3 * tri], indices[3 * tri + 1], indices[3 * tri + 2]};
+    const std::uint16_t oc[3] = {verts.outcode[ids[0]], verts.outcode[ids[1]], verts.outcode[ids[2]]};
+    const std::uint16_t any = oc[0] | oc[1] | oc[2];
+    if ((oc[0] & oc[1] & oc[2] & kOutsideFrustum) != 0 || (any & kNotFinite) != 0) continue;  // culled
+    if ((any & kNeedsClipping) == 0) {  // the common case: no plane to clip against
+      const ScreenVertex screen[3] = {verts.screen[ids[0]], verts.screen[ids[1]], verts.screen[ids[2]]};
+      add(screen, ids);
+      continue;
+    }
     const glm::vec4 clip[3] = {verts.position[ids[0]], verts.position[ids[1]], verts.position[ids[2]]};
     const float* const var[3] = {verts.varyings_of(ids[0]), verts.varyings_of(ids[1]), verts.varyings_of(ids[2])};
     int n = 0;
     switch (clip_triangle(clip, var, nvar, viewport, polygon, n)) {
       case ClipResult::Culled: break;
-      case ClipResult::Inside: add(clip, ids); break;
+      case ClipResult::Inside: {  // outside the frustum on some side, but no plane to clip
+        const ScreenVertex screen[3] = {project(clip[0], viewport), project(clip[1], viewport),
+                                        project(clip[2], viewport)};
+        add(screen, ids);
+        break;
+      }
       case ClipResult::Clipped: {
         // New vertices get ids past the vertex buffer; their varyings live in the chunk.
         const auto base = static_cast<std::uint32_t>(verts.size() + chunk.clip_varyings.size() / std::max(nvar, 1));
         std::uint32_t poly_ids[kMaxClipVertices];
+        ScreenVertex poly_screen[kMaxClipVertices];
         for (int v = 0; v < n; ++v) {
           poly_ids[v] = base + static_cast<std::uint32_t>(v);
+          poly_screen[v] = project(polygon[v].position, viewport);
           chunk.clip_varyings.insert(chunk.clip_varyings.end(), polygon[v].varyings, polygon[v].varyings + nvar);
         }
         if (nvar == 0) chunk.clip_varyings.resize(chunk.clip_varyings.size() + n);  // keep ids unique
         for (int v = 1; v + 1 < n; ++v) {  // a fan: the polygon is convex
-          const glm::vec4 fan[3] = {polygon[0].position, polygon[v].position, polygon[v + 1].position};
           const std::uint32_t fan_ids[3] = {poly_ids[0], poly_ids[v], poly_ids[v + 1]};
+          const ScreenVertex fan[3] = {poly_screen[0], poly_screen[v], poly_screen[v + 1]};
           add(fan, fan_ids);
         }
         break;

@@ -45,19 +45,17 @@ int clip_polygon(const Plane& plane, const ClipVertex* in, int n, ClipVertex* ou
   return m;
 }
 
-}  // namespace
+struct ClipPlanes {
+  Plane planes[7];
+};
 
-ClipResult clip_triangle(const glm::vec4 position[3], const float* const varyings[3], int varying_count,
-                         Viewport viewport, ClipVertex out[kMaxClipVertices], int& count) {
-  count = 0;
-  if (!finite(position[0]) || !finite(position[1]) || !finite(position[2])) return ClipResult::Culled;
-
+ClipPlanes clip_planes(Viewport viewport) {
   // Guard band in NDC: pixel x = (ndc + 1) · W/2 must stay in [−G, G]; pixel y = (1 − ndc) · H/2 too.
   const float gx_max = 2.0f * kGuardBand / viewport.width - 1.0f;
   const float gx_min = -2.0f * kGuardBand / viewport.width - 1.0f;
   const float gy_max = 1.0f + 2.0f * kGuardBand / viewport.height;
   const float gy_min = 1.0f - 2.0f * kGuardBand / viewport.height;
-  const Plane planes[] = {
+  return {{
       {0, 0, 1, 1, 0},             // near: z ≥ −w
       {0, 0, -1, 1, 0},            // far: z ≤ w
       {0, 0, 0, 1, -kMinClipW},    // w ≥ kMinClipW: never mirror what is behind the eye
@@ -65,7 +63,37 @@ ClipResult clip_triangle(const glm::vec4 position[3], const float* const varying
       {1, 0, 0, -gx_min, 0},       // guard band, left
       {0, 1, 0, -gy_min, 0},       // guard band, top (y up in NDC)
       {0, -1, 0, gy_max, 0},       // guard band, bottom
-  };
+  }};
+}
+
+}  // namespace
+
+std::uint16_t classify(const glm::vec4& p, Viewport viewport) {
+  if (!finite(p)) return kNotFinite;
+  std::uint16_t code = 0;
+  if (p.x > p.w) code |= 0x01;
+  if (p.x < -p.w) code |= 0x02;
+  if (p.y > p.w) code |= 0x04;
+  if (p.y < -p.w) code |= 0x08;
+  if (p.z > p.w) code |= 0x10;
+  if (p.z < -p.w) code |= 0x20;
+  if (p.w < kMinClipW) code |= 0x40;
+  // Inside the frustum means inside the guard band too: only test the planes otherwise.
+  if (code != 0) {
+    const ClipPlanes cp = clip_planes(viewport);
+    for (const Plane& plane : cp.planes)
+      if (!(plane.distance(p) >= 0.0f)) code |= kNeedsClipping;
+  }
+  return code;
+}
+
+ClipResult clip_triangle(const glm::vec4 position[3], const float* const varyings[3], int varying_count,
+                         Viewport viewport, ClipVertex out[kMaxClipVertices], int& count) {
+  count = 0;
+  if (!finite(position[0]) || !finite(position[1]) || !finite(position[2])) return ClipResult::Culled;
+
+  const ClipPlanes cp = clip_planes(viewport);
+  const Plane* planes = cp.planes;
 
   // Frustum culling: all three vertices outside one of the six view planes.
   auto all_outside = [&](auto&& outside) {

@@ -2,7 +2,6 @@
 #include "softpbr/raster/setup.h"
 
 #include <algorithm>
-#include <cmath>
 #include <utility>
 
 namespace softpbr::raster {
@@ -11,16 +10,14 @@ namespace {
 
 constexpr std::int64_t kFixedLimit = std::int64_t{kGuardBand} * kSubpixelScale;
 
-// Clip space → window pixels → fixed point, in double so the snap is exact at any
-// coordinate inside the guard band. y is flipped: row 0 is the top of the image.
-void snap(const glm::vec4& p, Viewport vp, std::int64_t& fx, std::int64_t& fy) {
-  const double w = p.w;
-  const double px = (static_cast<double>(p.x) / w + 1.0) * (0.5 * vp.width);
-  const double py = (1.0 - static_cast<double>(p.y) / w) * (0.5 * vp.height);
-  // Clamp first: clipping keeps vertices on the guard band only up to float rounding.
-  const double limit = static_cast<double>(kFixedLimit);
-  fx = static_cast<std::int64_t>(std::nearbyint(std::clamp(px * kSubpixelScale, -limit, limit)));
-  fy = static_cast<std::int64_t>(std::nearbyint(std::clamp(py * kSubpixelScale, -limit, limit)));
+// Round to nearest, halves up, for |v| < 2^52 with basic operations only (std::nearbyint
+// is a libm call without SSE4.1).
+std::int64_t round_fixed(double v) {
+  std::int64_t r = static_cast<std::int64_t>(v);  // towards zero
+  const double frac = v - static_cast<double>(r);  // exact
+  if (frac >= 0.5) ++r;
+  else if (frac < -0.5) --r;
+  return r;
 }
 
 // Twice the signed area of (a, b, c): positive when a → b → c runs clockwise on screen.
@@ -34,10 +31,26 @@ std::int64_t floor_pixel(std::int64_t v) { return v >> kSubpixelBits; }
 
 }  // namespace
 
-bool setup_triangle(const glm::vec4 clip[3], const std::uint32_t ids[3], Viewport viewport,
+ScreenVertex project(const glm::vec4& p, Viewport vp) {
+  // Clip space → window pixels → fixed point, in double so the snap is exact at any
+  // coordinate inside the guard band. y is flipped: row 0 is the top of the image. Clamp
+  // first: clipping keeps vertices on the guard band only up to float rounding.
+  const double w = p.w;
+  const double px = (static_cast<double>(p.x) / w + 1.0) * (0.5 * vp.width);
+  const double py = (1.0 - static_cast<double>(p.y) / w) * (0.5 * vp.height);
+  const double limit = static_cast<double>(kFixedLimit);
+  ScreenVertex v;
+  v.x = static_cast<std::int32_t>(round_fixed(std::clamp(px * kSubpixelScale, -limit, limit)));
+  v.y = static_cast<std::int32_t>(round_fixed(std::clamp(py * kSubpixelScale, -limit, limit)));
+  v.z = (p.z / p.w) * 0.5f + 0.5f;  // NDC [−1, 1] → window [0, 1]
+  v.inv_w = 1.0f / p.w;
+  return v;
+}
+
+bool setup_triangle(const ScreenVertex v[3], const std::uint32_t ids[3], Viewport viewport,
                     const DrawState& state, Triangle& out) {
-  std::int64_t x[3], y[3];
-  for (int i = 0; i < 3; ++i) snap(clip[i], viewport, x[i], y[i]);
+  const std::int64_t x[3] = {v[0].x, v[1].x, v[2].x};
+  const std::int64_t y[3] = {v[0].y, v[1].y, v[2].y};
   const std::int64_t area = orient(x[0], y[0], x[1], y[1], x[2], y[2]);
   if (area == 0) return false;
 
@@ -89,9 +102,8 @@ bool setup_triangle(const glm::vec4 clip[3], const std::uint32_t ids[3], Viewpor
 
   float z[3];
   for (int i = 0; i < 3; ++i) {
-    const glm::vec4& p = clip[order[i]];
-    z[i] = (p.z / p.w) * 0.5f + 0.5f;  // NDC [−1, 1] → window [0, 1]
-    out.inv_w[i] = 1.0f / p.w;
+    z[i] = v[order[i]].z;
+    out.inv_w[i] = v[order[i]].inv_w;
     out.vertex[i] = ids[order[i]];
   }
   out.z0 = z[0];

@@ -30,6 +30,17 @@ struct ClipVertex {
   float varyings[kMaxVaryings];
 };
 
+// Outcode bits of a clip-space vertex.
+enum : std::uint16_t {
+  kOutsideFrustum = 0x7f,  // x > w, x < −w, y > w, y < −w, z > w, z < −w, w < kMinClipW
+  kNeedsClipping = 0x80,   // outside near, far, w ≥ kMinClipW or the guard band
+  kNotFinite = 0x100,      // a NaN or Inf coordinate
+};
+
+// The outcode of one vertex for a target of this size; 0 means the vertex is inside the
+// view volume and a triangle of such vertices needs no clipping.
+std::uint16_t classify(const glm::vec4& position, Viewport viewport);
+
 enum class ClipResult : std::uint8_t {
   Culled,    // nothing left
   Inside,    // no clipping needed: use the triangle as it is

@@ -73,7 +73,7 @@ class Renderer {
     auto call = std::make_unique<TypedDrawCall<S>>(shader);
     call->geometry = take_geometry();
     call->geometry.state = state;
-    run_vertex_stage(pool_, call->shader, vertices, call->geometry.vertices);
+    run_vertex_stage(pool_, call->shader, vertices, Viewport{grid_.width, grid_.height}, call->geometry.vertices);
     assemble_triangles(pool_, indices, grid_, call->geometry);
     draws_.push_back(std::move(call));
   }

@@ -47,10 +47,20 @@ struct Viewport {
   int height;
 };
 
-// Sets up the triangle with clip-space positions `clip` (already clipped to near/far and
-// the guard band) and varyings `ids`. Returns false when it covers no pixel centre
-// (zero area, culled, or off the target).
-bool setup_triangle(const glm::vec4 clip[3], const std::uint32_t ids[3], Viewport viewport,
+// A vertex after the viewport transform.
+struct ScreenVertex {
+  std::int32_t x, y;  // fixed point, 1/256 pixel, row 0 at the top
+  float z;            // window depth: (z/w) · 0.5 + 0.5
+  float inv_w;        // 1 / w
+};
+
+// The viewport transform of a clip-space position inside the clip volume and guard band
+// (computed once per vertex; clipping makes new vertices through the same function).
+ScreenVertex project(const glm::vec4& clip, Viewport viewport);
+
+// Sets up the triangle with screen vertices `v` and varyings `ids`. Returns false when it
+// covers no pixel centre (zero area, culled, or off the target).
+bool setup_triangle(const ScreenVertex v[3], const std::uint32_t ids[3], Viewport viewport,
                     const DrawState& state, Triangle& out);
 
 }  // namespace softpbr::raster

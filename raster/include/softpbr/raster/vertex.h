@@ -8,6 +8,7 @@
 #include <array>
 #include <bit>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <span>
 #include <vector>
@@ -15,6 +16,7 @@
 #include <glm/vec4.hpp>
 
 #include "softpbr/raster/pool.h"
+#include "softpbr/raster/setup.h"
 #include "softpbr/raster/shader.h"
 
 namespace softpbr::raster {
@@ -23,13 +25,18 @@ namespace softpbr::raster {
 inline constexpr std::size_t kVertexChunk = 1024;
 
 struct TransformedVertices {
-  int varyings = 0;                // floats per vertex
-  std::vector<glm::vec4> position;  // clip space
-  std::vector<float> values;        // varyings, `varyings` floats per vertex
+  int varyings = 0;                   // floats per vertex
+  std::vector<glm::vec4> position;     // clip space
+  std::vector<float> values;           // varyings, `varyings` floats per vertex
+  std::vector<std::uint16_t> outcode;  // clip.h's classify()
+  std::vector<ScreenVertex> screen;    // setup.h's project(), where no clipping is needed
 
   std::size_t size() const { return position.size(); }
   const float* varyings_of(std::size_t i) const { return values.data() + i * static_cast<std::size_t>(varyings); }
 };
+
+// Classifies and projects vertices [first, last) of `vertices` for `viewport`.
+void project_vertices(TransformedVertices& vertices, std::size_t first, std::size_t last, Viewport viewport);
 
 template <class V>
 inline std::array<float, kVaryingCount<V>> varyings_to_floats(const V& v) {
@@ -53,16 +60,19 @@ inline V varyings_from_floats(const float* f) {
 
 template <Shader S>
 void run_vertex_stage(ThreadPool& pool, const S& shader, std::span<const typename S::Vertex> vertices,
-                      TransformedVertices& out) {
+                      Viewport viewport, TransformedVertices& out) {
   using V = typename S::Varyings;
   constexpr int kN = kVaryingCount<V>;
   out.varyings = kN;
   out.position.resize(vertices.size());
   out.values.resize(vertices.size() * kN);
+  out.outcode.resize(vertices.size());
+  out.screen.resize(vertices.size());
   const std::size_t chunks = (vertices.size() + kVertexChunk - 1) / kVertexChunk;
   pool.parallel_for(chunks, [&](std::size_t c) {
-    const std::size_t end = std::min(vertices.size(), (c + 1) * kVertexChunk);
-    for (std::size_t i = c * kVertexChunk; i < end; ++i) {
+    const std::size_t first = c * kVertexChunk;
+    const std::size_t end = std::min(vertices.size(), first + kVertexChunk);
+    for (std::size_t i = first; i < end; ++i) {
       V v{};
       out.position[i] = shader.vertex(vertices[i], v);
       if constexpr (kN > 0) {
@@ -70,6 +80,7 @@ void run_vertex_stage(ThreadPool& pool, const S& shader, std::span<const typenam
         std::memcpy(out.values.data() + i * kN, f.data(), sizeof(f));
       }
     }
+    project_vertices(out, first, end, viewport);
   });
 }
 
