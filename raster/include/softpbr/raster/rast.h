@@ -96,7 +96,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         for (int j = 0; j < 4; ++j) w[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
 
       // Early depth test (shaders cannot change depth).
-      float z[4];
+      float z[4] = {0.0f, 0.0f, 0.0f, 0.0f};
       for (int j = 0; j < 4; ++j) {
         if (!(mask & (1u << j))) continue;
         const float l1 = w[1][j] * t.inv_area;
