@@ -1,7 +1,10 @@
-// softpbr/pbr/mesh.h — triangle meshes and procedural shapes.
+// softpbr/pbr/mesh.h — triangle meshes, procedural shapes, smooth normals and bounds.
 //
-// Procedural shapes are built with the deterministic dmath functions, so a shape has the
-// same bits on every platform.
+// Procedural shapes are built with the deterministic dmath functions (and the deterministic
+// atan2 in mesh.cpp), so a shape has the same bits on every platform. Every shape has unit
+// normals, UVs in [0, 1] and counter-clockwise triangles seen from outside (front faces for
+// FrontFace::CounterClockwise with a GL-style camera). Invalid parameters throw
+// std::invalid_argument saying which parameter and what was expected.
 #pragma once
 
 #include <cstdint>
@@ -25,9 +28,61 @@ struct Mesh {
   std::size_t triangle_count() const { return indices.size() / 3; }
 };
 
+// A procedural shape may have at most this many vertices: 2^24 vertices of 32 bytes are
+// 512 MiB, far beyond any use of these shapes, and the counts stay exact in float.
+inline constexpr std::size_t kMaxProceduralVertices = std::size_t{1} << 24;
+
 // A UV sphere centred at the origin: `segments` slices around the y axis (≥ 3) and `rings`
 // stacks from pole to pole (≥ 2). Throws std::invalid_argument for fewer or for a
 // non-positive radius.
 Mesh uv_sphere(float radius, int segments, int rings);
+
+// A geodesic sphere centred at the origin: an icosahedron with vertices at the poles (0, ±r, 0),
+// each face split into 4 `subdivisions` times (0 … 8; 20·4^n triangles before the seam cut)
+// and every vertex pushed onto the sphere. UVs are the same equirectangular map as
+// uv_sphere's (u = longitude / 2π from +z towards +x, v = 0 at +y): triangles crossing the
+// seam are cut along it and the pole vertices are split per triangle, so UVs stay in [0, 1]
+// without wrapping. Positions are shared bit for bit along the cut: the mesh is watertight.
+Mesh icosphere(float radius, int subdivisions);
+
+// An axis-aligned cube centred at the origin with edge `size` > 0: 24 vertices (4 per face,
+// flat normals), 12 triangles; each face maps the whole [0, 1]² texture, upright for side
+// faces (v = 0 at the top, +y).
+Mesh cube(float size);
+
+// A plane in y = 0 facing +y, centred at the origin: `width` along x, `depth` along z (both
+// > 0), split into `subdivisions` × `subdivisions` quads (≥ 1; 1 gives a single quad).
+// u runs along +x and v along +z, both over [0, 1].
+Mesh plane(float width, float depth, int subdivisions = 1);
+
+// A ring torus around the y axis: tube centre at distance `major` from the origin, tube
+// radius `minor` (0 < minor < major, so it does not intersect itself), `segments` around
+// the ring (≥ 3) and `sides` around the tube (≥ 3). u follows the ring from +z towards +x,
+// v goes around the tube starting at the outer equator and going up first.
+Mesh torus(float major, float minor, int segments, int sides);
+
+// Replaces every vertex normal with the angle-weighted sum of the normals of the triangles
+// around it (Thürmer & Wüthrich 1998, "Computing vertex normals from polygonal facets"),
+// normalised. Vertices at bitwise-equal positions share their normal, so vertices split for
+// UV seams or flat shading are smoothed across (a cube's corners get normals along its
+// diagonals). Angles come from a deterministic atan2 (IEEE basic operations only, no libm),
+// so results are identical on every platform. Zero-area triangles contribute nothing; a
+// vertex with no contribution keeps its old normal if non-zero, else gets (0, 1, 0).
+// Throws std::invalid_argument if an index is out of range.
+void compute_smooth_normals(Mesh& mesh);
+
+// Axis-aligned bounds of the mesh's vertex positions.
+struct Bounds {
+  glm::vec3 min;
+  glm::vec3 max;
+
+  bool empty() const { return !(min.x <= max.x && min.y <= max.y && min.z <= max.z); }
+  glm::vec3 centre() const { return (min + max) * 0.5f; }
+  glm::vec3 extent() const { return max - min; }
+};
+
+// The bounds of all vertices (referenced or not); for a mesh without vertices min = +∞ and
+// max = −∞, and empty() is true. Positions are expected finite (load_obj checks them).
+Bounds bounds(const Mesh& mesh);
 
 }  // namespace softpbr::pbr

@@ -1,0 +1,71 @@
+// softpbr/pbr/obj.h — Wavefront OBJ + MTL loading (through tinyobjloader) into meshes and
+// metal/roughness materials.
+//
+// OBJ files are untrusted input (DESIGN.md §5): every number and index is checked, and any
+// problem is a LoadError whose message starts with the file and, when known, the line
+// ("models/cow.obj:12: face index 9 is out of range (8 vertices so far)"). Loading never
+// reads out of bounds and never aborts.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "softpbr/pbr/material.h"
+#include "softpbr/pbr/mesh.h"
+
+namespace softpbr::pbr {
+
+// A file could not be loaded; what() names the file (and line when known) and says what was
+// expected.
+class LoadError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The faces of one OBJ object/group (`o`/`g`) that use one material. An object whose faces
+// use several materials becomes several ObjShapes with the same name, in the order the
+// materials first appear.
+struct ObjShape {
+  std::string name;
+  Mesh mesh;
+  int material = -1;  // index into ObjModel::materials, −1 = none (use a default material)
+};
+
+struct ObjModel {
+  std::vector<ObjShape> shapes;                               // in file order
+  std::vector<std::pair<std::string, Material>> materials;    // every material of every mtllib
+  std::vector<std::string> warnings;                          // tinyobjloader's and ours, one per line
+};
+
+// Loads an OBJ file and the MTL libraries it names (looked up next to the OBJ file).
+// - Polygons are triangulated by tinyobjloader (quads split along the shorter diagonal,
+//   larger polygons by ear clipping); faces with fewer than 3 vertices are dropped with a
+//   warning; `l` and `p` elements are ignored with a warning.
+// - Vertices are shared within a shape where position, texture and normal indices agree.
+// - Vertices without a normal get the angle-weighted smooth normal of the shape's faces
+//   around their position (smoothing groups are ignored); given normals are normalised.
+// - Texture coordinates are optional ((0, 0) when missing). Texture maps are not loaded.
+// - MTL → Material: base_color ← Kd (clamped to [0, 1]); metallic ← Pm; roughness ← Pr
+//   (both PBR-extension keys, clamped to [0, 1]), or when Pr is absent
+//   roughness_from_phong_exponent(Ns), or Material's default when both are absent;
+//   emissive ← Ke (negatives raised to 0). Clamping is reported in warnings. Other keys
+//   (Ka, Ks, d/Tr, Ni, illum, maps) are ignored. A material stays in force across `o`/`g`.
+// Throws LoadError for: a missing or unreadable file, a file over 1 GiB, binary data,
+// a coordinate that is not a finite float, a position or texture index that is 0 or out of
+// range, a `t` tag declaring more values than it has (tinyobjloader would allocate them),
+// and any error tinyobjloader reports. A normal index out of range only drops that
+// normal (with a warning) and a smooth normal is computed instead.
+ObjModel load_obj(const std::filesystem::path& path);
+
+// Perceptual roughness for a Blinn-Phong specular exponent Ns (the MTL fallback when Pr is
+// absent): α = √(2 / (Ns + 2)), inverting the Phong ↔ Beckmann correspondence
+// αp = 2/αb² − 2 of Walter et al. 2007, "Microfacet Models for Refraction through Rough
+// Surfaces", §5.2 (also in Karis's "Specular BRDF Reference", 2013), with the Beckmann width
+// taken as GGX's α; then roughness = √α since α = roughness² here (brdf.h).
+// Ns ≤ 0 or NaN gives 1; +∞ gives 0; otherwise the result is in (0, 1).
+float roughness_from_phong_exponent(float ns);
+
+}  // namespace softpbr::pbr
