@@ -122,3 +122,28 @@ TEST_CASE("golden PBR images: every scene hashes to its committed golden, bit fo
                               "SOFTPBR_UPDATE_GOLDENS=1 ./scripts/test -R golden");
   }
 }
+
+TEST_CASE("the PBR gallery has the same bits at every SIMD lane width, thread count and tile size") {
+  pbr::GalleryOptions o;
+  o.rows = {"gold", "copper", "plastic_red"};
+  o.segments = 32;
+  const pbr::Scene scene = pbr::make_gallery(o);
+  std::uint64_t reference = 0;
+  struct Config {
+    int lanes;
+    unsigned threads;
+    int tile;
+  };
+  const Config configs[] = {{1, 1, 64}, {4, 2, 64}, {8, 3, 32}, {16, 8, 16}, {0, 2, 128}, {4, 1, 8}, {16, 2, 256}};
+  for (const Config& c : configs) {
+    CAPTURE(c.lanes);
+    CAPTURE(c.threads);
+    CAPTURE(c.tile);
+    raster::Renderer renderer({.threads = c.threads, .tile_size = c.tile, .lanes = c.lanes});
+    raster::Target target(333, 187);
+    pbr::render(scene, renderer, target);
+    const std::uint64_t h = raster::hash_colors(target) ^ (raster::hash_depths(target) * 31);
+    if (reference == 0) reference = h;
+    CHECK(h == reference);
+  }
+}

@@ -23,10 +23,16 @@ void clear_tile(Target& target, const TileRect& r, const ClearValues& clear) {
     std::fill(depths + row + r.x0, depths + row + r.x1, clear.depth);
   }
 }
+int checked_lanes(int lanes) {
+  if (lanes == 0) return simd::kNativeWidth;
+  if (lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16)
+    throw std::invalid_argument("Renderer: lanes " + std::to_string(lanes) + " must be 0, 1, 4, 8 or 16");
+  return lanes;
+}
 }  // namespace
 
 Renderer::Renderer(RendererOptions options)
-    : pool_(options.threads), tile_size_(checked_tile_size(options.tile_size)) {}
+    : pool_(options.threads), tile_size_(checked_tile_size(options.tile_size)), lanes_(checked_lanes(options.lanes)) {}
 
 Renderer::~Renderer() = default;
 
@@ -63,7 +69,7 @@ void Renderer::end_frame() {
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
       if (clear) clear_tile(target, rect, *clear);
-      for (const auto& draw : draws_) draw->raster(tile, rect, target);
+      for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_);
     });
   }
   for (auto& draw : draws_) {

@@ -11,6 +11,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "softpbr/raster/simd.h"
+
 namespace softpbr::pbr {
 
 enum class LightType { Point, Directional, Spot };
@@ -45,29 +47,47 @@ struct PreparedLight {
 // value is not finite, negative, or a zero direction.
 PreparedLight prepare_light(const Light& light);
 
-// Li at `position` (KHR_lights_punctual falloff). For a point at the light's position the
-// squared distance is clamped to 1e-8 so the result stays finite.
-inline LightSample sample_light(const PreparedLight& p, const glm::vec3& position) {
+// Li at `position` (KHR_lights_punctual falloff), written once against a lane type F
+// (float or simd::Vec<N>). For a point at the light's position the squared distance is
+// clamped to 1e-8 so the result stays finite.
+template <class F>
+struct LightSampleLanes {
+  simd::Vec3<F> to_light;  // unit
+  simd::Vec3<F> radiance;
+};
+
+template <class F>
+inline LightSampleLanes<F> sample_light(const PreparedLight& p, const simd::Vec3<F>& position) {
+  using V3 = simd::Vec3<F>;
   const Light& l = p.light;
   const glm::vec3 scaled = l.color * l.intensity;
-  if (l.type == LightType::Directional) return {-p.unit_direction, scaled};
+  const V3 radiance(F(scaled.x), F(scaled.y), F(scaled.z));
+  if (l.type == LightType::Directional)
+    return {V3(F(-p.unit_direction.x), F(-p.unit_direction.y), F(-p.unit_direction.z)), radiance};
 
-  const glm::vec3 d = l.position - position;
-  const float dist2 = std::max(glm::dot(d, d), 1e-8f);
-  const float dist = std::sqrt(dist2);
-  const glm::vec3 to_light = d / dist;
-  float falloff = 1.0f / dist2;
+  const V3 d = V3(F(l.position.x), F(l.position.y), F(l.position.z)) - position;
+  const F dist2 = simd::max(simd::dot(d, d), F(1e-8f));
+  const F dist = simd::sqrt(dist2);
+  const V3 to_light = d / dist;
+  F falloff = F(1.0f) / dist2;
   if (l.range > 0.0f) {
     // KHR_lights_punctual's window: clamp(1 − (d/range)⁴, 0, 1) / d².
-    const float q = dist2 / (l.range * l.range);
-    falloff *= std::clamp(1.0f - q * q, 0.0f, 1.0f);
+    const F q = dist2 / F(l.range * l.range);
+    falloff *= simd::clamp(F(1.0f) - q * q, F(0.0f), F(1.0f));
   }
   if (l.type == LightType::Spot) {
-    const float cd = glm::dot(p.unit_direction, -to_light);
-    const float a = std::clamp(cd * p.cone_scale + p.cone_offset, 0.0f, 1.0f);
+    const V3 u(F(p.unit_direction.x), F(p.unit_direction.y), F(p.unit_direction.z));
+    const F cd = simd::dot(u, -to_light);
+    const F a = simd::clamp(cd * F(p.cone_scale) + F(p.cone_offset), F(0.0f), F(1.0f));
     falloff *= a * a;
   }
-  return {to_light, scaled * falloff};
+  return {to_light, radiance * falloff};
+}
+
+// The same for one point, with glm vectors.
+inline LightSample sample_light(const PreparedLight& p, const glm::vec3& position) {
+  const LightSampleLanes<float> s = sample_light(p, simd::Vec3<float>(position.x, position.y, position.z));
+  return {{s.to_light.x, s.to_light.y, s.to_light.z}, {s.radiance.x, s.radiance.y, s.radiance.z}};
 }
 
 }  // namespace softpbr::pbr

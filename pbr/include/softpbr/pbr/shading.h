@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <memory>
 #include <span>
@@ -28,6 +29,7 @@
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/raster/shader.h"
+#include "softpbr/raster/simd.h"
 
 namespace softpbr::pbr {
 
@@ -52,41 +54,86 @@ struct ShadingMaterial {
 // (metallic, roughness and ao must be in [0, 1]; colours non-negative).
 ShadingMaterial prepare_material(const Material& m);
 
-// v / |v|, or `fallback` when v has zero length (or is not finite).
-inline glm::vec3 normalize_or(const glm::vec3& v, const glm::vec3& fallback) {
-  const float len2 = glm::dot(v, v);
-  if (!(len2 > 0.0f) || !(len2 < std::numeric_limits<float>::infinity())) return fallback;
-  return v / std::sqrt(len2);
+// The shading functions are written once against a lane type F: float for one pixel,
+// simd::Vec<N> for N pixels, with the same operations per lane (simd.h). The glm
+// overloads below are the same code for one point.
+
+template <class F>
+using Vec3L = simd::Vec3<F>;
+
+template <class F>
+inline Vec3L<F> lanes(const glm::vec3& v) {
+  return {F(v.x), F(v.y), F(v.z)};
 }
 
-// The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v with n·l > 0.
-inline glm::vec3 brdf(const ShadingMaterial& m, const glm::vec3& n, const glm::vec3& l, const glm::vec3& v) {
-  const glm::vec3 h = normalize_or(l + v, n);
-  const float NoL = std::clamp(glm::dot(n, l), 0.0f, 1.0f);
-  const float NoV = std::clamp(glm::dot(n, v), kMinNoV, 1.0f);
-  const float NoH = std::clamp(glm::dot(n, h), 0.0f, 1.0f);
-  const float VoH = std::clamp(glm::dot(v, h), 0.0f, 1.0f);
-  const float D = D_GGX(NoH, m.alpha);
-  const float G = G_Smith(NoV, NoL, m.k);
-  const glm::vec3 F = F_Schlick(m.f0, VoH);
-  const glm::vec3 specular = F * (D * G / (4.0f * NoV * std::max(NoL, kMinNoV)));
-  const glm::vec3 kD = (glm::vec3(1.0f) - F) * (1.0f - m.metallic);
-  return kD * m.albedo * Fd_Lambert<float>() + specular;
+// v / |v|, or `fallback` when v has zero length (or is not finite).
+template <class F>
+inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
+  const F len2 = simd::dot(v, v);
+  const auto ok = simd::both(len2 > F(0.0f), len2 < F(std::numeric_limits<float>::infinity()));
+  const F len = simd::sqrt(simd::select(ok, len2, F(1.0f)));
+  return simd::select(ok, v / len, fallback);
+}
+
+// Schlick's Fresnel for lanes (brdf.h's F_Schlick per lane).
+template <class F>
+inline Vec3L<F> F_Schlick(const glm::vec3& f0, F VoH) {
+  const F m = F(1.0f) - VoH;
+  const F m2 = m * m;
+  const F m5 = m2 * m2 * m;
+  const Vec3L<F> f = lanes<F>(f0);
+  return f + (Vec3L<F>(F(1.0f)) - f) * m5;
+}
+
+// The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v.
+template <class F>
+inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
+  const Vec3L<F> h = normalize_or(l + v, n);
+  const F NoL = simd::clamp(simd::dot(n, l), F(0.0f), F(1.0f));
+  const F NoV = simd::clamp(simd::dot(n, v), F(kMinNoV), F(1.0f));
+  const F NoH = simd::clamp(simd::dot(n, h), F(0.0f), F(1.0f));
+  const F VoH = simd::clamp(simd::dot(v, h), F(0.0f), F(1.0f));
+  const F D = D_GGX(NoH, F(m.alpha));
+  const F G = G_Smith(NoV, NoL, F(m.k));
+  const Vec3L<F> Fr = F_Schlick<F>(m.f0, VoH);
+  const Vec3L<F> specular = Fr * (D * G / (F(4.0f) * NoV * simd::max(NoL, F(kMinNoV))));
+  const Vec3L<F> kD = (Vec3L<F>(F(1.0f)) - Fr) * F(1.0f - m.metallic);
+  return kD * lanes<F>(m.albedo) * Fd_Lambert<F>() + specular;
 }
 
 // Outgoing radiance at `position` with normal n (need not be unit) and unit direction to
-// the eye v: the reflectance equation over all lights, plus ambient and emission.
-inline glm::vec3 shade(const ShadingMaterial& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
-                       const glm::vec3& position, const glm::vec3& n_in, const glm::vec3& v) {
-  const glm::vec3 n = normalize_or(n_in, v);
-  glm::vec3 lo(0.0f);
+// the eye v: the reflectance equation over all lights, plus ambient and emission. Lights
+// with n·l ≤ 0 add nothing.
+template <class F>
+inline Vec3L<F> shade(const ShadingMaterial& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
+                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v) {
+  const Vec3L<F> n = normalize_or(n_in, v);
+  Vec3L<F> lo(F(0.0f));
   for (const PreparedLight& light : lights) {
-    const LightSample s = sample_light(light, position);
-    const float NoL = glm::dot(n, s.to_light);
-    if (!(NoL > 0.0f)) continue;
-    lo += brdf(m, n, s.to_light, v) * s.radiance * NoL;
+    const LightSampleLanes<F> s = sample_light(light, position);
+    const F NoL = simd::dot(n, s.to_light);
+    const auto lit = NoL > F(0.0f);
+    if (!simd::any(lit)) continue;
+    lo = simd::select(lit, lo + brdf(m, n, s.to_light, v) * s.radiance * NoL, lo);
   }
-  return ambient * m.albedo * m.ao + lo + m.emissive;
+  return lanes<F>(ambient * m.albedo * m.ao) + lo + lanes<F>(m.emissive);
+}
+
+// --- The same for one point with glm vectors. ---
+
+inline glm::vec3 to_glm(const Vec3L<float>& v) { return {v.x, v.y, v.z}; }
+
+inline glm::vec3 normalize_or(const glm::vec3& v, const glm::vec3& fallback) {
+  return to_glm(normalize_or(lanes<float>(v), lanes<float>(fallback)));
+}
+
+inline glm::vec3 brdf(const ShadingMaterial& m, const glm::vec3& n, const glm::vec3& l, const glm::vec3& v) {
+  return to_glm(brdf(m, lanes<float>(n), lanes<float>(l), lanes<float>(v)));
+}
+
+inline glm::vec3 shade(const ShadingMaterial& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
+                       const glm::vec3& position, const glm::vec3& n, const glm::vec3& v) {
+  return to_glm(shade(m, lights, ambient, lanes<float>(position), lanes<float>(n), lanes<float>(v)));
 }
 
 // The PBR shader for softpbr::raster: world-space position and normal as varyings, the
@@ -114,10 +161,23 @@ struct PbrShader {
     out.uv = in.uv;
     return view_projection * world;
   }
+  // One pixel.
   glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
     const glm::vec3 v = normalize_or(eye - f.v.world_position, glm::vec3(0.0f, 0.0f, 1.0f));
     const glm::vec3 color = shade(material, *lights, ambient, f.v.world_position, f.v.normal, v);
     return glm::vec4(color, 1.0f);
+  }
+
+  // Lanes of pixels: the same code per lane.
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    constexpr int kPosition = offsetof(Varyings, world_position) / sizeof(float);
+    constexpr int kNormal = offsetof(Varyings, normal) / sizeof(float);
+    const Vec3L<F> position(p.v[kPosition], p.v[kPosition + 1], p.v[kPosition + 2]);
+    const Vec3L<F> normal(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
+    const Vec3L<F> v = normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
+    const Vec3L<F> c = shade(material, *lights, ambient, position, normal, v);
+    return {c.x, c.y, c.z, F(1.0f)};
   }
 };
 

@@ -10,11 +10,13 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <type_traits>
 
 #include <glm/vec4.hpp>
 
 #include "softpbr/raster/bin.h"
 #include "softpbr/raster/shader.h"
+#include "softpbr/raster/simd.h"
 #include "softpbr/raster/target.h"
 #include "softpbr/raster/vertex.h"
 
@@ -36,7 +38,70 @@ inline glm::vec4 blend(Blend mode, glm::vec4 src, glm::vec4 dst) {
   return {src.r + dst.r * k, src.g + dst.g * k, src.b + dst.b * k, src.a + dst.a * k};
 }
 
-template <Shader S>
+// Lanes of covered pixels waiting for a packet shader, in structure-of-arrays form.
+template <int W, int kN>
+struct PacketBuffer {
+  static constexpr int kV = kN > 0 ? kN : 1;
+  alignas(64) float v[kV][W];
+  alignas(64) float ddx[kV][W];
+  alignas(64) float ddy[kV][W];
+  alignas(64) float pos_x[W];
+  alignas(64) float pos_y[W];
+  alignas(64) float depth[W];
+  std::size_t index[W];  // pixel index in the target
+  int count = 0;
+};
+
+// Shades the buffered lanes with fragment_packet<Vec<W>> (or <float> for W = 1), writes them.
+template <int W, class S, int kN>
+void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, const DrawState& state,
+                  glm::vec4* colors, float* depths) {
+  using V = typename S::Varyings;
+  using F = std::conditional_t<W == 1, float, simd::Vec<W>>;
+  if (b.count == 0) return;
+  if constexpr (W > 1) {
+    for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
+      for (int k = 0; k < kN; ++k) {
+        b.v[k][lane] = b.v[k][0];
+        b.ddx[k][lane] = b.ddx[k][0];
+        b.ddy[k][lane] = b.ddy[k][0];
+      }
+      b.pos_x[lane] = b.pos_x[0];
+      b.pos_y[lane] = b.pos_y[0];
+      b.depth[lane] = b.depth[0];
+    }
+  }
+  auto load = [](const float* p) {
+    if constexpr (W == 1) return *p;
+    else return F::load(p);
+  };
+  FragmentPacket<F, V> p;
+  for (int k = 0; k < kN; ++k) {
+    p.v[k] = load(b.v[k]);
+    p.ddx[k] = load(b.ddx[k]);
+    p.ddy[k] = load(b.ddy[k]);
+  }
+  p.pos_x = load(b.pos_x);
+  p.pos_y = load(b.pos_y);
+  p.depth = load(b.depth);
+  p.front_facing = front_facing;
+  const Color<F> c = shader.template fragment_packet<F>(p);
+  float out[4][W];
+  if constexpr (W == 1) {
+    out[0][0] = c.r, out[1][0] = c.g, out[2][0] = c.b, out[3][0] = c.a;
+  } else {
+    c.r.store(out[0]), c.g.store(out[1]), c.b.store(out[2]), c.a.store(out[3]);
+  }
+  for (int lane = 0; lane < b.count; ++lane) {
+    const std::size_t idx = b.index[lane];
+    colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
+    if (state.depth_write) depths[idx] = b.depth[lane];
+  }
+  b.count = 0;
+}
+
+// W = 0: the shader's scalar fragment(); W ≥ 1: packets of W lanes through fragment_packet.
+template <int W, Shader S>
 void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
                      const Triangle& t, const TileRect& tile, Target& target) {
   using V = typename S::Varyings;
@@ -68,6 +133,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   const int width = target.width();
   glm::vec4* colors = target.colors().data();
   float* depths = target.depths().data();
+  [[maybe_unused]] PacketBuffer<(W > 0 ? W : 1), kN> packet;
 
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
@@ -127,35 +193,70 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         ddx[k] = values[1][k] - values[0][k];
         ddy[k] = values[2][k] - values[0][k];
       }
-      const V vddx = varyings_from_floats<V>(ddx);
-      const V vddy = varyings_from_floats<V>(ddy);
-
-      for (int j = 0; j < 4; ++j) {
-        if (!(mask & (1u << j))) continue;
-        const Fragment<V> f{varyings_from_floats<V>(values[j]),
-                            vddx,
-                            vddy,
-                            {static_cast<float>(lane_x[j]) + 0.5f, static_cast<float>(lane_y[j]) + 0.5f},
-                            z[j],
-                            t.front_facing};
-        const glm::vec4 src = shader.fragment(f);
-        const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-        colors[idx] = blend(state.blend, src, colors[idx]);
-        if (state.depth_write) depths[idx] = z[j];
+      if constexpr (W == 0) {
+        const V vddx = varyings_from_floats<V>(ddx);
+        const V vddy = varyings_from_floats<V>(ddy);
+        for (int j = 0; j < 4; ++j) {
+          if (!(mask & (1u << j))) continue;
+          const Fragment<V> f{varyings_from_floats<V>(values[j]),
+                              vddx,
+                              vddy,
+                              {static_cast<float>(lane_x[j]) + 0.5f, static_cast<float>(lane_y[j]) + 0.5f},
+                              z[j],
+                              t.front_facing};
+          const glm::vec4 src = shader.fragment(f);
+          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          colors[idx] = blend(state.blend, src, colors[idx]);
+          if (state.depth_write) depths[idx] = z[j];
+        }
+      } else {
+        for (int j = 0; j < 4; ++j) {
+          if (!(mask & (1u << j))) continue;
+          const int lane = packet.count++;
+          for (int k = 0; k < kN; ++k) {
+            packet.v[k][lane] = values[j][k];
+            packet.ddx[k][lane] = ddx[k];
+            packet.ddy[k][lane] = ddy[k];
+          }
+          packet.pos_x[lane] = static_cast<float>(lane_x[j]) + 0.5f;
+          packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
+          packet.depth[lane] = z[j];
+          packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          if (packet.count == W) flush_packet<W>(shader, packet, t.front_facing, state, colors, depths);
+        }
       }
     }
   }
+  if constexpr (W > 0) flush_packet<W>(shader, packet, t.front_facing, state, colors, depths);
 }
 
 }  // namespace detail
 
-// Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`.
-template <Shader S>
+// Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`,
+// W lanes at a time (W = 0: scalar fragment(), one pixel at a time).
+template <int W, Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  Target& target) {
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
-      detail::raster_triangle(shader, geometry, chunk, chunk.triangles[i], rect, target);
+      detail::raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target);
+}
+
+// The same, at the lane count `lanes` (0: the widest native one) when the shader has
+// fragment_packet(), else through its scalar fragment().
+template <Shader S>
+void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
+                 Target& target, int lanes) {
+  if constexpr (PacketShaderFor<S, float> && PacketShaderFor<S, simd::Vec<4>>) {
+    switch (lanes == 0 ? simd::kNativeWidth : lanes) {
+      case 1: return raster_tile<1>(shader, geometry, tile, rect, target);
+      case 4: return raster_tile<4>(shader, geometry, tile, rect, target);
+      case 8: return raster_tile<8>(shader, geometry, tile, rect, target);
+      default: return raster_tile<16>(shader, geometry, tile, rect, target);
+    }
+  } else {
+    raster_tile<0>(shader, geometry, tile, rect, target);
+  }
 }
 
 }  // namespace softpbr::raster

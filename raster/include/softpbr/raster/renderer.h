@@ -33,6 +33,9 @@ namespace softpbr::raster {
 struct RendererOptions {
   unsigned threads = 0;  // 0: all hardware threads; 1: everything inline on the caller
   int tile_size = 64;    // even, in [kMinTileSize, kMaxTileSize]
+  // Pixels per fragment_packet() call for packet shaders: 1, 4, 8 or 16; 0 picks the
+  // widest the build targets natively (simd::kNativeWidth). Any width gives the same bits.
+  int lanes = 0;
 };
 
 // What begin_frame() clears the target to.
@@ -53,6 +56,7 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   unsigned threads() const { return pool_.size(); }
+  int lanes() const { return lanes_; }
   int tile_size() const { return tile_size_; }
 
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
@@ -95,14 +99,14 @@ class Renderer {
   struct DrawCall {
     virtual ~DrawCall() = default;
     // One virtual call per draw and tile; the shader inlines inside.
-    virtual void raster(std::size_t tile, const TileRect& rect, Target& target) const = 0;
+    virtual void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes) const = 0;
     DrawGeometry geometry;
   };
   template <Shader S>
   struct TypedDrawCall final : DrawCall {
     explicit TypedDrawCall(const S& s) : shader(s) {}
-    void raster(std::size_t tile, const TileRect& rect, Target& target) const override {
-      raster_tile(shader, this->geometry, tile, rect, target);
+    void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes) const override {
+      raster_tile(shader, this->geometry, tile, rect, target, lanes);
     }
     S shader;
   };
@@ -112,6 +116,7 @@ class Renderer {
 
   ThreadPool pool_;
   int tile_size_;
+  int lanes_;
   Target* target_ = nullptr;
   TileGrid grid_;
   std::vector<std::unique_ptr<DrawCall>> draws_;

@@ -17,9 +17,13 @@
 // top-left pixel, as GL's dFdxCoarse). Lanes of a quad outside the triangle ("helper
 // lanes") only feed the derivatives: they are never shaded and never write.
 //
-// A SIMD packet path will shade the same quads with a lane type in place of float; it
-// computes every value with the same operations in the same order, so it cannot change
-// what a shader written against this interface means, nor an image bit.
+// Packet shaders. A shader may also provide, written once against a lane type F (float or
+// simd::Vec<N>, see simd.h):
+//   template <class F> Color<F> fragment_packet(const FragmentPacket<F, Varyings>& p) const;
+// Each lane of a packet is one covered pixel of one triangle, with exactly the values a
+// Fragment would hold for it. The renderer then shades N pixels per call (RendererOptions::
+// lanes); with lanes = 1 it calls fragment_packet<float>. Every lane computes the same
+// IEEE operations as the scalar code, so images are bit-identical at every width.
 #pragma once
 
 #include <concepts>
@@ -44,6 +48,24 @@ struct Fragment {
   bool front_facing;
 };
 
+// Lanes of pixels for packet shaders: varying k of every lane is v[k] (declaration order
+// of the Varyings struct's floats), likewise ddx/ddy.
+template <class F, class V>
+struct FragmentPacket {
+  static constexpr int kCount = std::is_empty_v<V> ? 0 : static_cast<int>(sizeof(V) / sizeof(float));
+  F v[kCount > 0 ? kCount : 1];
+  F ddx[kCount > 0 ? kCount : 1];
+  F ddy[kCount > 0 ? kCount : 1];
+  F pos_x, pos_y;  // pixel centres
+  F depth;
+  bool front_facing;  // one triangle per packet
+};
+
+template <class F>
+struct Color {
+  F r, g, b, a;
+};
+
 template <class V>
 concept VaryingsType = std::is_trivially_copyable_v<V> && std::is_default_constructible_v<V> &&
                        (std::is_empty_v<V> || (sizeof(V) % sizeof(float) == 0 &&
@@ -56,6 +78,11 @@ concept Shader = VaryingsType<typename S::Varyings> && std::is_copy_constructibl
                    { s.vertex(in, out) } -> std::convertible_to<glm::vec4>;
                    { s.fragment(f) } -> std::convertible_to<glm::vec4>;
                  };
+
+template <class S, class F>
+concept PacketShaderFor = requires(const S& s, const FragmentPacket<F, typename S::Varyings>& p) {
+  { s.template fragment_packet<F>(p) } -> std::same_as<Color<F>>;
+};
 
 // Number of floats in a varyings struct.
 template <class V>

@@ -1,0 +1,221 @@
+// softpbr/raster/simd.h — the lane types that packet shaders are written against.
+//
+// A packet shader is written once against a lane type F: `float` (one pixel) or
+// simd::Vec<N> (N pixels, N = 4, 8 or 16, each lane an independent pixel). Every
+// operation on Vec<N> is the same IEEE-754 single-precision operation per lane as on
+// float — +, −, ×, ÷, sqrt, comparisons, and min/max/select defined by the same
+// comparison — so a lane computes bit for bit what the scalar code computes for that
+// pixel, whatever the width (DESIGN.md §3). No FMA (the project compiles with
+// -ffp-contract=off), no approximate reciprocals.
+//
+// Vec<N> wraps a GCC/Clang vector extension; the compiler maps it to SSE, AVX2 or
+// AVX-512 registers as the target allows (wider vectors are split on narrower targets,
+// with the same per-lane results). This header is the only place with intrinsics.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
+namespace softpbr::simd {
+
+template <int N>
+struct Mask;
+
+namespace detail {
+// GCC drops a vector_size that depends on a template parameter: spell out each width.
+template <int N>
+struct Native;
+template <>
+struct Native<4> {
+  typedef float f __attribute__((vector_size(16)));
+  typedef std::int32_t i __attribute__((vector_size(16)));
+};
+template <>
+struct Native<8> {
+  typedef float f __attribute__((vector_size(32)));
+  typedef std::int32_t i __attribute__((vector_size(32)));
+};
+template <>
+struct Native<16> {
+  typedef float f __attribute__((vector_size(64)));
+  typedef std::int32_t i __attribute__((vector_size(64)));
+};
+}  // namespace detail
+
+template <int N>
+struct Vec {
+  static_assert(N == 4 || N == 8 || N == 16, "lane widths are 4, 8 and 16");
+  using native = typename detail::Native<N>::f;
+  native v;
+
+  Vec() = default;
+  Vec(float x) : v(native{} + x) {}  // broadcast (implicit: uniforms mix with lanes)
+  explicit Vec(native n) : v(n) {}
+
+  static Vec load(const float* p) {
+    Vec r;
+    std::memcpy(&r.v, p, sizeof(native));
+    return r;
+  }
+  void store(float* p) const { std::memcpy(p, &v, sizeof(native)); }
+  float operator[](int i) const { return v[i]; }
+
+  friend Vec operator+(Vec a, Vec b) { return Vec(a.v + b.v); }
+  friend Vec operator-(Vec a, Vec b) { return Vec(a.v - b.v); }
+  friend Vec operator*(Vec a, Vec b) { return Vec(a.v * b.v); }
+  friend Vec operator/(Vec a, Vec b) { return Vec(a.v / b.v); }
+  friend Vec operator-(Vec a) { return Vec(-a.v); }
+  Vec& operator+=(Vec b) { v += b.v; return *this; }
+  Vec& operator-=(Vec b) { v -= b.v; return *this; }
+  Vec& operator*=(Vec b) { v *= b.v; return *this; }
+
+  friend Mask<N> operator<(Vec a, Vec b) { return Mask<N>(a.v < b.v); }
+  friend Mask<N> operator<=(Vec a, Vec b) { return Mask<N>(a.v <= b.v); }
+  friend Mask<N> operator>(Vec a, Vec b) { return Mask<N>(a.v > b.v); }
+  friend Mask<N> operator>=(Vec a, Vec b) { return Mask<N>(a.v >= b.v); }
+};
+
+template <int N>
+struct Mask {
+  using native = typename detail::Native<N>::i;
+  native m;  // all ones (−1) where true
+  Mask() = default;
+  explicit Mask(native n) : m(n) {}
+  friend Mask operator&(Mask a, Mask b) { return Mask(a.m & b.m); }
+  friend Mask operator|(Mask a, Mask b) { return Mask(a.m | b.m); }
+  friend Mask operator!(Mask a) { return Mask(~a.m); }
+  bool operator[](int i) const { return m[i] != 0; }
+};
+
+// --- The operations shading code uses, for float and Vec<N> alike. ---
+
+inline bool select(bool m, bool a, bool b) { return m ? a : b; }
+inline float select(bool m, float a, float b) { return m ? a : b; }
+template <int N>
+inline Vec<N> select(Mask<N> m, Vec<N> a, Vec<N> b) {
+  using I = typename Mask<N>::native;
+  I ai, bi;
+  std::memcpy(&ai, &a.v, sizeof ai);
+  std::memcpy(&bi, &b.v, sizeof bi);
+  const I r = (ai & m.m) | (bi & ~m.m);
+  Vec<N> out;
+  std::memcpy(&out.v, &r, sizeof r);
+  return out;
+}
+
+// min/max as comparisons, identical for every lane type (std::min's rule: b < a ? b : a).
+inline float min(float a, float b) { return b < a ? b : a; }
+inline float max(float a, float b) { return a < b ? b : a; }
+template <int N>
+inline Vec<N> min(Vec<N> a, Vec<N> b) { return select(b < a, b, a); }
+template <int N>
+inline Vec<N> max(Vec<N> a, Vec<N> b) { return select(a < b, b, a); }
+template <class F>
+inline F clamp(F x, F lo, F hi) { return min(max(x, lo), hi); }
+
+// Logical and of two masks (for float: of two bools).
+inline bool both(bool a, bool b) { return a && b; }
+template <int N>
+inline Mask<N> both(Mask<N> a, Mask<N> b) { return a & b; }
+
+inline bool any(bool m) { return m; }
+template <int N>
+inline bool any(Mask<N> m) {
+  for (int i = 0; i < N; ++i)
+    if (m.m[i]) return true;
+  return false;
+}
+
+// Correctly rounded square root (IEEE-754 requires it of sqrtss/sqrtps alike).
+inline float sqrt(float x) { return std::sqrt(x); }
+template <int N>
+inline Vec<N> sqrt(Vec<N> x) {
+#if defined(__AVX512F__)
+  if constexpr (N == 16) {
+    __m512 r = _mm512_sqrt_ps(reinterpret_cast<__m512>(x.v));
+    return Vec<N>(reinterpret_cast<typename Vec<N>::native>(r));
+  }
+#endif
+#if defined(__AVX__)
+  if constexpr (N == 8) {
+    __m256 r = _mm256_sqrt_ps(reinterpret_cast<__m256>(x.v));
+    return Vec<N>(reinterpret_cast<typename Vec<N>::native>(r));
+  }
+#endif
+#if defined(__SSE2__)
+  if constexpr (N == 4) {
+    __m128 r = _mm_sqrt_ps(reinterpret_cast<__m128>(x.v));
+    return Vec<N>(reinterpret_cast<typename Vec<N>::native>(r));
+  } else {
+    // Narrower registers than the vector: take it four lanes at a time.
+    Vec<N> out;
+    for (int i = 0; i < N; i += 4) {
+      __m128 part;
+      std::memcpy(&part, reinterpret_cast<const float*>(&x.v) + i, sizeof part);
+      part = _mm_sqrt_ps(part);
+      std::memcpy(reinterpret_cast<float*>(&out.v) + i, &part, sizeof part);
+    }
+    return out;
+  }
+#else
+  Vec<N> out;
+  for (int i = 0; i < N; ++i) out.v[i] = std::sqrt(x.v[i]);
+  return out;
+#endif
+}
+
+template <class F>
+struct LaneCount {
+  static constexpr int value = 1;
+};
+template <int N>
+struct LaneCount<Vec<N>> {
+  static constexpr int value = N;
+};
+
+// The widest lane count the compiler targets natively (chosen at compile time).
+#if defined(__AVX512F__)
+inline constexpr int kNativeWidth = 16;
+#elif defined(__AVX2__)
+inline constexpr int kNativeWidth = 8;
+#else
+inline constexpr int kNativeWidth = 4;
+#endif
+
+// Three and four lanes-of-F vectors for shading code.
+template <class F>
+struct Vec3 {
+  F x, y, z;
+  Vec3() = default;
+  Vec3(F a, F b, F c) : x(a), y(b), z(c) {}
+  explicit Vec3(F s) : x(s), y(s), z(s) {}
+  friend Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+  friend Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+  friend Vec3 operator*(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+  friend Vec3 operator*(const Vec3& a, F s) { return {a.x * s, a.y * s, a.z * s}; }
+  friend Vec3 operator/(const Vec3& a, F s) { return {a.x / s, a.y / s, a.z / s}; }
+  friend Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
+  Vec3& operator+=(const Vec3& b) {
+    x += b.x;
+    y += b.y;
+    z += b.z;
+    return *this;
+  }
+};
+
+template <class F>
+inline F dot(const Vec3<F>& a, const Vec3<F>& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+template <class M, class F>
+inline Vec3<F> select(M m, const Vec3<F>& a, const Vec3<F>& b) {
+  return {select(m, a.x, b.x), select(m, a.y, b.y), select(m, a.z, b.z)};
+}
+
+}  // namespace softpbr::simd
