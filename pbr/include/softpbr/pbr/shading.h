@@ -97,7 +97,12 @@ inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>
   const F G = G_Smith(NoV, NoL, F(m.k));
   const Vec3L<F> Fr = F_Schlick<F>(m.f0, VoH);
   const Vec3L<F> specular = Fr * (D * G / (F(4.0f) * NoV * simd::max(NoL, F(kMinNoV))));
-  const Vec3L<F> kD = (Vec3L<F>(F(1.0f)) - Fr) * F(1.0f - m.metallic);
+  // Fr exceeds 1 when a base colour above 1 (accepted, see prepare_material) lifts F0 over
+  // 1: the diffuse weight stops at 0 instead of going negative (the same bits for Fr ≤ 1).
+  const Vec3L<F> one_minus_F = Vec3L<F>(F(1.0f)) - Fr;
+  const Vec3L<F> kD = Vec3L<F>(simd::max(one_minus_F.x, F(0.0f)), simd::max(one_minus_F.y, F(0.0f)),
+                               simd::max(one_minus_F.z, F(0.0f))) *
+                      F(1.0f - m.metallic);
   return kD * lanes<F>(m.albedo) * Fd_Lambert<F>() + specular;
 }
 
