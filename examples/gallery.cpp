@@ -1,13 +1,18 @@
 // gallery — the paper's scene, headless: a grid of spheres, one row per material,
 // roughness rising left to right, three point lights, written to a PNG.
 //
-//   gallery [out.png] [--width W] [--height H] [--threads N] [--tile-size T] [--obj mesh.obj]
+//   gallery [out.png] [--width W] [--height H] [--threads N] [--tile-size T] [--lanes L]
+//           [--spot | --obj mesh.obj]
+//
+// --spot draws the paper's cow (assets/models/spot) in place of the spheres; --obj any
+// OBJ file (all its shapes merged, scaled to fit each cell).
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>
 
 #include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/obj.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;
@@ -16,6 +21,7 @@ namespace raster = softpbr::raster;
 int main(int argc, char** argv) {
   std::string out = "gallery.png";
   int width = 1280, height = 720;
+  std::string obj;
   raster::RendererOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -28,8 +34,16 @@ int main(int argc, char** argv) {
       else if (arg == "--height") height = value();
       else if (arg == "--threads") options.threads = static_cast<unsigned>(std::max(0, value()));
       else if (arg == "--tile-size") options.tile_size = value();
+      else if (arg == "--lanes") options.lanes = value();
+      else if (arg == "--spot") obj = SOFTPBR_ASSETS_DIR "/models/spot/spot_triangulated.obj";
+      else if (arg == "--obj") {
+        if (i + 1 >= argc) throw std::invalid_argument("--obj needs a file");
+        obj = argv[++i];
+      }
       else if (arg == "-h" || arg == "--help") {
-        std::printf("usage: gallery [out.png] [--width W] [--height H] [--threads N] [--tile-size T]\n");
+        std::printf(
+            "usage: gallery [out.png] [--width W] [--height H] [--threads N] [--tile-size T] [--lanes L]\n"
+            "               [--spot | --obj mesh.obj]\n");
         return 0;
       } else out = arg;
     } catch (const std::exception& e) {
@@ -40,7 +54,13 @@ int main(int argc, char** argv) {
   try {
     raster::Renderer renderer(options);
     raster::Target target(width, height);
-    const pbr::Scene scene = pbr::make_gallery();
+    pbr::GalleryOptions gallery;
+    if (!obj.empty()) {
+      const pbr::ObjModel model = pbr::load_obj(obj);
+      for (const std::string& w : model.warnings) std::fprintf(stderr, "gallery: warning: %s\n", w.c_str());
+      gallery.mesh = std::make_shared<pbr::Mesh>(pbr::merge_shapes(model));
+    }
+    const pbr::Scene scene = pbr::make_gallery(gallery);
     pbr::render(scene, renderer, target);
     raster::write_png(out, pbr::tone_map_to_rgba8(target, pbr::gallery_output()));
     std::printf("wrote %s (%dx%d, %u threads, hash %016llx)\n", out.c_str(), width, height, renderer.threads(),

@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/dmath.h"
@@ -69,6 +70,12 @@ pbr::Scene grazing_light() {
 std::vector<GoldenScene> golden_scenes() {
   std::vector<GoldenScene> scenes;
   scenes.push_back({"gallery", 640, 360, [] { return pbr::make_gallery(); }});
+  scenes.push_back({"gallery_spot", 640, 360, [] {
+                      pbr::GalleryOptions o;
+                      const auto spot = pbr::load_obj(fs::path(SOFTPBR_SOURCE_DIR) / "assets/models/spot/spot_triangulated.obj");
+                      o.mesh = std::make_shared<pbr::Mesh>(pbr::merge_shapes(spot));
+                      return pbr::make_gallery(o);
+                    }});
   scenes.push_back({"metal_vs_dielectric", 240, 160, [] {
                       pbr::GalleryOptions o;
                       o.rows = {"silver", "plastic_blue"};

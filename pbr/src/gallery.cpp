@@ -32,7 +32,14 @@ Scene make_gallery(const GalleryOptions& o) {
   std::shared_ptr<const Mesh> mesh = o.mesh;
   glm::mat4 fit(1.0f);
   if (mesh) {
-    fit = fit_transform(*mesh, 0.8f);
+    // Rotation about y from deterministic sin/cos (glm::rotate would call libm).
+    const float c = static_cast<float>(dmath::cos(o.mesh_yaw)), s = static_cast<float>(dmath::sin(o.mesh_yaw));
+    glm::mat4 turn(1.0f);
+    turn[0][0] = c;
+    turn[0][2] = -s;
+    turn[2][0] = s;
+    turn[2][2] = c;
+    fit = turn * fit_transform(*mesh, 0.8f);
   } else {
     mesh = std::make_shared<Mesh>(uv_sphere(0.4f, o.segments, std::max(2, o.segments / 2)));
   }

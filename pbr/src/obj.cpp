@@ -585,4 +585,14 @@ ObjModel load_obj(const fs::path& path) {
   return model;
 }
 
+Mesh merge_shapes(const ObjModel& model) {
+  Mesh out;
+  for (const ObjShape& shape : model.shapes) {
+    const auto base = static_cast<std::uint32_t>(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), shape.mesh.vertices.begin(), shape.mesh.vertices.end());
+    for (const std::uint32_t i : shape.mesh.indices) out.indices.push_back(base + i);
+  }
+  return out;
+}
+
 }  // namespace softpbr::pbr

@@ -25,8 +25,11 @@ struct GalleryOptions {
   float first_roughness = 0.05f;  // left column
   float last_roughness = 1.0f;    // right column
   int segments = 64;              // UV sphere segments around; rings = segments / 2
-  // Draw this mesh (scaled to fit a 0.8-unit cube, centred) in place of the spheres.
+  // Draw this mesh (scaled to fit a 0.8-unit cube, centred) in place of the spheres,
+  // turned by mesh_yaw radians about the y axis (the default turns a model that faces −z,
+  // as spot does, to show its face and left side).
   std::shared_ptr<const Mesh> mesh;
+  float mesh_yaw = 2.5f;
 };
 
 // Throws std::invalid_argument for an unknown preset name or a grid with no cell.

@@ -68,4 +68,7 @@ ObjModel load_obj(const std::filesystem::path& path);
 // Ns ≤ 0 or NaN gives 1; +∞ gives 0; otherwise the result is in (0, 1).
 float roughness_from_phong_exponent(float ns);
 
+// All shapes of a model in one mesh (materials dropped), e.g. to draw it with one material.
+Mesh merge_shapes(const ObjModel& model);
+
 }  // namespace softpbr::pbr
