@@ -119,8 +119,23 @@ constexpr double exp(double x) {
   return p * s1 * s2;
 }
 
-// 2^x.
-constexpr double exp2(double x) { return exp(x * 0.693147180559945309417232121458176568); }
+// 2^x, accurate to a few ulp and exact for integer x. The integer part n is split off
+// first: scaling x by ln 2 up front (e^(x ln 2)) would turn the rounding of that product
+// into a relative error of |x ln 2| · 2⁻⁵³, up to 8e-14 near |x| = 1000.
+constexpr double exp2(double x) {
+  if (x != x) return x;
+  if (x >= 1024.0) return std::numeric_limits<double>::infinity();
+  if (x < -1075.0) return 0.0;
+  const double n = detail::round_int(x);
+  const double f = x - n;  // exact, |f| ≤ 1/2
+  const double p = exp(f * 0.693147180559945309417232121458176568);
+  // Scale by 2^n in two steps, as exp does, so subnormal results and n = 1024 stay exact.
+  const auto ni = static_cast<std::int64_t>(n);
+  const std::int64_t n1 = ni / 2, n2 = ni - n1;
+  const double s1 = std::bit_cast<double>(static_cast<std::uint64_t>(n1 + 1023) << 52);
+  const double s2 = std::bit_cast<double>(static_cast<std::uint64_t>(n2 + 1023) << 52);
+  return p * s1 * s2;
+}
 
 // Natural logarithm, accurate to a few ulp; −Inf at 0, NaN below 0 or for NaN.
 constexpr double log(double x) {
