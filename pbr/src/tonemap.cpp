@@ -57,7 +57,10 @@ glm::vec3 pbr_neutral(glm::vec3 color) {
 }  // namespace
 
 glm::vec3 apply_tone_map(ToneMap op, glm::vec3 c) {
-  c = glm::max(c, glm::vec3(0.0f));
+  // From 1e9 on every operator already returns its maximum (1), so the upper clamp changes
+  // no finite result; it keeps +Inf (Inf / Inf) and the ACES fit's x² overflow above ~1e19
+  // from turning into NaN, which would encode as black. NaN stays NaN (encoded as 0).
+  c = glm::min(glm::max(c, glm::vec3(0.0f)), glm::vec3(1e9f));
   switch (op) {
     case ToneMap::None: return glm::min(c, glm::vec3(1.0f));
     case ToneMap::Reinhard: return c / (glm::vec3(1.0f) + c);
