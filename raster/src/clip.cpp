@@ -9,14 +9,23 @@ namespace softpbr::raster {
 namespace {
 
 // A clip plane: inside where a·x + b·y + c·z + d·w + e ≥ 0, evaluated in this order.
+// Distances and cut points are computed in double and rounded once to float. In float, a
+// ±1e6 edge cut at the guard band landed a pixel or more off its line on screen, an edge
+// from w = 4e5 to w = −0.1 cut at w = kMinClipW could land at w ≤ 0 (a mirrored vertex),
+// and coordinates near ±3e38 overflowed to NaN vertices.
 struct Plane {
   float a, b, c, d, e;
-  float distance(const glm::vec4& p) const { return a * p.x + b * p.y + c * p.z + d * p.w + e; }
+  double distance(const glm::vec4& p) const {
+    return double{a} * p.x + double{b} * p.y + double{c} * p.z + double{d} * p.w + double{e};
+  }
 };
 
 bool finite(const glm::vec4& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w);
 }
+
+// From a towards b by t in [0, 1], in double, rounded once to float.
+float lerp(float a, float b, double t) { return static_cast<float>(a + t * (static_cast<double>(b) - a)); }
 
 // Sutherland–Hodgman against one plane. The intersection on an edge is computed from its
 // inside end towards its outside end, whichever way the polygon runs along it.
@@ -25,21 +34,20 @@ int clip_polygon(const Plane& plane, const ClipVertex* in, int n, ClipVertex* ou
   for (int i = 0; i < n; ++i) {
     const ClipVertex& p = in[i];
     const ClipVertex& q = in[(i + 1) % n];
-    const float dp = plane.distance(p.position);
-    const float dq = plane.distance(q.position);
-    const bool p_in = dp >= 0.0f;
-    const bool q_in = dq >= 0.0f;
+    const double dp = plane.distance(p.position);
+    const double dq = plane.distance(q.position);
+    const bool p_in = dp >= 0.0;
+    const bool q_in = dq >= 0.0;
     if (p_in) out[m++] = p;
     if (p_in != q_in) {
       const ClipVertex& inside = p_in ? p : q;
       const ClipVertex& outside = p_in ? q : p;
-      const float di = p_in ? dp : dq;
-      const float dout = p_in ? dq : dp;
-      const float t = di / (di - dout);
+      const double di = p_in ? dp : dq;
+      const double dout = p_in ? dq : dp;
+      const double t = di / (di - dout);  // in [0, 1]: di ≥ 0 > dout
       ClipVertex& r = out[m++];
-      r.position = inside.position + t * (outside.position - inside.position);
-      for (int k = 0; k < varying_count; ++k)
-        r.varyings[k] = inside.varyings[k] + t * (outside.varyings[k] - inside.varyings[k]);
+      for (int c = 0; c < 4; ++c) r.position[c] = lerp(inside.position[c], outside.position[c], t);
+      for (int k = 0; k < varying_count; ++k) r.varyings[k] = lerp(inside.varyings[k], outside.varyings[k], t);
     }
   }
   return m;
@@ -127,6 +135,11 @@ ClipResult clip_triangle(const glm::vec4 position[3], const float* const varying
     current = 1 - current;
   }
   if (n < 3) return ClipResult::Culled;
+  // With coordinates beyond ~1e15 the cut at w = kMinClipW is below double's resolution
+  // and can leave w ≤ 0, which project() would divide by: drop the triangle rather than
+  // draw it mirrored.
+  for (int v = 0; v < n; ++v)
+    if (!(buffers[current][v].position.w > 0.0f)) return ClipResult::Culled;
   for (int v = 0; v < n; ++v) out[v] = buffers[current][v];
   count = n;
   return ClipResult::Clipped;
