@@ -1,0 +1,275 @@
+// viewer — the paper's interactive PBR viewer, drawn by softpbr on the CPU and shown in an
+// SDL2 window (the window only displays the image: no GPU needed).
+//
+//   viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]
+//          [--software] [--script keys.txt] [--screenshot out.png]
+//
+// OBJ files join the mesh cycle (M) after the sphere grid, spot and the teapot. Controls:
+// viewer_state.h. --script replays a script (script.h) with a fixed time step and full
+// resolution, then quits; --screenshot writes what the window shows at the end (without
+// --script: the first frame). Both use SDL's software renderer so the pixels are exact.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <SDL.h>
+
+#include "resolution.h"
+#include "script.h"
+#include "sdl_window.h"
+#include "softpbr/raster/raster.h"
+#include "viewer_scene.h"
+#include "viewer_state.h"
+
+namespace raster = softpbr::raster;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Options {
+  int width = 960, height = 540;
+  unsigned threads = 0;
+  double budget_ms = 40.0;
+  bool software = false;
+  std::string script, screenshot;
+  std::vector<std::filesystem::path> objs;
+};
+
+std::optional<viewer::Key> key_from_sdl(SDL_Keycode k) {
+  using viewer::Key;
+  switch (k) {
+    case SDLK_w: return Key::W;          case SDLK_a: return Key::A;
+    case SDLK_s: return Key::S;          case SDLK_d: return Key::D;
+    case SDLK_q: return Key::Q;          case SDLK_e: return Key::E;
+    case SDLK_UP: return Key::Up;        case SDLK_DOWN: return Key::Down;
+    case SDLK_LEFT: return Key::Left;    case SDLK_RIGHT: return Key::Right;
+    case SDLK_TAB: return Key::Tab;      case SDLK_n: return Key::N;
+    case SDLK_m: return Key::M;          case SDLK_c: return Key::C;
+    case SDLK_r: return Key::R;          case SDLK_f: return Key::F;
+    case SDLK_t: return Key::T;          case SDLK_p: return Key::P;
+    case SDLK_ESCAPE: return Key::Escape;
+    default:
+      if (k >= SDLK_0 && k <= SDLK_9) return static_cast<Key>(static_cast<int>(Key::Num0) + (k - SDLK_0));
+      return std::nullopt;
+  }
+}
+
+// The viewer: state, meshes, the softpbr renderer and the window.
+class Viewer {
+ public:
+  Viewer(const Options& o, std::vector<viewer::NamedMesh> meshes)
+      : options_(o), meshes_(std::move(meshes)), renderer_({.threads = o.threads}),
+        window_("softpbr viewer", o.width, o.height, o.script.empty() && o.screenshot.empty(),
+                o.software || !o.script.empty() || !o.screenshot.empty()) {
+    state_.mesh_count = meshes_.size();
+    policy_.budget_ms = o.budget_ms;
+  }
+
+  // Renders the state at window size / divisor, shows it (not presented); returns ms.
+  double draw(int divisor) {
+    const auto start = Clock::now();
+    const int w = viewer::scaled_size(window_.width(), divisor), h = viewer::scaled_size(window_.height(), divisor);
+    if (!target_ || target_->width() != w || target_->height() != h) target_.emplace(w, h);
+    const raster::Image8 image = viewer::render_view(state_, meshes_, renderer_, *target_);
+    window_.draw(image);
+    shown_divisor_ = divisor;
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  }
+
+  // Renders the state at full resolution and writes what the window shows.
+  void screenshot(const std::filesystem::path& path) {
+    draw(1);
+    const raster::Image8 image = window_.read_back();
+    window_.present();
+    raster::write_png(path, image);
+    std::printf("viewer: wrote %s (%dx%d, %s, %s)\n", path.string().c_str(), image.width, image.height,
+                meshes_[state_.mesh].name.c_str(), viewer::material_label(state_).c_str());
+  }
+
+  void run_script(const std::vector<viewer::ScriptCommand>& commands) {
+    using Kind = viewer::ScriptCommand::Kind;
+    for (const viewer::ScriptCommand& c : commands) {
+      SDL_PumpEvents();  // keep the window alive; real input is ignored in script mode
+      switch (c.kind) {
+        case Kind::Event:
+          if (viewer::apply(state_, c.event) == viewer::Effect::Screenshot) screenshot(next_screenshot_name());
+          break;
+        case Kind::Frames:
+          for (long i = 0; i < c.frames; ++i) viewer::advance(state_, viewer::kScriptFrameSeconds);
+          update_title(draw(1));
+          window_.present();
+          break;
+        case Kind::Screenshot: screenshot(c.path); break;
+        case Kind::Quit: state_.quit = true; break;
+      }
+      if (state_.quit) return;
+    }
+  }
+
+  void run_interactive() {
+    bool dirty = true;
+    auto last = Clock::now();
+    while (!state_.quit) {
+      bool turned = false;
+      SDL_Event e;
+      // Sleep in the event queue while nothing changes.
+      if (!dirty && !state_.lights_rotating && !movement_held() && shown_divisor_ == 1) {
+        if (SDL_WaitEventTimeout(&e, 250)) dirty |= handle(e, turned);
+        last = Clock::now();
+      }
+      while (SDL_PollEvent(&e)) dirty |= handle(e, turned);
+      if (state_.quit) break;
+      const auto now = Clock::now();
+      // Clamp the time step so a stall (a slow full-resolution frame) is not a big jump.
+      const float dt = std::min(std::chrono::duration<float>(now - last).count(), 0.1f);
+      last = now;
+      const bool moving = viewer::advance(state_, dt) || turned || state_.lights_rotating;
+      if (!dirty && !moving && shown_divisor_ == 1) continue;
+      const int divisor = moving ? policy_.divisor : 1;
+      const double ms = draw(divisor);
+      window_.present();
+      policy_.next(ms, moving);
+      update_title(ms);
+      dirty = false;
+    }
+  }
+
+ private:
+  bool movement_held() const {
+    using viewer::Key;
+    for (Key k : {Key::W, Key::A, Key::S, Key::D, Key::Q, Key::E, Key::Up, Key::Down, Key::Left, Key::Right})
+      if (state_.is_held(k)) return true;
+    return false;
+  }
+
+  // Applies an SDL event; returns true when the picture must be redrawn.
+  bool handle(const SDL_Event& e, bool& turned) {
+    switch (e.type) {
+      case SDL_QUIT: state_.quit = true; return false;
+      case SDL_KEYDOWN:
+      case SDL_KEYUP: {
+        const auto key = key_from_sdl(e.key.keysym.sym);
+        if (!key || e.key.repeat) return false;
+        if (e.type == SDL_KEYUP) return viewer::apply(state_, viewer::KeyUp{*key}), false;
+        const viewer::Effect effect = viewer::apply(state_, viewer::KeyDown{*key});
+        SDL_SetRelativeMouseMode(state_.captured ? SDL_TRUE : SDL_FALSE);
+        if (effect == viewer::Effect::Screenshot) {
+          try {
+            screenshot(next_screenshot_name());
+          } catch (const std::exception& ex) {
+            std::fprintf(stderr, "viewer: %s\n", ex.what());
+          }
+        }
+        return true;
+      }
+      case SDL_MOUSEMOTION:
+        if (!state_.captured) return false;
+        viewer::apply(state_, viewer::MouseMotion{static_cast<float>(e.motion.xrel), static_cast<float>(e.motion.yrel)});
+        turned = true;
+        return true;
+      case SDL_WINDOWEVENT:
+        if (e.window.event == SDL_WINDOWEVENT_FOCUS_LOST)  // no key stays held behind our back
+          for (std::size_t k = 0; k < viewer::kKeyCount; ++k) state_.held[k] = false;
+        return e.window.event == SDL_WINDOWEVENT_SIZE_CHANGED || e.window.event == SDL_WINDOWEVENT_EXPOSED;
+      default: return false;
+    }
+  }
+
+  std::filesystem::path next_screenshot_name() const {
+    for (int i = 1;; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "viewer-%04d.png", i);
+      if (!std::filesystem::exists(name)) return name;
+    }
+  }
+
+  void update_title(double ms) {
+    char title[256];
+    std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s | %u threads%s", ms,
+                  ms > 0.0 ? 1000.0 / ms : 0.0, viewer::material_label(state_).c_str(),
+                  meshes_[state_.mesh].name.c_str(), target_->width(), target_->height(),
+                  shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
+                  state_.lights_rotating ? " | lights rotating" : "");
+    window_.set_title(title);
+  }
+
+  Options options_;
+  std::vector<viewer::NamedMesh> meshes_;
+  viewer::ViewerState state_;
+  viewer::ResolutionPolicy policy_;
+  raster::Renderer renderer_;
+  std::optional<raster::Target> target_;
+  viewer::SdlWindow window_;
+  int shown_divisor_ = 0;
+};
+
+constexpr const char* kUsage =
+    "usage: viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]\n"
+    "              [--software] [--script keys.txt] [--screenshot out.png]\n"
+    "keys: WASD/arrows fly, Q/E down/up, Tab capture mouse, 1-9 presets, N next preset, 0 gallery,\n"
+    "      M next mesh, C rotate lights, R/F roughness up/down, T metallic, P screenshot, Esc quit\n";
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto text = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+      return argv[++i];
+    };
+    auto number = [&](long lo, long hi) -> long {
+      const std::string v = text();
+      char* end = nullptr;
+      const long n = std::strtol(v.c_str(), &end, 10);
+      if (v.empty() || *end != '\0' || n < lo || n > hi)
+        throw std::invalid_argument(arg + " expects a whole number in [" + std::to_string(lo) + ", " +
+                                    std::to_string(hi) + "], not \"" + v + "\"");
+      return n;
+    };
+    if (arg == "--width") o.width = static_cast<int>(number(16, 8192));
+    else if (arg == "--height") o.height = static_cast<int>(number(16, 8192));
+    else if (arg == "--threads") o.threads = static_cast<unsigned>(number(0, 256));
+    else if (arg == "--budget-ms") o.budget_ms = static_cast<double>(number(1, 10000));
+    else if (arg == "--software") o.software = true;
+    else if (arg == "--script") o.script = text();
+    else if (arg == "--screenshot") o.screenshot = text();
+    else if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    } else if (!arg.empty() && arg[0] == '-') throw std::invalid_argument("unknown option " + arg);
+    else o.objs.emplace_back(arg);
+  }
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  std::vector<viewer::ScriptCommand> script;
+  try {
+    options = parse(argc, argv);
+    if (!options.script.empty()) script = viewer::load_script(options.script);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "viewer: %s\n%s", e.what(), kUsage);
+    return 2;
+  }
+  try {
+    std::vector<std::string> warnings;
+    auto meshes = viewer::load_meshes(SOFTPBR_ASSETS_DIR, options.objs, warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "viewer: warning: %s\n", w.c_str());
+    Viewer v(options, std::move(meshes));
+    if (!options.script.empty()) v.run_script(script);
+    else if (options.screenshot.empty()) v.run_interactive();
+    if (!options.screenshot.empty()) v.screenshot(options.screenshot);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "viewer: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

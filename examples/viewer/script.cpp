@@ -1,0 +1,123 @@
+// Script parsing (see script.h).
+#include "script.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace viewer {
+
+namespace {
+std::vector<std::string_view> split_words(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+    std::size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+    if (j > i) words.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return words;
+}
+
+struct LineParser {
+  const std::string& name;
+  int line;
+  std::vector<std::string_view> words;
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw ScriptError(name + ":" + std::to_string(line) + ": " + what);
+  }
+  void expect_args(std::size_t lo, std::size_t hi, const char* usage) const {
+    const std::size_t n = words.size() - 1;
+    if (n < lo || n > hi) fail(std::string("expected \"") + usage + "\"");
+  }
+  Key key(std::size_t i) const {
+    const auto k = key_from_name(words[i]);
+    if (!k) fail("unknown key \"" + std::string(words[i]) + "\" (keys: w a s d q e up down left right tab 0-9 n m c r f t p escape)");
+    return *k;
+  }
+  float number(std::size_t i) const {
+    const std::string text(words[i]);
+    float v = 0.0f;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v) || std::fabs(v) > 1e6f)
+      fail("\"" + text + "\" is not a number of pixels in [-1e6, 1e6]");
+    return v;
+  }
+  long count(std::size_t i) const {
+    const std::string text(words[i]);
+    long v = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || v < 1 || v > kMaxScriptFrames)
+      fail("frame count \"" + text + "\" is not a whole number in [1, " + std::to_string(kMaxScriptFrames) + "]");
+    return v;
+  }
+};
+}  // namespace
+
+std::vector<ScriptCommand> parse_script(std::string_view text, const std::string& name) {
+  std::vector<ScriptCommand> commands;
+  int line_number = 0;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    ++line_number;
+    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    LineParser p{name, line_number, split_words(line)};
+    if (p.words.empty()) continue;
+    const std::string_view verb = p.words[0];
+    ScriptCommand c;
+    c.line = line_number;
+    if (verb == "press") {
+      p.expect_args(1, 1, "press KEY");
+      c.event = KeyDown{p.key(1)};
+      commands.push_back(c);
+      c.event = KeyUp{p.key(1)};
+    } else if (verb == "down") {
+      p.expect_args(1, 1, "down KEY");
+      c.event = KeyDown{p.key(1)};
+    } else if (verb == "up") {
+      p.expect_args(1, 1, "up KEY");
+      c.event = KeyUp{p.key(1)};
+    } else if (verb == "mouse") {
+      p.expect_args(2, 2, "mouse DX DY");
+      c.event = MouseMotion{p.number(1), p.number(2)};
+    } else if (verb == "frame") {
+      p.expect_args(0, 1, "frame [N]");
+      c.kind = ScriptCommand::Kind::Frames;
+      c.frames = p.words.size() == 2 ? p.count(1) : 1;
+    } else if (verb == "screenshot") {
+      p.expect_args(1, 1, "screenshot FILE");
+      c.kind = ScriptCommand::Kind::Screenshot;
+      c.path = std::string(p.words[1]);
+    } else if (verb == "quit") {
+      p.expect_args(0, 0, "quit");
+      c.kind = ScriptCommand::Kind::Quit;
+    } else {
+      p.fail("unknown command \"" + std::string(verb) + "\" (commands: press down up mouse frame screenshot quit)");
+    }
+    commands.push_back(c);
+  }
+  return commands;
+}
+
+std::vector<ScriptCommand> load_script(const std::filesystem::path& path) {
+  constexpr std::uintmax_t kMaxBytes = 16u << 20;  // a script is a few lines; refuse absurd files
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw ScriptError(path.string() + ": cannot read the script (" + ec.message() + ")");
+  if (size > kMaxBytes) throw ScriptError(path.string() + ": script is larger than 16 MiB");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in && !in.eof()) throw ScriptError(path.string() + ": cannot read the script");
+  return parse_script(text.str(), path.string());
+}
+
+}  // namespace viewer

@@ -1,0 +1,147 @@
+// Viewer state → scene → image: the gallery mode is the paper's gallery, preset mode one
+// object, and every part of the state reaches the picture.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <string>
+
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/obj.h"
+#include "softpbr/raster/raster.h"
+#include "viewer_scene.h"
+
+using namespace viewer;
+namespace pbr = softpbr::pbr;
+namespace raster = softpbr::raster;
+
+namespace {
+const std::vector<NamedMesh>& meshes() {
+  static const std::vector<NamedMesh> m = [] {
+    std::vector<std::string> warnings;
+    return load_meshes(SOFTPBR_ASSETS_DIR, {}, warnings);
+  }();
+  return m;
+}
+
+std::uint64_t image_hash(const ViewerState& s, int w = 96, int h = 54) {
+  raster::Renderer renderer({.threads = 2});
+  raster::Target target(w, h);
+  render_view(s, meshes(), renderer, target);
+  return raster::hash_colors(target);
+}
+}  // namespace
+
+TEST_CASE("the mesh list is the sphere grid then spot then the teapot then OBJ files and a bad OBJ names the file") {
+  REQUIRE(meshes().size() == 3);
+  CHECK(meshes()[0].name == "spheres");
+  CHECK(meshes()[0].mesh == nullptr);
+  CHECK(meshes()[1].name == "spot");
+  CHECK(meshes()[1].mesh->triangle_count() == 5856);
+  CHECK(meshes()[2].name == "teapot");
+  CHECK(meshes()[2].mesh->triangle_count() == 15704);
+  std::vector<std::string> warnings;
+  try {
+    load_meshes(SOFTPBR_ASSETS_DIR, {"/nonexistent/cow.obj"}, warnings);
+    FAIL("expected a LoadError");
+  } catch (const pbr::LoadError& e) {
+    CHECK(std::string(e.what()).find("/nonexistent/cow.obj") != std::string::npos);
+  }
+}
+
+TEST_CASE("the starting state renders the paper's gallery bit for bit") {
+  raster::Renderer renderer({.threads = 2});
+  raster::Target direct(96, 54);
+  pbr::render(pbr::make_gallery(), renderer, direct);
+  CHECK(image_hash(ViewerState{}) == raster::hash_colors(direct));
+}
+
+TEST_CASE("preset mode draws one object in the preset's colour with the state's roughness and metallic") {
+  for (std::size_t mesh = 0; mesh < meshes().size(); ++mesh) {
+    ViewerState s;
+    s.mesh_count = meshes().size();
+    s.mesh = mesh;
+    select_material(s, 1);  // copper
+    s.roughness_steps = 13;
+    s.metallic = false;
+    const pbr::Scene scene = build_scene(s, meshes());
+    REQUIRE(scene.objects.size() == 1);
+    const pbr::Object& o = scene.objects[0];
+    CHECK(o.material.base_color == pbr::material_preset("copper")->base_color);
+    CHECK(o.material.roughness == 0.65f);
+    CHECK(o.material.metallic == 0.0f);
+    // Fitted into a cube of 0.8 · kSingleObjectScale, centred on the origin, then turned
+    // about y (gallery.h): y extents scale by the fit, and y is centred.
+    const pbr::Mesh sphere = pbr::uv_sphere(0.4f, 64, 32);
+    const pbr::Mesh& m = o.mesh ? *o.mesh : sphere;
+    const pbr::Bounds before = pbr::bounds(m);
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const pbr::MeshVertex& v : m.vertices) {
+      const glm::vec3 p = glm::vec3(o.transform * glm::vec4(v.position, 1.0f));
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const glm::vec3 e = before.extent();
+    const float fit = 0.8f * kSingleObjectScale / std::max({e.x, e.y, e.z});
+    CHECK((hi.y - lo.y) == doctest::Approx(e.y * fit).epsilon(1e-5));
+    CHECK(std::abs(lo.y + hi.y) < 1e-5f);
+    if (!o.mesh) CHECK((hi.x - lo.x) == doctest::Approx(0.8f * kSingleObjectScale).epsilon(1e-5));
+  }
+}
+
+TEST_CASE("the camera is the state's fly camera and the lights turn about y by the light angle") {
+  ViewerState s;
+  s.camera.move(1.0f, 0.5f, 0.25f);
+  s.camera.turn(0.3f, -0.2f);
+  s.light_angle = 1.5707963267948966f;  // a quarter turn
+  const pbr::Scene scene = build_scene(s, meshes());
+  CHECK(scene.camera.position == s.camera.position);
+  CHECK(scene.camera.target == s.camera.position + s.camera.front());
+  const pbr::Scene still = pbr::make_gallery();
+  REQUIRE(scene.lights.size() == still.lights.size());
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    // A quarter turn about +y takes (x, y, z) to (z, y, −x).
+    const glm::vec3 p = still.lights[i].position, q = scene.lights[i].position;
+    CHECK(q.x == doctest::Approx(p.z).epsilon(1e-6));
+    CHECK(q.y == p.y);
+    CHECK(q.z == doctest::Approx(-p.x).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("every part of the state changes the image") {
+  const ViewerState base = [] {
+    ViewerState s;
+    s.mesh_count = meshes().size();
+    select_material(s, 0);
+    return s;
+  }();
+  const std::uint64_t h0 = image_hash(base);
+  struct Change {
+    const char* what;
+    void (*change)(ViewerState&);
+  };
+  const Change changes[] = {
+      {"material", [](ViewerState& s) { select_material(s, 1); }},
+      {"gallery", [](ViewerState& s) { select_material(s, kGalleryMaterial); }},
+      {"roughness", [](ViewerState& s) { s.roughness_steps += 4; }},
+      {"metallic", [](ViewerState& s) { s.metallic = false; }},
+      {"mesh", [](ViewerState& s) { s.mesh = 1; }},
+      {"camera", [](ViewerState& s) { s.camera.move(1.0f, 0.0f, 0.0f); }},
+      {"lights", [](ViewerState& s) { s.light_angle = 1.0f; }},
+  };
+  for (const Change& c : changes) {
+    CAPTURE(c.what);
+    ViewerState s = base;
+    c.change(s);
+    CHECK(image_hash(s) != h0);
+  }
+}
+
+TEST_CASE("material labels name the preset with roughness and metallic or the gallery") {
+  ViewerState s;
+  CHECK(material_label(s) == "gallery");
+  select_material(s, 0);
+  CHECK(material_label(s) == "gold r 0.30 metal");
+  s.metallic = false;
+  s.roughness_steps = 1;
+  CHECK(material_label(s) == "gold r 0.05 dielectric");
+}

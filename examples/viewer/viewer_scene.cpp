@@ -1,0 +1,84 @@
+// Viewer state → scene → image (see viewer_scene.h).
+#include "viewer_scene.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/material.h"
+#include "softpbr/pbr/obj.h"
+#include "softpbr/pbr/tonemap.h"
+#include "softpbr/raster/dmath.h"
+
+namespace viewer {
+
+namespace pbr = softpbr::pbr;
+namespace raster = softpbr::raster;
+
+namespace {
+std::shared_ptr<const pbr::Mesh> load_merged(const std::filesystem::path& file, std::vector<std::string>& warnings) {
+  const pbr::ObjModel model = pbr::load_obj(file);
+  warnings.insert(warnings.end(), model.warnings.begin(), model.warnings.end());
+  auto mesh = std::make_shared<pbr::Mesh>(pbr::merge_shapes(model));
+  if (mesh->triangle_count() == 0) throw pbr::LoadError(file.string() + ": has no triangles to show");
+  return mesh;
+}
+
+// Turns a point about the y axis by `angle` radians, with deterministic sin and cos.
+glm::vec3 turn_about_y(glm::vec3 p, float angle) {
+  const float c = static_cast<float>(softpbr::dmath::cos(angle));
+  const float s = static_cast<float>(softpbr::dmath::sin(angle));
+  return {c * p.x + s * p.z, p.y, -s * p.x + c * p.z};
+}
+}  // namespace
+
+std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
+                                   const std::vector<std::filesystem::path>& obj_files,
+                                   std::vector<std::string>& warnings) {
+  std::vector<NamedMesh> meshes;
+  meshes.push_back({"spheres", nullptr});
+  meshes.push_back({"spot", load_merged(assets_dir / "models/spot/spot_triangulated.obj", warnings)});
+  meshes.push_back({"teapot", load_merged(assets_dir / "models/teapot/teapot.obj", warnings)});
+  for (const std::filesystem::path& f : obj_files) meshes.push_back({f.stem().string(), load_merged(f, warnings)});
+  return meshes;
+}
+
+pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes) {
+  pbr::GalleryOptions options;
+  options.mesh = meshes.at(state.mesh).mesh;
+  const bool single = state.material != kGalleryMaterial;
+  if (single) {
+    options.rows = {std::string(pbr::material_presets()[static_cast<std::size_t>(state.material)].name)};
+    options.columns = 1;
+  }
+  pbr::Scene scene = pbr::make_gallery(options);
+  if (single) {
+    pbr::Object& o = scene.objects.at(0);
+    o.material.roughness = state.roughness();
+    o.material.metallic = state.metallic ? 1.0f : 0.0f;
+    o.transform = glm::scale(glm::mat4(1.0f), glm::vec3(kSingleObjectScale)) * o.transform;
+  }
+  scene.camera = state.camera.camera();
+  if (state.light_angle != 0.0f)
+    for (pbr::Light& l : scene.lights) l.position = turn_about_y(l.position, state.light_angle);
+  return scene;
+}
+
+raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes, raster::Renderer& renderer,
+                           raster::Target& target) {
+  pbr::render(build_scene(state, meshes), renderer, target);
+  return pbr::tone_map_to_rgba8(target, pbr::gallery_output());
+}
+
+std::string material_label(const ViewerState& state) {
+  if (state.material == kGalleryMaterial) return "gallery";
+  char text[96];
+  std::snprintf(text, sizeof text, "%s r %.2f %s",
+                std::string(pbr::material_presets()[static_cast<std::size_t>(state.material)].name).c_str(),
+                static_cast<double>(state.roughness()), state.metallic ? "metal" : "dielectric");
+  return text;
+}
+
+}  // namespace viewer

@@ -1,0 +1,50 @@
+// viewer/viewer_scene.h — from viewer state to a softpbr scene and an image.
+//
+// Gallery mode (material kGalleryMaterial) is the paper's gallery (pbr::make_gallery):
+// one preset per row, roughness rising across the columns, with the current mesh in every
+// cell. Preset mode shows one object of the current mesh at the origin, three times the
+// size of a gallery cell (2.4 units), in the chosen preset with the state's roughness and
+// metallic. Either way the camera is the state's fly camera and the gallery's three point
+// lights turn about the y axis by the state's light angle. Images are tone mapped as the
+// paper does (pbr::gallery_output(): Reinhard, gamma 2.2).
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "softpbr/pbr/mesh.h"
+#include "softpbr/pbr/scene.h"
+#include "softpbr/raster/renderer.h"
+#include "softpbr/raster/target.h"
+#include "viewer_state.h"
+
+namespace viewer {
+
+// Preset mode draws its single object at this scale of a gallery cell's 0.8-unit fit.
+inline constexpr float kSingleObjectScale = 3.0f;
+
+struct NamedMesh {
+  std::string name;
+  std::shared_ptr<const softpbr::pbr::Mesh> mesh;  // null: the gallery's UV spheres
+};
+
+// The sphere grid, spot and the teapot from `assets_dir` (assets/ of the source tree),
+// then each OBJ file (all shapes merged). Throws pbr::LoadError naming the file and line.
+// Warnings from the loader are appended to `warnings`.
+std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
+                                   const std::vector<std::filesystem::path>& obj_files,
+                                   std::vector<std::string>& warnings);
+
+// The scene for a state. Throws std::out_of_range if state.mesh is not in `meshes`.
+softpbr::pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes);
+
+// Renders the state's scene into `target` and tone maps it to RGBA8.
+softpbr::raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes,
+                                    softpbr::raster::Renderer& renderer, softpbr::raster::Target& target);
+
+// "gold r 0.30 metal", "gallery": the material part of the title bar.
+std::string material_label(const ViewerState& state);
+
+}  // namespace viewer
