@@ -32,7 +32,7 @@ struct NamedMesh {
 
 // The sphere grid, spot and the teapot from `assets_dir` (assets/ of the source tree),
 // then each OBJ file (all shapes merged). Throws pbr::LoadError naming the file and line.
-// Warnings from the loader are appended to `warnings`.
+// The loader's warnings about the OBJ files are appended to `warnings`.
 std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
                                    const std::vector<std::filesystem::path>& obj_files,
                                    std::vector<std::string>& warnings);
