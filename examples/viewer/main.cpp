@@ -129,7 +129,10 @@ class Viewer {
       const float dt = std::min(std::chrono::duration<float>(now - last).count(), 0.1f);
       last = now;
       const bool moving = viewer::advance(state_, dt) || turned || state_.lights_rotating;
-      if (!dirty && !moving && shown_divisor_ == 1) continue;
+      if (!dirty && !moving && shown_divisor_ == 1) {
+        SDL_Delay(5);  // keys held that cancel out: nothing to draw, do not spin
+        continue;
+      }
       const int divisor = moving ? policy_.divisor : 1;
       const double ms = draw(divisor);
       window_.present();
@@ -231,8 +234,9 @@ Options parse(int argc, char** argv) {
                                     std::to_string(hi) + "], not \"" + v + "\"");
       return n;
     };
-    if (arg == "--width") o.width = static_cast<int>(number(16, 8192));
-    else if (arg == "--height") o.height = static_cast<int>(number(16, 8192));
+    // 4096² pixels keep the float target (20 bytes a pixel) near 320 MiB.
+    if (arg == "--width") o.width = static_cast<int>(number(16, 4096));
+    else if (arg == "--height") o.height = static_cast<int>(number(16, 4096));
     else if (arg == "--threads") o.threads = static_cast<unsigned>(number(0, 256));
     else if (arg == "--budget-ms") o.budget_ms = static_cast<double>(number(1, 10000));
     else if (arg == "--software") o.software = true;
