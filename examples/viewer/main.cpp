@@ -158,7 +158,10 @@ class Viewer {
       case SDL_KEYUP: {
         const auto key = key_from_sdl(e.key.keysym.sym);
         if (!key || e.key.repeat) return false;
-        if (e.type == SDL_KEYUP) return viewer::apply(state_, viewer::KeyUp{*key}), false;
+        if (e.type == SDL_KEYUP) {
+          viewer::apply(state_, viewer::KeyUp{*key});
+          return false;
+        }
         const viewer::Effect effect = viewer::apply(state_, viewer::KeyDown{*key});
         SDL_SetRelativeMouseMode(state_.captured ? SDL_TRUE : SDL_FALSE);
         if (effect == viewer::Effect::Screenshot) {
