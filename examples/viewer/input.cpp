@@ -17,8 +17,8 @@ constexpr std::array<std::pair<Key, std::string_view>, 29> kNames{{
     {Key::R, "r"},        {Key::F, "f"},         {Key::T, "t"},       {Key::P, "p"},
     {Key::Escape, "escape"},
 }};
-// One name per key: the enum ends with Escape.
-static_assert(kNames.size() == static_cast<std::size_t>(Key::Escape) + 1);
+// One name per key.
+static_assert(kNames.size() == kKeyCount);
 }  // namespace
 
 std::optional<Key> key_from_name(std::string_view name) {

@@ -3,6 +3,7 @@
 // (script.h) name keys with key_from_name().
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string_view>
 #include <variant>
@@ -22,6 +23,9 @@ enum class Key {
   P,                         // screenshot
   Escape,                    // quit
 };
+
+// How many keys there are: Escape is the last.
+inline constexpr std::size_t kKeyCount = static_cast<std::size_t>(Key::Escape) + 1;
 
 // Lower-case script names: "w", "up", "tab", "0"… "9", "escape".
 std::optional<Key> key_from_name(std::string_view name);

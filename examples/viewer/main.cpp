@@ -14,6 +14,7 @@
 #include <exception>
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 
 #include "resolution.h"
 #include "script.h"
+#include "sdl_input.h"
 #include "sdl_window.h"
 #include "softpbr/raster/raster.h"
 #include "viewer_scene.h"
@@ -39,25 +41,6 @@ struct Options {
   std::string script, screenshot;
   std::vector<std::filesystem::path> objs;
 };
-
-std::optional<viewer::Key> key_from_sdl(SDL_Keycode k) {
-  using viewer::Key;
-  switch (k) {
-    case SDLK_w: return Key::W;          case SDLK_a: return Key::A;
-    case SDLK_s: return Key::S;          case SDLK_d: return Key::D;
-    case SDLK_q: return Key::Q;          case SDLK_e: return Key::E;
-    case SDLK_UP: return Key::Up;        case SDLK_DOWN: return Key::Down;
-    case SDLK_LEFT: return Key::Left;    case SDLK_RIGHT: return Key::Right;
-    case SDLK_TAB: return Key::Tab;      case SDLK_n: return Key::N;
-    case SDLK_m: return Key::M;          case SDLK_c: return Key::C;
-    case SDLK_r: return Key::R;          case SDLK_f: return Key::F;
-    case SDLK_t: return Key::T;          case SDLK_p: return Key::P;
-    case SDLK_ESCAPE: return Key::Escape;
-    default:
-      if (k >= SDLK_0 && k <= SDLK_9) return static_cast<Key>(static_cast<int>(Key::Num0) + (k - SDLK_0));
-      return std::nullopt;
-  }
-}
 
 // The viewer: state, meshes, the softpbr renderer and the window.
 class Viewer {
@@ -94,11 +77,25 @@ class Viewer {
   void run_script(const std::vector<viewer::ScriptCommand>& commands) {
     using Kind = viewer::ScriptCommand::Kind;
     for (const viewer::ScriptCommand& c : commands) {
-      SDL_PumpEvents();  // keep the window alive; real input is ignored in script mode
+      SDL_PumpEvents();  // keep the window alive; real input is dropped in script mode
       switch (c.kind) {
-        case Kind::Event:
-          if (viewer::apply(state_, c.event) == viewer::Effect::Screenshot) screenshot(next_screenshot_name());
+        case Kind::Event: {
+          // Through SDL's queue and the interactive event handling, as if typed. Whatever
+          // else is queued (real input, window events) is dropped first and nothing is
+          // pumped in between, so the session does not depend on the keyboard or mouse.
+          SDL_PumpEvents();
+          SDL_FlushEvents(SDL_FIRSTEVENT, SDL_LASTEVENT);
+          SDL_Event e = viewer::to_sdl_event(c.event, window_.id());
+          if (SDL_PushEvent(&e) != 1 || SDL_PeepEvents(&e, 1, SDL_GETEVENT, SDL_FIRSTEVENT, SDL_LASTEVENT) != 1)
+            throw std::runtime_error(std::string("cannot queue an event: ") + SDL_GetError());
+          bool turned = false;
+          handle(e, turned);
+          if (screenshot_requested_) {
+            screenshot_requested_ = false;
+            screenshot(next_screenshot_name());
+          }
           break;
+        }
         case Kind::Frames:
           for (long i = 0; i < c.frames; ++i) viewer::advance(state_, viewer::kScriptFrameSeconds);
           update_title(draw(1));
@@ -123,6 +120,14 @@ class Viewer {
         last = Clock::now();
       }
       while (SDL_PollEvent(&e)) dirty |= handle(e, turned);
+      if (screenshot_requested_) {
+        screenshot_requested_ = false;
+        try {
+          screenshot(next_screenshot_name());
+        } catch (const std::exception& ex) {  // e.g. a read-only folder: say so, go on
+          std::fprintf(stderr, "viewer: %s\n", ex.what());
+        }
+      }
       if (state_.quit) break;
       const auto now = Clock::now();
       // Clamp the time step so a stall (a slow full-resolution frame) is not a big jump.
@@ -156,21 +161,16 @@ class Viewer {
       case SDL_QUIT: state_.quit = true; return false;
       case SDL_KEYDOWN:
       case SDL_KEYUP: {
-        const auto key = key_from_sdl(e.key.keysym.sym);
+        const auto key = viewer::key_from_sdl(e.key.keysym.sym);
         if (!key || e.key.repeat) return false;
         if (e.type == SDL_KEYUP) {
           viewer::apply(state_, viewer::KeyUp{*key});
           return false;
         }
         const viewer::Effect effect = viewer::apply(state_, viewer::KeyDown{*key});
-        SDL_SetRelativeMouseMode(state_.captured ? SDL_TRUE : SDL_FALSE);
-        if (effect == viewer::Effect::Screenshot) {
-          try {
-            screenshot(next_screenshot_name());
-          } catch (const std::exception& ex) {
-            std::fprintf(stderr, "viewer: %s\n", ex.what());
-          }
-        }
+        // Scripts capture in the state only: a real grab would add real mouse motion.
+        if (options_.script.empty()) SDL_SetRelativeMouseMode(state_.captured ? SDL_TRUE : SDL_FALSE);
+        if (effect == viewer::Effect::Screenshot) screenshot_requested_ = true;
         return true;
       }
       case SDL_MOUSEMOTION:
@@ -212,6 +212,7 @@ class Viewer {
   std::optional<raster::Target> target_;
   viewer::SdlWindow window_;
   int shown_divisor_ = 0;
+  bool screenshot_requested_ = false;  // P was pressed: write one after the events
 };
 
 constexpr const char* kUsage =

@@ -2,7 +2,6 @@
 #include "script.h"
 
 #include <charconv>
-#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -39,13 +38,15 @@ struct LineParser {
     if (!k) fail("unknown key \"" + std::string(words[i]) + "\" (keys: w a s d q e up down left right tab 0-9 n m c r f t p escape)");
     return *k;
   }
-  float number(std::size_t i) const {
+  // Whole pixels, as SDL reports mouse motion.
+  float pixels(std::size_t i) const {
     const std::string text(words[i]);
-    float v = 0.0f;
+    long v = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v) || std::fabs(v) > 1e6f)
-      fail("\"" + text + "\" is not a number of pixels in [-1e6, 1e6]");
-    return v;
+    if (ec != std::errc() || end != text.data() + text.size() || v < -kMaxMousePixels || v > kMaxMousePixels)
+      fail("\"" + text + "\" is not a whole number of pixels in [-" + std::to_string(kMaxMousePixels) + ", " +
+           std::to_string(kMaxMousePixels) + "]");
+    return static_cast<float>(v);
   }
   long count(std::size_t i) const {
     const std::string text(words[i]);
@@ -87,7 +88,7 @@ std::vector<ScriptCommand> parse_script(std::string_view text, const std::string
       c.event = KeyUp{p.key(1)};
     } else if (verb == "mouse") {
       p.expect_args(2, 2, "mouse DX DY");
-      c.event = MouseMotion{p.number(1), p.number(2)};
+      c.event = MouseMotion{p.pixels(1), p.pixels(2)};
     } else if (verb == "frame") {
       p.expect_args(0, 1, "frame [N]");
       c.kind = ScriptCommand::Kind::Frames;

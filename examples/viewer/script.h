@@ -4,7 +4,7 @@
 //   press KEY          key down then key up, with no frame between (a tap)
 //   down KEY           key down (held: movement keys fly the camera in each frame)
 //   up KEY             key up
-//   mouse DX DY        relative mouse motion in pixels (turns the camera while captured)
+//   mouse DX DY        relative mouse motion in whole pixels (turns the camera while captured)
 //   frame [N]          advance N frames (default 1) of kScriptFrameSeconds each
 //   screenshot FILE    write what the window shows, at full resolution, as a PNG
 //   quit               end the session (so does "press escape")
@@ -29,6 +29,8 @@ class ScriptError : public std::runtime_error {
 
 // Upper bound on one "frame N": 10⁶ frames of 1/30 s are over 9 hours of simulated time.
 inline constexpr long kMaxScriptFrames = 1000000;
+// Largest mouse motion in one event, in pixels: far beyond any screen.
+inline constexpr long kMaxMousePixels = 100000;
 
 struct ScriptCommand {
   enum class Kind { Event, Frames, Screenshot, Quit };

@@ -30,6 +30,7 @@ class SdlWindow {
   softpbr::raster::Image8 read_back();
   void present();
   void set_title(const std::string& title);
+  Uint32 id() const { return SDL_GetWindowID(window_); }
 
  private:
   SDL_Window* window_ = nullptr;

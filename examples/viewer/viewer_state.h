@@ -35,7 +35,6 @@ inline constexpr int kRoughnessSteps = 20;
 inline constexpr float kScriptFrameSeconds = 1.0f / 30.0f;
 
 inline constexpr int kGalleryMaterial = -1;  // ViewerState::material: the paper's rows
-inline constexpr std::size_t kKeyCount = static_cast<std::size_t>(Key::Escape) + 1;
 
 struct ViewerState {
   // The gallery's camera: at (0, 0, 9) looking down −z at the grid, 45° vertical fov.

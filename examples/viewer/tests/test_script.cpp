@@ -16,7 +16,7 @@ TEST_CASE("a script parses into events and frames and screenshots and quit with 
       "down w\r\n"
       "frame 12\n"
       "up w\n"
-      "mouse 60 -30.5\n"
+      "mouse 60 -30\n"
       "frame\n"
       "screenshot out/a.png\n"
       "quit",
@@ -32,7 +32,7 @@ TEST_CASE("a script parses into events and frames and screenshots and quit with 
   CHECK(c[3].frames == 12);
   CHECK(std::get<KeyUp>(c[4].event).key == Key::W);
   CHECK(std::get<MouseMotion>(c[5].event).dx == 60.0f);
-  CHECK(std::get<MouseMotion>(c[5].event).dy == -30.5f);
+  CHECK(std::get<MouseMotion>(c[5].event).dy == -30.0f);
   CHECK(c[6].kind == Kind::Frames);
   CHECK(c[6].frames == 1);
   CHECK(c[7].kind == Kind::Screenshot);
@@ -54,9 +54,10 @@ TEST_CASE("a bad line is one error naming the script and line and what was expec
       {"down", "s.txt:1: expected \"down KEY\""},
       {"up W", "s.txt:1: unknown key \"W\""},
       {"mouse 1", "s.txt:1: expected \"mouse DX DY\""},
-      {"mouse 1 nan", "s.txt:1: \"nan\" is not a number of pixels"},
-      {"mouse 1e9 0", "s.txt:1: \"1e9\" is not a number of pixels"},
-      {"mouse 1x 0", "s.txt:1: \"1x\" is not a number of pixels"},
+      {"mouse 1 nan", "s.txt:1: \"nan\" is not a whole number of pixels in [-100000, 100000]"},
+      {"mouse 1.5 0", "s.txt:1: \"1.5\" is not a whole number of pixels"},
+      {"mouse 0 100001", "s.txt:1: \"100001\" is not a whole number of pixels"},
+      {"mouse 1x 0", "s.txt:1: \"1x\" is not a whole number of pixels"},
       {"frame 0", "s.txt:1: frame count \"0\" is not a whole number in [1, 1000000]"},
       {"frame -3", "s.txt:1: frame count \"-3\""},
       {"frame 1000001", "s.txt:1: frame count \"1000001\""},
