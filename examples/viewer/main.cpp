@@ -4,7 +4,7 @@
 //   viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]
 //          [--software] [--script keys.txt] [--screenshot out.png]
 //
-// OBJ files join the mesh cycle (M) after the sphere grid, spot and the teapot. Controls:
+// OBJ files join the mesh cycle (M) after the sphere grid, spot, the teapot, a torus and a cube. Controls:
 // viewer_state.h. --script replays a script (script.h) with a fixed time step and full
 // resolution, then quits; --screenshot writes what the window shows at the end (without
 // --script: the first frame). Both use SDL's software renderer so the pixels are exact.

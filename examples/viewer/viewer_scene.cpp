@@ -26,6 +26,17 @@ std::shared_ptr<const pbr::Mesh> load_merged(const std::filesystem::path& file, 
   return mesh;
 }
 
+// Turns a mesh a quarter turn about the x axis, (x, y, z) → (x, −z, y): exact, no rounding.
+// A torus around the y axis, seen from the gallery's camera, is a thin edge; stood up it
+// shows its hole.
+pbr::Mesh stand_up(pbr::Mesh mesh) {
+  for (pbr::MeshVertex& v : mesh.vertices) {
+    v.position = {v.position.x, -v.position.z, v.position.y};
+    v.normal = {v.normal.x, -v.normal.z, v.normal.y};
+  }
+  return mesh;
+}
+
 // Turns a point about the y axis by `angle` radians, with deterministic sin and cos.
 glm::vec3 turn_about_y(glm::vec3 p, float angle) {
   const float c = static_cast<float>(softpbr::dmath::cos(angle));
@@ -44,6 +55,10 @@ std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
   std::vector<std::string> bundled_warnings;
   meshes.push_back({"spot", load_merged(assets_dir / "models/spot/spot_triangulated.obj", bundled_warnings)});
   meshes.push_back({"teapot", load_merged(assets_dir / "models/teapot/teapot.obj", bundled_warnings)});
+  // Procedural shapes (pbr/mesh.h), fitted into the cell like the models: a torus (tube
+  // 0.4 of the ring's radius) standing up, and a cube with flat faces and sharp edges.
+  meshes.push_back({"torus", std::make_shared<pbr::Mesh>(stand_up(pbr::torus(1.0f, 0.4f, 96, 48)))});
+  meshes.push_back({"cube", std::make_shared<pbr::Mesh>(pbr::cube(1.0f))});
   for (const std::filesystem::path& f : obj_files) meshes.push_back({f.stem().string(), load_merged(f, warnings)});
   return meshes;
 }

@@ -30,8 +30,8 @@ struct NamedMesh {
   std::shared_ptr<const softpbr::pbr::Mesh> mesh;  // null: the gallery's UV spheres
 };
 
-// The sphere grid, spot and the teapot from `assets_dir` (assets/ of the source tree),
-// then each OBJ file (all shapes merged). Throws pbr::LoadError naming the file and line.
+// The sphere grid, spot and the teapot from `assets_dir` (assets/ of the source tree), a
+// torus and a cube, then each OBJ file (all shapes merged). Throws pbr::LoadError naming the file and line.
 // The loader's warnings about the OBJ files are appended to `warnings`.
 std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
                                    const std::vector<std::filesystem::path>& obj_files,

@@ -8,7 +8,7 @@
 //   Tab               capture / release the mouse; while captured, the mouse turns the camera
 //   1 … 9             material preset 1 … 9 (gold, copper, silver, …)   N  next preset (all)
 //   0                 the paper's gallery: one preset per row, roughness rising across
-//   M                 next mesh (sphere grid, spot, teapot, OBJ files from the command line)
+//   M                 next mesh (sphere grid, spot, teapot, torus, cube, OBJ files given)
 //   C                 start / stop the rotating lights
 //   R / F             roughness up / down by 0.05    T  toggle metallic (preset mode only)
 //   P                 screenshot                      Escape  quit

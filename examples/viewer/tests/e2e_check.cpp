@@ -37,7 +37,7 @@ struct Shot {
 std::vector<Shot> expected_shots() {
   std::vector<Shot> shots;
   ViewerState s;
-  s.mesh_count = 4;
+  s.mesh_count = 6;  // spheres, spot, teapot, torus, cube, the tetrahedron
   shots.push_back({"0_gallery.png", s});
 
   s.material = 1;  // copper: its preset roughness 0.3 (6 steps), metallic
@@ -58,7 +58,7 @@ std::vector<Shot> expected_shots() {
   shots.push_back({"2_teapot.png", s});
 
   s.material = viewer::kGalleryMaterial;
-  s.mesh = 3;  // the tetrahedron
+  s.mesh = 5;  // the tetrahedron
   for (int i = 0; i < 9; ++i) s.camera.move(-kStep, 0.0f, 0.0f);
   turn_lights(s, 9);
   shots.push_back({"3_gallery_tetrahedron.png", s});

@@ -31,14 +31,17 @@ std::uint64_t image_hash(const ViewerState& s, int w = 96, int h = 54) {
 }
 }  // namespace
 
-TEST_CASE("the mesh list is the sphere grid then spot then the teapot then OBJ files and a bad OBJ names the file") {
-  REQUIRE(meshes().size() == 3);
+TEST_CASE("the mesh list is the sphere grid then spot then the teapot then a torus and a cube then OBJ files and a bad OBJ names the file") {
+  REQUIRE(meshes().size() == 5);
   CHECK(meshes()[0].name == "spheres");
   CHECK(meshes()[0].mesh == nullptr);
   CHECK(meshes()[1].name == "spot");
   CHECK(meshes()[1].mesh->triangle_count() == 5856);
   CHECK(meshes()[2].name == "teapot");
   CHECK(meshes()[2].mesh->triangle_count() == 15704);
+  CHECK(meshes()[3].name == "torus");
+  CHECK(meshes()[4].name == "cube");
+  CHECK(meshes()[4].mesh->triangle_count() == 12);
   std::vector<std::string> warnings;
   try {
     load_meshes(SOFTPBR_ASSETS_DIR, {"/nonexistent/cow.obj"}, warnings);
