@@ -107,7 +107,9 @@ int main(int argc, char** argv) {
   try {
     std::vector<std::string> warnings;
     const auto meshes = viewer::load_meshes(SOFTPBR_ASSETS_DIR, {argv[2]}, warnings);
-    raster::Renderer renderer;
+    // 3 threads and 16-pixel tiles here, 1 thread and 64-pixel tiles in the viewer
+    // (run_e2e.sh): the images must not depend on either.
+    raster::Renderer renderer({.threads = 3, .tile_size = 16});
     raster::Target target(kWidth, kHeight);
     bool ok = true;
 

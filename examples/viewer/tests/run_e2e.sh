@@ -13,6 +13,6 @@ rm -rf "$out"
 mkdir -p "$out"
 cd "$out"
 # 24-bit screen: xvfb-run's default screen has 8 bits per pixel, which would change colours.
-xvfb-run -a -s "-screen 0 640x480x24" "$viewer" "$here/tetrahedron.obj" --width 320 --height 180 --threads 2 \
+xvfb-run -a -s "-screen 0 640x480x24" "$viewer" "$here/tetrahedron.obj" --width 320 --height 180 --threads 1 \
   --script "$session" --screenshot final.png
 "$check" "$out" "$here/tetrahedron.obj"
