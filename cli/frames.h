@@ -1,0 +1,39 @@
+// frames.h — frame lists for batch rendering: "--frames A..B", "--shard i/N" and output
+// patterns like out_####.png.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace softpbr::cli {
+
+// The largest frame number: keeps names and angles sane (turntable angles are reduced
+// modulo 360 in double, exact for any such frame).
+inline constexpr long kMaxFrame = 9'999'999;
+
+struct FrameRange {
+  long first = 0;
+  long last = 0;  // inclusive
+};
+
+struct Shard {
+  long index = 0;  // 0-based, as Slurm's SLURM_ARRAY_TASK_ID and Kubernetes' JOB_COMPLETION_INDEX
+  long count = 1;
+};
+
+// "A..B" (A <= B) or "A". Throws Error(kExitUsage) naming --frames.
+FrameRange parse_frames(const std::string& text);
+// "i/N" with 0 <= i < N. Throws Error(kExitUsage) naming --shard.
+Shard parse_shard(const std::string& text);
+
+// The frames of `range` this shard renders: the k-th frame of the range (k = 0, 1, …)
+// belongs to shard k mod N. Every frame belongs to exactly one shard.
+std::vector<long> shard_frames(const FrameRange& range, const Shard& shard);
+
+// Whether `pattern` has a run of '#' (exactly one is allowed; more throws Error(kExitUsage)).
+bool has_frame_pattern(const std::string& pattern);
+// The pattern with its run of n '#' replaced by the frame number zero-padded to n digits
+// (more digits when the number needs them); a pattern without '#' is returned as is.
+std::string frame_path(const std::string& pattern, long frame);
+
+}  // namespace softpbr::cli
