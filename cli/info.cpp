@@ -28,20 +28,16 @@ namespace {
 
 struct MeshProblems {
   std::size_t degenerate = 0;  // triangles of zero area (two equal positions or collinear)
-  std::size_t unused = 0;      // vertices no triangle references
 };
 
 MeshProblems find_problems(const pbr::Mesh& mesh) {
   MeshProblems p;
-  std::vector<bool> used(mesh.vertices.size(), false);
   for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
     const glm::vec3 a = mesh.vertices[mesh.indices[t]].position, b = mesh.vertices[mesh.indices[t + 1]].position,
                     c = mesh.vertices[mesh.indices[t + 2]].position;
     const glm::vec3 n = glm::cross(b - a, c - a);
     if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) ++p.degenerate;
-    for (int k = 0; k < 3; ++k) used[mesh.indices[t + static_cast<std::size_t>(k)]] = true;
   }
-  p.unused = static_cast<std::size_t>(std::count(used.begin(), used.end(), false));
   return p;
 }
 
@@ -72,7 +68,6 @@ int info_obj(const std::string& path) {
     const MeshProblems p = find_problems(s.mesh);
     if (p.degenerate)
       problems.push_back("shape " + name + ": " + std::to_string(p.degenerate) + " zero-area triangles (drawn as nothing)");
-    if (p.unused) problems.push_back("shape " + name + ": " + std::to_string(p.unused) + " vertices no face uses");
     if (s.mesh.triangle_count() == 0) problems.push_back("shape " + name + ": no triangles");
   }
   std::printf("  vertices   %zu\n  triangles  %zu\n", vertices, triangles);

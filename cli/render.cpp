@@ -202,7 +202,7 @@ int run_render(const RenderArgs& a) {
       std::error_code ec;
       all_exist = all_exist && fs::is_regular_file(paths.back(), ec);
     }
-    if (all_exist && !a.force) {
+    if (all_exist && !a.force && a.frames_opt->count()) {  // a single render always overwrites
       ++skipped;
       if (!a.quiet) std::printf("%s: exists, skipped\n", paths[0].c_str());
       progress.update(++done, frame);

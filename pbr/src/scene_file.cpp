@@ -203,7 +203,7 @@ LoadedMesh Loader::build_mesh(const Node& spec) {
       v = std::uint64_t(segments + 1) * std::uint64_t(sides + 1), t = 2ull * segments * sides;
       make = [=] { return torus(major, minor, segments, sides); };
     }
-    charge(type, mesh_bytes(v, t), "this mesh");
+    charge(spec, mesh_bytes(v, t), "this mesh");
     try {
       out.parts.push_back(std::make_shared<const Mesh>(make()));
     } catch (const std::exception& e) {
