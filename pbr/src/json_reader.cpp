@@ -114,10 +114,14 @@ Node Reader::required(const Node& node, std::string_view key) const {
 }
 
 double Reader::number(const Node& node, double lo, double hi, bool open_lo, bool open_hi) const {
-  const std::string expected = "expected a number" + range_text(lo, hi, open_lo, open_hi);
+  const std::string range = range_text(lo, hi, open_lo, open_hi);
+  const std::string expected = "expected a number" + range;
   if (!node.value.is_number()) fail(node, expected + ", got " + show(node.value));
   const double x = node.value.get<double>();
   const bool ok = std::isfinite(x) && (open_lo ? x > lo : x >= lo) && (open_hi ? x < hi : x <= hi);
+  constexpr double kHuge = 1e30;  // bounds of this size are "unbounded" in messages: say it
+  if (!ok && std::fabs(x) > kHuge && (lo <= -kHuge || hi >= kHuge))
+    fail(node, expected + (range.empty() ? "" : " and") + " at most 1e+30 in magnitude, got " + show(node.value));
   if (!ok) fail(node, expected + ", got " + show(node.value));
   return x;
 }
