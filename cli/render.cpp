@@ -29,7 +29,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("-o,--output", a.outputs,
                 "Output file, format from the extension: .png (tone mapped, 8-bit) or .hdr (linear "
                 "Radiance). Repeat for several. With --frames, #### is replaced by the frame number")
-      ->required();
+      ->required()
+      ->allow_extra_args(false);  // one file per -o, so "-o out.png scene.json" works
   a.width_opt = c->add_option("--width", a.width, "Image width in pixels (overrides the scene's render.width)");
   a.height_opt = c->add_option("--height", a.height, "Image height in pixels");
   a.threads_opt = c->add_option("--threads", a.threads, "Worker threads, 0 = all cores (the image is the same for any)");

@@ -46,10 +46,11 @@ scenes)
     name=$(basename "$scene" .json)
     out=$("$softpbr" render "$scene" -o "$name.png" --threads 2 --tile-size 64) || { fail "$name: render failed"; continue; }
     hash=${out##*hash }
-    # The same bits for other thread counts and tile sizes.
+    # The same bits for other thread counts and tile sizes (at a quarter of the size, to be quick).
+    small=$("$softpbr" render "$scene" -o small.png --width 320 --height 180)
     for opts in "--threads 1 --tile-size 16" "--threads 3 --tile-size 256"; do
-      other=$("$softpbr" render "$scene" -o "other.png" $opts)
-      [ "${other##*hash }" = "$hash" ] || fail "$name: $opts gives hash ${other##*hash }, not $hash"
+      other=$("$softpbr" render "$scene" -o other.png --width 320 --height 180 $opts)
+      [ "${other##*hash }" = "${small##*hash }" ] || fail "$name: $opts gives hash ${other##*hash }, not ${small##*hash }"
     done
     if [ "${SOFTPBR_UPDATE_GOLDENS:-}" = 1 ]; then
       echo "$name $hash" >>"$hashes.new"
@@ -67,6 +68,12 @@ scenes)
     want=$(cat "$src/tests/goldens/$name.hash")
     [ "${out##*hash }" = "$want" ] && pass "$name.json = make_gallery ($want)" || fail "$name.json at 640x360: ${out##*hash }, make_gallery's golden $want"
   done
+  # The complete scene of docs/scene-format.md renders (the models folder beside it).
+  cp -r "$scenes/models" models
+  awk '/^## A complete small scene/ { on = 1 } on && /^```$/ && started { exit } started { print } on && /^```json$/ { started = 1 }' \
+    "$src/docs/scene-format.md" >snippet.json
+  "$softpbr" render -o snippet.png snippet.json --width 80 --height 60 -q && [ -s snippet.png ] \
+    && pass "the docs' complete scene renders (-o before the scene works too)" || fail "docs/scene-format.md's scene does not render"
   # Both formats from one render; progress goes to stderr only on a terminal.
   "$softpbr" render "$scenes/lights.json" -o both.png -o both.hdr --width 64 --height 40 >stdout.txt 2>stderr.txt || fail "png+hdr render failed"
   [ -s both.png ] && [ -s both.hdr ] && head -c 10 both.hdr | grep -q '#?RADIANCE' || fail "png+hdr: missing or wrong files"
@@ -158,6 +165,11 @@ frames)
   done
   [ "$(ls shards | wc -l)" -eq 10 ] && pass "shards wrote exactly frames 3..12" || fail "shards/ holds $(ls shards | wc -l) files"
   cmp -s all/f_0003.png all/f_0004.png && fail "the animation does not move"
+  # A temporary file a killed run left for a frame is removed when that frame is rendered.
+  touch shards/.f_0013.png.tmp12345
+  "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..13 -q -o shards/f_####.png
+  [ -e shards/.f_0013.png.tmp12345 ] && fail "a stale temporary file survived" || pass "stale temporary file removed"
+  rm -f shards/f_0013.png
   # A re-run skips every complete frame; --force renders again.
   "$softpbr" "${args[@]}" -o shards/f_####.png | tail -1 | grep -q "10 frames: 0 rendered, 10 skipped" && pass "re-run skips complete frames" || fail "re-run did not skip"
   "$softpbr" "${args[@]}" -o shards/f_####.png --force | tail -1 | grep -q "10 rendered, 0 skipped" && pass "--force renders again" || fail "--force did not render"
