@@ -107,6 +107,9 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
       {R"({"objects": [], "a/b~c": 1})",
        "t.json: /a~1b~0c: unknown key \"a/b~c\" (expected one of: camera, lights, ambient, meshes, objects, render, animation)"},
       {R"({"lights": []})", "t.json: (top level): missing key \"objects\""},
+      {R"({"objects": [{"mesh": {"type": "cube"}}, {"mesh": {"type": "cube"}, "material": {"roughness": 0.2, "roughness": 2}}]})",
+       "t.json: /objects/1/material/roughness: duplicate key \"roughness\" (each key may appear once per object)"},
+      {R"({"objects": [], "objects": []})", "t.json: /objects: duplicate key \"objects\" (each key may appear once per object)"},
       {R"([1, 2])", "t.json: (top level): expected an object, got [1,2]"},
       {R"({"objects": [}")", "t.json: invalid JSON: parse error at line 1, column 14: syntax error while parsing value - unexpected '}'; expected '[', '{', or a literal"},
   };

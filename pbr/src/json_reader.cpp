@@ -77,6 +77,76 @@ std::string range_text(double lo, double hi, bool open_lo, bool open_hi) {
 }
 }  // namespace
 
+namespace {
+// A SAX pass that tracks the pointer of the current value and the keys of each open object.
+class DuplicateFinder : public nlohmann::json_sax<Json> {
+ public:
+  std::optional<DuplicateKey> found;
+
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override {
+    value();
+    stack_.push_back({true, {}, {}, -1});
+    return true;
+  }
+  bool key(string_t& k) override {
+    Frame& top = stack_.back();
+    top.key = k;
+    if (std::find(top.keys.begin(), top.keys.end(), k) != top.keys.end()) {
+      found = DuplicateKey{pointer(), k};
+      return false;  // stop parsing
+    }
+    top.keys.push_back(k);
+    return true;
+  }
+  bool end_object() override { return pop(); }
+  bool start_array(std::size_t) override {
+    value();
+    stack_.push_back({false, {}, {}, -1});
+    return true;
+  }
+  bool end_array() override { return pop(); }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  struct Frame {
+    bool object;
+    std::vector<std::string> keys;  // objects in scene files have a handful of keys
+    std::string key;
+    long index;
+  };
+  bool value() {
+    if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+    return true;
+  }
+  bool pop() {
+    stack_.pop_back();
+    return true;
+  }
+  std::string pointer() const {
+    std::string p;
+    for (const Frame& f : stack_) {
+      p.push_back('/');
+      p.append(f.object ? escape_token(f.key) : std::to_string(f.index));
+    }
+    return p;
+  }
+  std::vector<Frame> stack_;
+};
+}  // namespace
+
+std::optional<DuplicateKey> find_duplicate_key(std::string_view text) {
+  DuplicateFinder finder;
+  Json::sax_parse(text.begin(), text.end(), &finder, nlohmann::detail::input_format_t::json, true, true);
+  return finder.found;
+}
+
 void Reader::fail(const std::string& pointer, const std::string& what) const {
   throw SceneFileError(file_ + ": " + (pointer.empty() ? std::string("(top level)") : pointer) + ": " + what);
 }

@@ -62,6 +62,15 @@ class Reader {
   std::string file_;
 };
 
+// The first key that appears twice in one object of `text` (nlohmann keeps the last one
+// silently), as {pointer of the second occurrence, key}; nothing when there is none or when
+// the text is not valid JSON (the parser reports that).
+struct DuplicateKey {
+  std::string pointer;
+  std::string key;
+};
+std::optional<DuplicateKey> find_duplicate_key(std::string_view text);
+
 // JSON text of a value for "got …", shortened to about 40 characters.
 std::string show(const Json& value);
 // A number as written in ranges: 1 → "1", 0.5 → "0.5", 1e30 → "1e+30".

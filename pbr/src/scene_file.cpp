@@ -475,6 +475,8 @@ SceneFile parse_scene_file(std::string_view text, const std::string& name, const
       what = what.substr(close + 2);
     throw SceneFileError(name + ": invalid JSON: " + what);
   }
+  if (const auto dup = json_reader::find_duplicate_key(text))
+    reader.fail(dup->pointer, "duplicate key \"" + dup->key + "\" (each key may appear once per object)");
   Loader loader(reader, base_dir, options);
   return loader.load(Node{root, ""});
 }
