@@ -109,12 +109,21 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
       {R"({"lights": []})", "t.json: (top level): missing key \"objects\""},
       {R"({"objects": [{"mesh": {"type": "cube"}}, {"mesh": {"type": "cube"}, "material": {"roughness": 0.2, "roughness": 2}}]})",
        "t.json: /objects/1/material/roughness: duplicate key \"roughness\" (each key may appear once per object)"},
+      {std::string(R"({"objects": [{"mesh": )") + std::string(100000, '[') + std::string(100000, ']') + "}]}",
+       "t.json: /objects/0/mesh" + [] {
+         std::string p;  // 32 open values: the root, objects, objects/0, then 29 arrays
+         for (int i = 0; i < 29; ++i) p += "/0";
+         return p;
+       }() + ": nested deeper than 32 levels"},
+      {"{\"objects\": [], \"a\\nb\": 1}",
+       "t.json: /a?b: unknown key \"a?b\" (expected one of: camera, lights, ambient, meshes, objects, render, animation)"},
       {R"({"objects": [], "objects": []})", "t.json: /objects: duplicate key \"objects\" (each key may appear once per object)"},
       {R"([1, 2])", "t.json: (top level): expected an object, got [1,2]"},
       {R"({"objects": [}")", "t.json: invalid JSON: parse error at line 1, column 14: syntax error while parsing value - unexpected '}'; expected '[', '{', or a literal"},
   };
   for (const Case& c : cases) {
-    CAPTURE(c.text);
+    const std::string shown = c.text.size() > 300 ? c.text.substr(0, 300) + "..." : c.text;
+    CAPTURE(shown);
     CHECK(error_of(c.text) == c.message);
   }
 }

@@ -22,6 +22,10 @@ Node Node::at(std::size_t index) const { return {value.at(index), pointer + "/" 
 
 std::string show(const Json& value) {
   // Control characters and long strings would break the one-line message.
+  // Large arrays and objects are summarised rather than printed whole.
+  if ((value.is_array() || value.is_object()) && value.size() > 16)
+    return std::string(value.is_array() ? "an array of " : "an object of ") + std::to_string(value.size()) +
+           (value.is_array() ? " values" : " keys");
   std::string s = value.dump(-1, ' ', true, Json::error_handler_t::replace);
   constexpr std::size_t kShown = 40;
   if (s.size() > kShown) s = s.substr(0, kShown) + "...";
@@ -81,7 +85,7 @@ namespace {
 // A SAX pass that tracks the pointer of the current value and the keys of each open object.
 class DuplicateFinder : public nlohmann::json_sax<Json> {
  public:
-  std::optional<DuplicateKey> found;
+  std::optional<Problem> found;
 
   bool null() override { return value(); }
   bool boolean(bool) override { return value(); }
@@ -92,14 +96,13 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
   bool binary(binary_t&) override { return value(); }
   bool start_object(std::size_t) override {
     value();
-    stack_.push_back({true, {}, {}, -1});
-    return true;
+    return push(true);
   }
   bool key(string_t& k) override {
     Frame& top = stack_.back();
     top.key = k;
     if (std::find(top.keys.begin(), top.keys.end(), k) != top.keys.end()) {
-      found = DuplicateKey{pointer(), k};
+      found = Problem{pointer(), "duplicate key " + show(Json(k)) + " (each key may appear once per object)"};
       return false;  // stop parsing
     }
     top.keys.push_back(k);
@@ -108,8 +111,7 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
   bool end_object() override { return pop(); }
   bool start_array(std::size_t) override {
     value();
-    stack_.push_back({false, {}, {}, -1});
-    return true;
+    return push(false);
   }
   bool end_array() override { return pop(); }
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
@@ -123,6 +125,14 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
   };
   bool value() {
     if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+    return true;
+  }
+  bool push(bool object) {
+    if (stack_.size() >= kMaxDepth) {
+      found = Problem{pointer(), "nested deeper than " + std::to_string(kMaxDepth) + " levels"};
+      return false;
+    }
+    stack_.push_back({object, {}, {}, -1});
     return true;
   }
   bool pop() {
@@ -141,14 +151,18 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
 };
 }  // namespace
 
-std::optional<DuplicateKey> find_duplicate_key(std::string_view text) {
+std::optional<Problem> find_structure_problem(std::string_view text) {
   DuplicateFinder finder;
   Json::sax_parse(text.begin(), text.end(), &finder, nlohmann::detail::input_format_t::json, true, true);
   return finder.found;
 }
 
 void Reader::fail(const std::string& pointer, const std::string& what) const {
-  throw SceneFileError(file_ + ": " + (pointer.empty() ? std::string("(top level)") : pointer) + ": " + what);
+  std::string line = file_ + ": " + (pointer.empty() ? std::string("(top level)") : pointer) + ": " + what;
+  // Keys are the file's text: keep the message one line whatever they hold.
+  for (char& c : line)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  throw SceneFileError(line);
 }
 void Reader::fail(const Node& node, const std::string& what) const { fail(node.pointer, what); }
 

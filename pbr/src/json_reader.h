@@ -62,14 +62,17 @@ class Reader {
   std::string file_;
 };
 
-// The first key that appears twice in one object of `text` (nlohmann keeps the last one
-// silently), as {pointer of the second occurrence, key}; nothing when there is none or when
-// the text is not valid JSON (the parser reports that).
-struct DuplicateKey {
+// Structural problems nlohmann's DOM parser would not report: a key that appears twice in
+// one object (it keeps the last silently), and nesting deeper than kMaxDepth (the DOM and
+// its printing recurse). Found in one iterative SAX pass before the DOM is built; returns
+// {pointer, message} of the first, or nothing (also when the text is not valid JSON: the
+// DOM parser reports that).
+inline constexpr std::size_t kMaxDepth = 32;  // scene files nest 6 deep (a matrix row)
+struct Problem {
   std::string pointer;
-  std::string key;
+  std::string message;
 };
-std::optional<DuplicateKey> find_duplicate_key(std::string_view text);
+std::optional<Problem> find_structure_problem(std::string_view text);
 
 // JSON text of a value for "got …", shortened to about 40 characters.
 std::string show(const Json& value);

@@ -464,19 +464,20 @@ SceneFile Loader::load(const Node& root) {
 SceneFile parse_scene_file(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
                            const SceneLoadOptions& options) {
   const Reader reader(name);
+  if (const auto problem = json_reader::find_structure_problem(text)) reader.fail(problem->pointer, problem->message);
   Json root;
   try {
     // Comments (// and /* */) are accepted as an extension; see docs/scene-format.md.
-    root = Json::parse(text.begin(), text.end(), nullptr, true, true);
+    root = Json::parse(text.begin(), text.end(), nullptr, true, true);  // depth checked above
   } catch (const Json::exception& e) {
     // "[json.exception.parse_error.101] parse error at line 3, column 5: …" → drop the tag.
     std::string what = e.what();
     if (const auto close = what.find("] "); what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
       what = what.substr(close + 2);
+    for (char& c : what)
+      if (static_cast<unsigned char>(c) < 0x20) c = '?';  // one line
     throw SceneFileError(name + ": invalid JSON: " + what);
   }
-  if (const auto dup = json_reader::find_duplicate_key(text))
-    reader.fail(dup->pointer, "duplicate key \"" + dup->key + "\" (each key may appear once per object)");
   Loader loader(reader, base_dir, options);
   return loader.load(Node{root, ""});
 }
