@@ -170,6 +170,16 @@ frames)
   "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..13 -q -o shards/f_####.png
   [ -e shards/.f_0013.png.tmp12345 ] && fail "a stale temporary file survived" || pass "stale temporary file removed"
   rm -f shards/f_0013.png
+  # Progress goes to stderr only when it is a terminal (script(1) gives the command one).
+  mkdir tty
+  "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..5 -o tty/f_####.png >/dev/null 2>progress.txt \
+    || fail "the render for the progress check failed"
+  [ -s progress.txt ] && fail "progress written to a stderr that is not a terminal"
+  if command -v script >/dev/null; then
+    rm -f tty/*
+    script -qc "'$softpbr' render '$scenes/turntable.json' --width 48 --height 36 --frames 3..5 -o tty/f_####.png >/dev/null" /dev/null >progress.txt
+    grep -q "softpbr: frame 5, 3/3 done" progress.txt && pass "progress line on a terminal" || fail "no progress on a terminal: $(cat -v progress.txt)"
+  fi
   # A re-run skips every complete frame; --force renders again.
   "$softpbr" "${args[@]}" -o shards/f_####.png | tail -1 | grep -q "10 frames: 0 rendered, 10 skipped" && pass "re-run skips complete frames" || fail "re-run did not skip"
   "$softpbr" "${args[@]}" -o shards/f_####.png --force | tail -1 | grep -q "10 rendered, 0 skipped" && pass "--force renders again" || fail "--force did not render"

@@ -114,7 +114,7 @@ LoadedMesh& Loader::mesh(const Node& spec) {
   if (spec.value.is_string()) {
     const std::string name = spec.value.get<std::string>();
     if (!named_meshes_ || !named_meshes_->value.contains(name))
-      r_.fail(spec, "no mesh named \"" + name + "\" in /meshes");
+      r_.fail(spec, "no mesh named " + json_reader::show(spec.value) + " in /meshes");
     key = "#" + name;
     def.emplace(named_meshes_->child(name));
   } else {
@@ -154,6 +154,7 @@ LoadedMesh Loader::build_mesh(const Node& spec) {
     out.obj = model;
     charge(*file, mesh_bytes(v, t), "this model");
   } else {
+    if (!spec.value.contains("type")) r_.fail(spec, "missing key \"type\" (a procedural shape) or \"file\" (an OBJ model)");
     const Node type = r_.required(spec, "type");
     const std::string kind = r_.choice(type, {"uv_sphere", "icosphere", "cube", "plane", "torus"});
     auto num = [&](const char* key, float fallback, double lo, double hi, bool open_lo) {
@@ -230,7 +231,10 @@ Material Loader::material(const Node& spec) {
   }
   r_.object(spec, {"preset", "base_color", "metallic", "roughness", "ao", "emissive"});
   Material m;
-  if (auto p = r_.member(spec, "preset")) m = material(*p);
+  if (auto p = r_.member(spec, "preset")) {
+    if (!p->value.is_string()) r_.fail(*p, "expected a preset name, got " + json_reader::show(p->value));
+    m = material(*p);
+  }
   if (auto c = r_.member(spec, "base_color")) m.base_color = r_.vec3(*c, 0, 1);
   if (auto c = r_.member(spec, "metallic")) m.metallic = r_.number_f(*c, 0, 1);
   if (auto c = r_.member(spec, "roughness")) m.roughness = r_.number_f(*c, 0, 1);
