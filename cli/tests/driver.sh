@@ -131,6 +131,16 @@ EOF
   expect_error 4 "no/such/dir/out.png: cannot write: the folder no/such/dir does not exist" render bad.json -o no/such/dir/out.png
   mkdir folder.png
   expect_error 4 "folder.png: cannot write: it is a folder" render bad.json -o folder.png
+  # A write that fails half-way (a file size limit stands in for a full disk): exit 4, the
+  # old file untouched, no temporary left.
+  for ext in png hdr; do
+    printf 'KEEP' >"keep.$ext"
+    (trap '' XFSZ; ulimit -f 8; "$softpbr" render "$scenes/lights.json" -o "keep.$ext" --width 320 --height 200 >/dev/null 2>stderr.txt)
+    rc=$?
+    [ $rc -eq 4 ] && [ "$(cat stderr.txt)" = "keep.$ext: write failed (disk full?)" ] && [ "$(cat "keep.$ext")" = KEEP ] \
+      && pass "failed .$ext write: exit 4, old file kept" || fail "failed .$ext write: exit $rc, $(cat stderr.txt)"
+  done
+  rm keep.hdr
   # Command-line errors.
   expect_error 2 "out.exr: OpenEXR output is not supported by this build; write .png or .hdr" render bad.json -o out.exr
   expect_error 2 "out.jpg: unknown output format \".jpg\" (expected .png or .hdr)" render bad.json -o out.jpg
