@@ -195,11 +195,12 @@ LoadedMesh Loader::build_mesh(const Node& spec) {
     } else {
       r_.object(spec, {"type", "fit", "major", "minor", "segments", "sides"});
       const float major = num("major", 1.0f, 0, kBig, true);
-      const Node* minor_node = nullptr;
-      auto minor_member = r_.member(spec, "minor");
-      if (minor_member) minor_node = &*minor_member;
       const float minor = num("minor", 0.25f * major, 0, kBig, true);
-      if (!(minor < major)) r_.fail(minor_node ? minor_node->pointer : spec.pointer, "a torus needs minor < major (" + json_reader::show_number(minor) + " >= " + json_reader::show_number(major) + ")");
+      if (!(minor < major)) {
+        const auto where = r_.member(spec, "minor");  // present: the default is below major
+        r_.fail(where ? where->pointer : spec.pointer, "a torus needs minor < major (" +
+                    json_reader::show_number(minor) + " >= " + json_reader::show_number(major) + ")");
+      }
       const int segments = count("segments", 48, 3, 4096), sides = count("sides", 24, 3, 4096);
       v = std::uint64_t(segments + 1) * std::uint64_t(sides + 1), t = 2ull * segments * sides;
       make = [=] { return torus(major, minor, segments, sides); };
@@ -500,39 +501,6 @@ SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOpti
   text << in.rdbuf();
   if (in.bad()) throw SceneFileError(name + ": cannot read the scene file");
   return parse_scene_file(text.str(), name, path.parent_path(), options);
-}
-
-// ---- Animation ----------------------------------------------------------------------------
-
-namespace {
-// `p` turned by `degrees` about the vertical axis through `pivot`, with dmath sine/cosine.
-// Angles are reduced modulo 360 first (fmod is exact), so large frame numbers stay accurate.
-glm::vec3 turn_about_y(glm::vec3 p, glm::vec3 pivot, double degrees) {
-  const double a = dmath::radians(std::fmod(degrees, 360.0));
-  const double c = dmath::cos(a), s = dmath::sin(a);
-  const double x = static_cast<double>(p.x) - pivot.x, z = static_cast<double>(p.z) - pivot.z;
-  // Right-handed turn about +y: x' = c·x + s·z, z' = −s·x + c·z.
-  return {static_cast<float>(pivot.x + (c * x + s * z)), p.y, static_cast<float>(pivot.z + (c * z - s * x))};
-}
-glm::vec3 turn_direction(glm::vec3 d, double degrees) { return turn_about_y(d, glm::vec3(0.0f), degrees); }
-}  // namespace
-
-Scene animate(const SceneFile& file, long frame) {
-  Scene s = file.scene;
-  if (frame == 0) return s;
-  const double f = static_cast<double>(frame);
-  const double cam = f * file.animation.camera_degrees_per_frame;
-  if (cam != 0.0) {
-    s.camera.position = turn_about_y(s.camera.position, s.camera.target, cam);
-    s.camera.up = turn_direction(s.camera.up, cam);
-  }
-  const double lit = f * file.animation.light_degrees_per_frame;
-  if (lit != 0.0)
-    for (Light& l : s.lights) {
-      l.position = turn_about_y(l.position, file.animation.light_pivot, lit);
-      l.direction = turn_direction(l.direction, lit);
-    }
-  return s;
 }
 
 std::uint64_t image_memory(int width, int height) {

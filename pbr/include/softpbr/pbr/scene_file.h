@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "softpbr/pbr/animation.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
 
@@ -48,15 +49,6 @@ struct RenderSettings {
   int tile_size = 64;
 };
 
-// The turntable animation applied by animate(): at frame f the camera turns by
-// f · camera_degrees_per_frame about the vertical axis through its target, and every light
-// by f · light_degrees_per_frame about the vertical axis through light_pivot.
-struct Animation {
-  double camera_degrees_per_frame = 3.0;  // a full turn in 120 frames
-  double light_degrees_per_frame = 6.0;   // the lights go round twice as fast
-  glm::vec3 light_pivot{0.0f, 0.0f, 0.0f};
-};
-
 struct SceneFile {
   Scene scene;
   RenderSettings render;
@@ -80,9 +72,8 @@ SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOpti
 SceneFile parse_scene_file(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
                            const SceneLoadOptions& options = {});
 
-// The scene at frame `frame` (frame 0 is the scene as written). Angles go through dmath,
-// so every frame has the same bits on every platform.
-Scene animate(const SceneFile& file, long frame);
+// The scene at frame `frame` of the file's animation (frame 0 is the scene as written).
+inline Scene animate(const SceneFile& file, long frame) { return animate(file.scene, file.animation, frame); }
 
 // Estimated bytes of the buffers a width × height render allocates: the float colour and
 // depth target, the 8-bit image and the float copy .hdr output makes (40 bytes a pixel).
