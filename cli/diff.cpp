@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "cli_error.h"
+#include "exr_io.h"
 #include "softpbr/golden/compare.h"
 #include "softpbr/golden/image.h"
 
@@ -16,13 +17,13 @@ namespace softpbr::cli {
 namespace golden = softpbr::golden;
 
 CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
-  CLI::App* c = app.add_subcommand("diff", "Compare two images (.png or .hdr): exit 0 if they match within the "
+  CLI::App* c = app.add_subcommand("diff", "Compare two images (.png, .hdr or .exr): exit 0 if they match within the "
                                            "tolerance, 1 if not, 2 on error");
   c->add_option("expected", a.expected, "The reference image")->required();
   c->add_option("actual", a.actual, "The image to check")->required();
   c->add_option("--max-diff", a.max_diff,
                 "A pixel differs when one of its channels differs by more than this (8-bit codes for PNG, "
-                "float values for .hdr)")
+                "float values for .hdr and .exr)")
       ->capture_default_str();
   c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")->capture_default_str();
   c->add_option("--out", a.out, "Write a heat map of the difference (.png): black where equal, red to white");
@@ -74,12 +75,21 @@ int run_diff(const DiffArgs& a) {
     throw Error(kExitUsage, "--max-diff: expected a finite number >= 0, got " + std::to_string(a.max_diff));
   if (!a.out.empty() && lower_extension(a.out) != ".png") throw Error(kExitUsage, a.out + ": --out writes a .png");
   const std::string ea = lower_extension(a.expected), eb = lower_extension(a.actual);
-  const bool hdr_a = ea == ".hdr", hdr_b = eb == ".hdr";
-  if (hdr_a != hdr_b)
-    throw Error(kExitUsage, a.expected + ", " + a.actual + ": cannot compare an 8-bit image with an .hdr image");
+  const bool float_a = ea == ".hdr" || ea == ".exr", float_b = eb == ".hdr" || eb == ".exr";
+  if (float_a != float_b)
+    throw Error(kExitUsage, a.expected + ", " + a.actual + ": cannot compare an 8-bit image with a float (.hdr/.exr) image");
   try {
-    if (hdr_a) return compare_and_report(a, golden::load_hdr(a.expected), golden::load_hdr(a.actual));
-    return compare_and_report(a, golden::load_png(a.expected), golden::load_png(a.actual));
+    if (!float_a) return compare_and_report(a, golden::load_png(a.expected), golden::load_png(a.actual));
+    auto load = [](const std::string& path, const std::string& ext) {
+      return ext == ".exr" ? load_exr(path) : golden::load_hdr(path);
+    };
+    golden::ImageF expected = load(a.expected, ea), actual = load(a.actual, eb);
+    // .exr against .hdr: compare what the .hdr could hold (RGBE keeps 8 mantissa bits, no alpha).
+    if (ea != eb) {
+      golden::ImageF& exr = ea == ".exr" ? expected : actual;
+      exr = golden::hdr_round_trip(exr);
+    }
+    return compare_and_report(a, expected, actual);
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {

@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "cli_error.h"
+#include "exr_io.h"
 #include "frames.h"
 #include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/raster.h"
@@ -24,11 +25,11 @@ namespace pbr = softpbr::pbr;
 namespace raster = softpbr::raster;
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
-  CLI::App* c = app.add_subcommand("render", "Render a scene file to .png and/or .hdr images");
+  CLI::App* c = app.add_subcommand("render", "Render a scene file to .png, .hdr and/or .exr images");
   c->add_option("scene", a.scene, "Scene file (JSON, see docs/scene-format.md)")->required();
   c->add_option("-o,--output", a.outputs,
-                "Output file, format from the extension: .png (tone mapped, 8-bit) or .hdr (linear "
-                "Radiance). Repeat for several. With --frames, #### is replaced by the frame number")
+                "Output file, format from the extension: .png (tone mapped, 8-bit), .hdr (linear "
+                "Radiance RGBE) or .exr (linear float RGBA). Repeat for several. With --frames, #### is replaced by the frame number")
       ->required()
       ->allow_extra_args(false);  // one file per -o, so "-o out.png scene.json" works
   a.width_opt = c->add_option("--width", a.width, "Image width in pixels (overrides the scene's render.width)");
@@ -51,15 +52,15 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
 
 namespace {
 
-enum class Format { Png, Hdr };
+enum class Format { Png, Hdr, Exr };
 
 Format output_format(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
   if (ext == ".png") return Format::Png;
   if (ext == ".hdr") return Format::Hdr;
-  if (ext == ".exr") throw Error(kExitUsage, path + ": OpenEXR output is not supported by this build; write .png or .hdr");
-  throw Error(kExitUsage, path + ": unknown output format \"" + ext + "\" (expected .png or .hdr)");
+  if (ext == ".exr") return Format::Exr;
+  throw Error(kExitUsage, path + ": unknown output format \"" + ext + "\" (expected .png, .hdr or .exr)");
 }
 
 // Fails early, before any rendering, when an output cannot be created.
@@ -218,7 +219,8 @@ int run_render(const RenderArgs& a) {
       }
       try {
         if (formats[i] == Format::Png) raster::write_png(paths[i], pbr::tone_map_to_rgba8(target, s.output));
-        else pbr::write_hdr(paths[i], target, s.output.exposure);
+        else if (formats[i] == Format::Hdr) pbr::write_hdr(paths[i], target, s.output.exposure);
+        else write_exr(paths[i], target, s.output.exposure);
       } catch (const std::bad_alloc&) {
         throw;
       } catch (const std::exception& e) {

@@ -74,11 +74,17 @@ scenes)
     "$src/docs/scene-format.md" >snippet.json
   "$softpbr" render -o snippet.png snippet.json --width 80 --height 60 -q && [ -s snippet.png ] \
     && pass "the docs' complete scene renders (-o before the scene works too)" || fail "docs/scene-format.md's scene does not render"
-  # Both formats from one render; progress goes to stderr only on a terminal.
-  "$softpbr" render "$scenes/lights.json" -o both.png -o both.hdr --width 64 --height 40 >stdout.txt 2>stderr.txt || fail "png+hdr render failed"
-  [ -s both.png ] && [ -s both.hdr ] && head -c 10 both.hdr | grep -q '#?RADIANCE' || fail "png+hdr: missing or wrong files"
+  # Three formats from one render; progress goes to stderr only on a terminal.
+  "$softpbr" render "$scenes/lights.json" -o all.png -o all.hdr -o all.exr --width 64 --height 40 >stdout.txt 2>stderr.txt || fail "png+hdr+exr render failed"
+  [ -s all.png ] && [ -s all.hdr ] && head -c 10 all.hdr | grep -q '#?RADIANCE' || fail "png+hdr: missing or wrong files"
+  [ "$(od -An -tx1 -N4 all.exr | tr -d ' ')" = 762f3101 ] || fail "all.exr does not start with the OpenEXR magic number"
   [ -s stderr.txt ] && fail "stderr not empty without a terminal: $(cat stderr.txt)"
-  [ "$(wc -l <stdout.txt)" -eq 2 ] || fail "expected one stdout line per output"
+  [ "$(wc -l <stdout.txt)" -eq 3 ] || fail "expected one stdout line per output"
+  # The .exr holds the float colour exactly: encoded as RGBE it is the .hdr, bit for bit;
+  # and it is the same file for any thread count and tile size.
+  "$softpbr" diff all.hdr all.exr -q && pass ".exr, RGBE-encoded, equals the .hdr" || fail ".exr and .hdr of one render differ"
+  "$softpbr" render "$scenes/lights.json" -o other.exr --width 64 --height 40 --threads 1 --tile-size 8 -q
+  cmp -s all.exr other.exr && pass ".exr identical for other threads/tiles" || fail ".exr differs with --threads 1 --tile-size 8"
   ;;
 
 errors)
@@ -117,9 +123,9 @@ EOF
   { printf '{"lights": ['; yes 0, | head -n 999999 | tr -d '\n'; printf '0], "objects": []}'; } >lights.json
   expect_error 3 "lights.json: /lights: too many entries: 1000000 (the limit is 256: every light is evaluated at every pixel)" \
     render lights.json -o keep.png
-  # Memory is checked before allocating: a 16384² image (10 GiB estimated), a huge mesh.
+  # Memory is checked before allocating: a 16384² image (18 GiB estimated), a huge mesh.
   scene_with '' ''
-  expect_error 3 "--width 16384 --height 16384: a 16384x16384 render of this scene needs an estimated 10.0 GiB, over the limit of 4.0 GiB (--max-memory)" \
+  expect_error 3 "--width 16384 --height 16384: a 16384x16384 render of this scene needs an estimated 18.0 GiB, over the limit of 4.0 GiB (--max-memory)" \
     render bad.json -o keep.png --width 16384 --height 16384
   scene_with '{"type": "cube"}' '{"type": "uv_sphere", "segments": 4096, "rings": 4096}'
   expect_error 3 "bad.json: /objects/0/mesh: this mesh brings the scene's estimated memory to 896.3 MiB, over the limit of 256.0 MiB" \
@@ -133,17 +139,16 @@ EOF
   expect_error 4 "folder.png: cannot write: it is a folder" render bad.json -o folder.png
   # A write that fails half-way (a file size limit stands in for a full disk): exit 4, the
   # old file untouched, no temporary left.
-  for ext in png hdr; do
+  for ext in png hdr exr; do
     printf 'KEEP' >"keep.$ext"
     (trap '' XFSZ; ulimit -f 8; "$softpbr" render "$scenes/lights.json" -o "keep.$ext" --width 320 --height 200 >/dev/null 2>stderr.txt)
     rc=$?
     [ $rc -eq 4 ] && [ "$(cat stderr.txt)" = "keep.$ext: write failed (disk full?)" ] && [ "$(cat "keep.$ext")" = KEEP ] \
       && pass "failed .$ext write: exit 4, old file kept" || fail "failed .$ext write: exit $rc, $(cat stderr.txt)"
   done
-  rm keep.hdr
+  rm keep.hdr keep.exr
   # Command-line errors.
-  expect_error 2 "out.exr: OpenEXR output is not supported by this build; write .png or .hdr" render bad.json -o out.exr
-  expect_error 2 "out.jpg: unknown output format \".jpg\" (expected .png or .hdr)" render bad.json -o out.jpg
+  expect_error 2 "out.jpg: unknown output format \".jpg\" (expected .png, .hdr or .exr)" render bad.json -o out.jpg
   expect_error 2 "--frames: expected A..B or A with 0 <= A <= B <= 9999999, got \"5..2\"" render bad.json -o f_#.png --frames 5..2
   expect_error 2 "--shard: expected i/N with 0 <= i < N (i counts from 0), got \"3/3\"" render bad.json -o f_#.png --frames 0..9 --shard 3/3
   expect_error 2 "out.png: with several frames an output needs a run of '#' for the frame number (e.g. out_####.png)" render bad.json -o out.png --frames 0..3
@@ -154,7 +159,7 @@ EOF
   "$softpbr" render --help | grep -q "Exit codes:" && pass "--help lists the exit codes" || fail "render --help has no exit codes"
   # No failure created or truncated an output.
   [ "$(cat keep.png)" = KEEP ] && pass "keep.png untouched by every failure" || fail "a failed render changed keep.png"
-  for f in out.png out.exr out.jpg models/*.png .keep.png.tmp* ; do [ -e "$f" ] && fail "a failed render left $f"; done
+  for f in out.png out.jpg models/*.png .keep.png.tmp* ; do [ -e "$f" ] && fail "a failed render left $f"; done
   ;;
 
 frames)
@@ -227,6 +232,13 @@ diff)
   check 0 a.png b.png --max-pixels 14400
   check 0 a.hdr a.hdr
   check 1 a.hdr b.hdr
+  "$softpbr" render "$scenes/gallery.json" -o a.exr --width 160 --height 90 -q
+  check 0 a.exr a.exr
+  check 0 a.hdr a.exr
+  check 1 b.hdr a.exr
+  check 2 a.png a.exr
+  printf 'not an exr' >bad.exr
+  check 2 a.exr bad.exr
   check 1 a.png small.png
   grep -q "different sizes, 160x90 and 80x45" out.txt || fail "size mismatch not described"
   check 2 a.png missing.png

@@ -76,7 +76,7 @@ SceneFile parse_scene_file(std::string_view text, const std::string& name, const
 inline Scene animate(const SceneFile& file, long frame) { return animate(file.scene, file.animation, frame); }
 
 // Estimated bytes of the buffers a width × height render allocates: the float colour and
-// depth target, the 8-bit image and the float copy .hdr output makes (40 bytes a pixel).
+// depth target and the largest output's buffers (.exr's: 72 bytes a pixel in all).
 std::uint64_t image_memory(int width, int height);
 
 // "1.5 GiB", "12.0 MiB", "640 B": for messages.
