@@ -38,10 +38,9 @@ Shard parse_shard(const std::string& text) {
   return s;
 }
 
-std::vector<long> shard_frames(const FrameRange& range, const Shard& shard) {
-  std::vector<long> frames;
-  for (long f = range.first + shard.index; f <= range.last; f += shard.count) frames.push_back(f);
-  return frames;
+long shard_frame_count(const FrameRange& range, const Shard& shard) {
+  const long frames = range.last - range.first + 1;
+  return frames > shard.index ? (frames - shard.index + shard.count - 1) / shard.count : 0;
 }
 
 bool has_frame_pattern(const std::string& pattern) {

@@ -26,9 +26,13 @@ FrameRange parse_frames(const std::string& text);
 // "i/N" with 0 <= i < N. Throws Error(kExitUsage) naming --shard.
 Shard parse_shard(const std::string& text);
 
-// The frames of `range` this shard renders: the k-th frame of the range (k = 0, 1, …)
-// belongs to shard k mod N. Every frame belongs to exactly one shard.
-std::vector<long> shard_frames(const FrameRange& range, const Shard& shard);
+// The frames of `range` a shard renders: the k-th frame of the range (k = 0, 1, …) belongs
+// to shard k mod N, so every frame belongs to exactly one shard. Shard i renders
+// shard_frame(range, shard, j) for j = 0 … shard_frame_count(range, shard) − 1.
+long shard_frame_count(const FrameRange& range, const Shard& shard);
+inline long shard_frame(const FrameRange& range, const Shard& shard, long j) {
+  return range.first + shard.index + j * shard.count;
+}
 
 // Whether `pattern` has a run of '#' (exactly one is allowed; more throws Error(kExitUsage)).
 bool has_frame_pattern(const std::string& pattern);

@@ -190,13 +190,14 @@ int run_render(const RenderArgs& a) {
   }
 
   // 4. The frames of this shard.
-  const std::vector<long> frames = shard_frames(range, shard);
+  const long frame_count = shard_frame_count(range, shard);
   auto stale = stale_temporaries(folders);
   raster::Renderer renderer(raster::RendererOptions{s.threads, s.tile_size});
   raster::Target target(s.width, s.height);
-  Progress progress(!a.quiet && ::isatty(STDERR_FILENO), frames.size());
+  Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(frame_count));
   std::size_t done = 0, skipped = 0;
-  for (const long frame : frames) {
+  for (long j = 0; j < frame_count; ++j) {
+    const long frame = shard_frame(range, shard, j);
     std::vector<std::string> paths;
     bool all_exist = true;
     for (const std::string& o : a.outputs) {
@@ -231,8 +232,9 @@ int run_render(const RenderArgs& a) {
     std::fflush(stdout);
     progress.update(++done, frame);
   }
-  if (!a.quiet && frames.size() > 1)
-    std::printf("%zu frames: %zu rendered, %zu skipped (already complete)\n", frames.size(), frames.size() - skipped, skipped);
+  if (!a.quiet && frame_count > 1)
+    std::printf("%ld frames: %ld rendered, %zu skipped (already complete)\n", frame_count,
+                frame_count - static_cast<long>(skipped), skipped);
   return kExitOk;
 }
 

@@ -180,6 +180,11 @@ frames)
   done
   [ "$(ls shards | wc -l)" -eq 10 ] && pass "shards wrote exactly frames 3..12" || fail "shards/ holds $(ls shards | wc -l) files"
   cmp -s all/f_0003.png all/f_0004.png && fail "the animation does not move"
+  # More shards than frames: still each frame exactly once (most shards render nothing).
+  mkdir many && : >rendered.txt
+  for i in $(seq 0 12); do "$softpbr" "${args[@]}" -o many/f_####.png --shard "$i/13" | grep hash >>rendered.txt; done
+  [ "$(sort -u rendered.txt | wc -l)" -eq 10 ] && [ "$(wc -l <rendered.txt)" -eq 10 ] && [ "$(ls many | wc -l)" -eq 10 ] \
+    && pass "13 shards over 10 frames: each frame once" || fail "13 shards: $(wc -l <rendered.txt) renders"
   # A temporary file a killed run left for a frame is removed when that frame is rendered.
   touch shards/.f_0013.png.tmp12345
   "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..13 -q -o shards/f_####.png
