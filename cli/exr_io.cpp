@@ -2,6 +2,9 @@
 #include "exr_io.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <system_error>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -71,6 +74,11 @@ void write_exr(const std::filesystem::path& path, const raster::Target& target, 
 }
 
 golden::ImageF load_exr(const std::filesystem::path& path) {
+  // Only regular files of a sane size: a device or a pipe would be read without end.
+  constexpr std::uintmax_t kMaxExrBytes = std::uintmax_t{1} << 30;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(path.string() + ": cannot open: not a regular file");
+  if (std::filesystem::file_size(path, ec) > kMaxExrBytes) throw std::runtime_error(path.string() + ": over 1 GiB");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path.string() + ": cannot open");
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -133,6 +133,10 @@ EOF
   # Unreadable scenes, unwritable outputs.
   expect_error 3 "missing.json: cannot open the scene file: No such file or directory" render missing.json -o keep.png
   expect_error 3 "models: is a folder, not a scene file" render models -o keep.png
+  expect_error 3 "/dev/zero: the scene file is over the limit of 64.0 MiB (meshes belong in OBJ files)" render /dev/zero -o keep.png
+  head -c 100 /dev/urandom >random.json
+  "$softpbr" render random.json -o keep.png 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && grep -q "^random.json: " stderr.txt && [ "$(wc -l <stderr.txt)" -eq 1 ] && pass "binary garbage: one line, exit 3" || fail "random.json: exit $rc: $(cat -v stderr.txt)"
   scene_with '' ''
   expect_error 4 "no/such/dir/out.png: cannot write: the folder no/such/dir does not exist" render bad.json -o no/such/dir/out.png
   mkdir folder.png
@@ -244,6 +248,9 @@ diff)
   check 2 a.png a.exr
   printf 'not an exr' >bad.exr
   check 2 a.exr bad.exr
+  check 2 a.exr /dev/zero.exr
+  ln -s /dev/zero zero.exr
+  check 2 a.exr zero.exr
   check 1 a.png small.png
   grep -q "different sizes, 160x90 and 80x45" out.txt || fail "size mismatch not described"
   check 2 a.png missing.png

@@ -10,7 +10,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <system_error>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -497,10 +496,17 @@ SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOpti
   if (!ec && size > kMaxSceneFileBytes)
     throw SceneFileError(name + ": the scene file is " + format_bytes(size) + ", over the limit of " +
                          format_bytes(kMaxSceneFileBytes) + " (meshes belong in OBJ files)");
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read at most one byte past the limit: a device or a pipe has no size to check first.
+  std::string text;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxSceneFileBytes)
+      throw SceneFileError(name + ": the scene file is over the limit of " + format_bytes(kMaxSceneFileBytes) +
+                           " (meshes belong in OBJ files)");
+  }
   if (in.bad()) throw SceneFileError(name + ": cannot read the scene file");
-  return parse_scene_file(text.str(), name, path.parent_path(), options);
+  return parse_scene_file(text, name, path.parent_path(), options);
 }
 
 std::uint64_t image_memory(int width, int height) {
