@@ -20,7 +20,8 @@ using namespace golden_test;
 
 TEST_CASE("golden images: a PNG written by raster::write_png loads back with the same bytes, at odd sizes too") {
   const fs::path dir = scratch("image_png_round_trip");
-  for (auto [w, h] : {std::pair{1, 1}, {3, 7}, {64, 1}, {1, 33}, {130, 17}}) {
+  for (const std::pair<int, int> size : {std::pair{1, 1}, {3, 7}, {64, 1}, {1, 33}, {130, 17}}) {
+    const int w = size.first, h = size.second;
     CAPTURE(w);
     CAPTURE(h);
     const raster::Image8 im = pattern8(w, h, w + h);
