@@ -20,7 +20,7 @@ using namespace golden_test;
 
 TEST_CASE("golden images: a PNG written by raster::write_png loads back with the same bytes, at odd sizes too") {
   const fs::path dir = scratch("image_png_round_trip");
-  for (const std::pair<int, int> size : {std::pair{1, 1}, {3, 7}, {64, 1}, {1, 33}, {130, 17}}) {
+  for (const std::pair<int, int>& size : {std::pair{1, 1}, {3, 7}, {64, 1}, {1, 33}, {130, 17}}) {
     const int w = size.first, h = size.second;
     CAPTURE(w);
     CAPTURE(h);
@@ -44,7 +44,9 @@ TEST_CASE("golden images: grey, grey+alpha and RGB PNGs load as RGBA with the gr
   const Case cases[] = {{1, {10, 10, 10, 255}}, {2, {10, 10, 10, 200}}, {3, {10, 200, 30, 255}}};
   for (const Case& c : cases) {
     CAPTURE(c.channels);
-    const fs::path p = dir / ("c" + std::to_string(c.channels) + ".png");
+    std::string name = "channels";  // built by appending: GCC 12 warns (-Wrestrict) on "c" + string
+    name += std::to_string(c.channels);
+    const fs::path p = dir / (name + ".png");
     REQUIRE(stbi_write_png(p.c_str(), 1, 1, c.channels, pixels, c.channels) != 0);
     const raster::Image8 im = golden::load_png(p);
     REQUIRE(im.rgba.size() == 4);
