@@ -8,7 +8,8 @@ BUILD_DIR=${BUILD_DIR:-$SOFTPBR_ROOT/build}
 BUILD_TYPE=${BUILD_TYPE:-Release}
 
 # Debian 12 package names. Keep in step with the find_package calls in CMakeLists.txt.
-SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev)
+SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev
+                  clang)  # clang: the CI matrix (.ci/matrix) builds with Clang too
 
 softpbr_install_packages() {
   local missing=() p
