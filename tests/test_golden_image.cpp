@@ -63,6 +63,11 @@ TEST_CASE("golden images: unreadable files throw an error that starts with the p
   const std::vector<char> whole = file_bytes(dir / "whole.png");
   write_bytes(dir / "truncated.png", std::string(whole.begin(), whole.begin() + 60));
   golden::write_hdr(dir / "float.hdr", patternF(4, 4));
+  // A header claiming 1048576 pixels of width (IHDR width, big-endian, at byte 16): refused
+  // before any allocation.
+  std::string huge(whole.begin(), whole.end());
+  huge[16] = 0, huge[17] = 0x10, huge[18] = 0, huge[19] = 0;
+  write_bytes(dir / "huge.png", huge);
   struct Case {
     std::string file;
     bool hdr;  // loaded with load_hdr, else load_png
@@ -72,6 +77,7 @@ TEST_CASE("golden images: unreadable files throw an error that starts with the p
                         {"garbage.png", false, "not a readable image"},
                         {"empty.png", false, "not a readable image"},
                         {"truncated.png", false, "cannot decode"},
+                        {"huge.png", false, "image size 1048576x40 is outside"},
                         {"float.hdr", false, "load_hdr"},
                         {"whole.png", true, "load_png"},
                         {"missing.hdr", true, "no such file"},
