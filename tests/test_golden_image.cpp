@@ -20,7 +20,8 @@ using namespace golden_test;
 
 TEST_CASE("golden images: a PNG written by raster::write_png loads back with the same bytes, at odd sizes too") {
   const fs::path dir = scratch("image_png_round_trip");
-  for (auto [w, h] : {std::pair{1, 1}, {3, 7}, {64, 1}, {1, 33}, {130, 17}}) {
+  for (const std::pair<int, int>& size : {std::pair{1, 1}, {3, 7}, {64, 1}, {1, 33}, {130, 17}}) {
+    const int w = size.first, h = size.second;
     CAPTURE(w);
     CAPTURE(h);
     const raster::Image8 im = pattern8(w, h, w + h);
@@ -43,7 +44,9 @@ TEST_CASE("golden images: grey, grey+alpha and RGB PNGs load as RGBA with the gr
   const Case cases[] = {{1, {10, 10, 10, 255}}, {2, {10, 10, 10, 200}}, {3, {10, 200, 30, 255}}};
   for (const Case& c : cases) {
     CAPTURE(c.channels);
-    const fs::path p = dir / ("c" + std::to_string(c.channels) + ".png");
+    std::string name = "channels";  // built by appending: GCC 12 warns (-Wrestrict) on "c" + string
+    name += std::to_string(c.channels);
+    const fs::path p = dir / (name + ".png");
     REQUIRE(stbi_write_png(p.c_str(), 1, 1, c.channels, pixels, c.channels) != 0);
     const raster::Image8 im = golden::load_png(p);
     REQUIRE(im.rgba.size() == 4);
@@ -60,6 +63,11 @@ TEST_CASE("golden images: unreadable files throw an error that starts with the p
   const std::vector<char> whole = file_bytes(dir / "whole.png");
   write_bytes(dir / "truncated.png", std::string(whole.begin(), whole.begin() + 60));
   golden::write_hdr(dir / "float.hdr", patternF(4, 4));
+  // A header claiming 1048576 pixels of width (IHDR width, big-endian, at byte 16): refused
+  // before any allocation.
+  std::string huge(whole.begin(), whole.end());
+  huge[16] = 0, huge[17] = 0x10, huge[18] = 0, huge[19] = 0;
+  write_bytes(dir / "huge.png", huge);
   struct Case {
     std::string file;
     bool hdr;  // loaded with load_hdr, else load_png
@@ -69,6 +77,7 @@ TEST_CASE("golden images: unreadable files throw an error that starts with the p
                         {"garbage.png", false, "not a readable image"},
                         {"empty.png", false, "not a readable image"},
                         {"truncated.png", false, "cannot decode"},
+                        {"huge.png", false, "image size 1048576x40 is outside"},
                         {"float.hdr", false, "load_hdr"},
                         {"whole.png", true, "load_png"},
                         {"missing.hdr", true, "no such file"},

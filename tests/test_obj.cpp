@@ -313,8 +313,9 @@ TEST_CASE("obj: roughness from the Phong exponent follows √(√(2 / (Ns + 2)))
   const std::vector<std::pair<float, double>> table = {
       {0.0f, 1.0}, {-5.0f, 1.0}, {2.0f, std::sqrt(std::sqrt(0.5))}, {98.0f, std::sqrt(std::sqrt(0.02))},
       {1000.0f, std::sqrt(std::sqrt(2.0 / 1002.0))}, {INFINITY, 0.0}, {NAN, 1.0}};
-  for (const auto& [ns, r] : table) {
-    CAPTURE(ns);
+  for (const auto& entry : table) {
+    const auto& [ns, r] = entry;
+    CAPTURE(entry.first);  // not `ns`: Clang 14 cannot capture a structured binding
     CHECK(pbr::roughness_from_phong_exponent(ns) == doctest::Approx(r).epsilon(1e-6));
   }
   float last = 2.0f;
@@ -459,9 +460,10 @@ TEST_CASE("obj: the other shared models load with the triangle counts of SOURCES
       {"cornell-box/CornellBox-Original.obj", 36},
       {"cornell-box/CornellBox-Sphere.obj", 2188},
   };
-  for (const auto& [file, expected] : models) {
+  for (const auto& entry : models) {
+    const auto& [file, expected] = entry;
     const fs::path path = kShared / file;
-    CAPTURE(file);
+    CAPTURE(entry.first);  // not `file`: Clang 14 cannot capture a structured binding
     if (!fs::exists(path)) {
       MESSAGE("skipped: " << path.string() << " is absent");
       continue;

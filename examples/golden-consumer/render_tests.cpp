@@ -34,10 +34,14 @@ TEST_CASE("the two-material scene looks as it did when its golden was accepted")
 }
 
 TEST_CASE("the scene renders the same with any thread count and tile size, so one golden serves them all") {
-  for (const auto& [threads, tile] : {std::pair{1u, 16}, {2u, 32}, {3u, 128}}) {
-    CAPTURE(threads);
-    CAPTURE(tile);
-    raster::Renderer renderer({.threads = threads, .tile_size = tile});
+  struct Config {
+    unsigned threads;
+    int tile;
+  };
+  for (const Config c : {Config{1, 16}, {2, 32}, {3, 128}}) {
+    CAPTURE(c.threads);
+    CAPTURE(c.tile);
+    raster::Renderer renderer({.threads = c.threads, .tile_size = c.tile});
     raster::Target target(160, 112);
     pbr::render(two_materials(), renderer, target);
     CHECK_IMAGE_MATCHES(pbr::tone_map_to_rgba8(target, pbr::gallery_output()), "goldens/two_materials.png");
