@@ -60,16 +60,19 @@ void Renderer::require_frame() const {
   if (!target_) throw std::logic_error("Renderer::draw: call begin_frame() first");
 }
 
-void Renderer::end_frame() {
+void Renderer::end_frame() { end_frame(nullptr); }
+
+void Renderer::end_frame(const std::function<void(const TileRect&)>& after_tile) {
   if (!target_) throw std::logic_error("Renderer::end_frame: no frame is open");
   Target& target = *target_;
   target_ = nullptr;
-  if (!draws_.empty() || clear_) {
+  if (!draws_.empty() || clear_ || after_tile) {
     const std::optional<ClearValues> clear = clear_;
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
       if (clear) clear_tile(target, rect, *clear);
       for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_);
+      if (after_tile) after_tile(rect);
     });
   }
   for (auto& draw : draws_) {

@@ -50,12 +50,15 @@ struct PacketBuffer {
   alignas(64) float depth[W];
   std::size_t index[W];  // pixel index in the target
   int count = 0;
+  bool front_facing = true;  // of every lane (a packet holds one facing)
 };
 
 // Shades the buffered lanes with fragment_packet<Vec<W>> (or <float> for W = 1), writes them.
+// Depth was written when the lanes passed the depth test (see raster_triangle); colour is
+// written here in lane order, so a pixel that two buffered triangles cover ends up blended
+// in submission order.
 template <int W, class S, int kN>
-void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, const DrawState& state,
-                  glm::vec4* colors, float* depths) {
+void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, glm::vec4* colors) {
   using V = typename S::Varyings;
   using F = std::conditional_t<W == 1, float, simd::Vec<W>>;
   if (b.count == 0) return;
@@ -84,7 +87,7 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, co
   p.pos_x = load(b.pos_x);
   p.pos_y = load(b.pos_y);
   p.depth = load(b.depth);
-  p.front_facing = front_facing;
+  p.front_facing = b.front_facing;
   const Color<F> c = shader.template fragment_packet<F>(p);
   float out[4][W];
   if constexpr (W == 1) {
@@ -95,15 +98,19 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, co
   for (int lane = 0; lane < b.count; ++lane) {
     const std::size_t idx = b.index[lane];
     colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
-    if (state.depth_write) depths[idx] = b.depth[lane];
   }
   b.count = 0;
 }
 
+template <int W, Shader S>
+using PacketFor = PacketBuffer<(W > 0 ? W : 1), kVaryingCount<typename S::Varyings>>;
+
 // W = 0: the shader's scalar fragment(); W ≥ 1: packets of W lanes through fragment_packet.
+// Packets fill across the triangles of a tile (one facing per packet): small triangles
+// still shade full packets. `packet` carries the lanes waiting from earlier triangles.
 template <int W, Shader S>
 void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
-                     const Triangle& t, const TileRect& tile, Target& target) {
+                     const Triangle& t, const TileRect& tile, Target& target, PacketFor<W, S>& packet) {
   using V = typename S::Varyings;
   constexpr int kN = kVaryingCount<V>;
   constexpr std::int64_t kStep = kSubpixelScale;  // one pixel in fixed point
@@ -133,7 +140,12 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   const int width = target.width();
   glm::vec4* colors = target.colors().data();
   float* depths = target.depths().data();
-  [[maybe_unused]] PacketBuffer<(W > 0 ? W : 1), kN> packet;
+  if constexpr (W > 0) {
+    if (packet.front_facing != t.front_facing) {
+      flush_packet<W>(shader, packet, state, colors);
+      packet.front_facing = t.front_facing;
+    }
+  }
 
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
@@ -161,7 +173,9 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 4; ++j) w[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
 
-      // Early depth test (shaders cannot change depth).
+      // Early depth test (shaders cannot change depth, nor discard): a passing pixel's
+      // depth is written now, so later triangles test against it even while its colour
+      // waits in a packet.
       float z[4] = {0.0f, 0.0f, 0.0f, 0.0f};
       for (int j = 0; j < 4; ++j) {
         if (!(mask & (1u << j))) continue;
@@ -170,6 +184,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         z[j] = std::clamp(t.z0 + l1 * t.dz1 + l2 * t.dz2, 0.0f, 1.0f);
         const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
         if (!depth_passes(state.depth_test, z[j], depths[idx])) mask &= ~(1u << j);
+        else if (state.depth_write) depths[idx] = z[j];
       }
       if (mask == 0) continue;
 
@@ -207,7 +222,6 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           const glm::vec4 src = shader.fragment(f);
           const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
           colors[idx] = blend(state.blend, src, colors[idx]);
-          if (state.depth_write) depths[idx] = z[j];
         }
       } else {
         for (int j = 0; j < 4; ++j) {
@@ -222,12 +236,11 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
           packet.depth[lane] = z[j];
           packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          if (packet.count == W) flush_packet<W>(shader, packet, t.front_facing, state, colors, depths);
+          if (packet.count == W) flush_packet<W>(shader, packet, state, colors);
         }
       }
     }
   }
-  if constexpr (W > 0) flush_packet<W>(shader, packet, t.front_facing, state, colors, depths);
 }
 
 }  // namespace detail
@@ -237,9 +250,11 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
 template <int W, Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  Target& target) {
+  detail::PacketFor<W, S> packet;
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
-      detail::raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target);
+      detail::raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
+  if constexpr (W > 0) detail::flush_packet<W>(shader, packet, geometry.state, target.colors().data());
 }
 
 // The same, at the lane count `lanes` (0: the widest native one) when the shader has

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -94,6 +95,12 @@ class Renderer {
 
   // Rasterizes the frame's draws into the target and closes the frame.
   void end_frame();
+
+  // The same, calling after_tile(rect) for every tile of the frame, on the thread that
+  // drew it, as soon as its last draw is done: to resolve or tone map the tile while it is
+  // in cache. Calls for different tiles may run at the same time; each tile's pixels
+  // belong to its call alone until end_frame() returns.
+  void end_frame(const std::function<void(const TileRect&)>& after_tile);
 
  private:
   struct DrawCall {
