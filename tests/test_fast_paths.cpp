@@ -140,8 +140,10 @@ TEST_CASE("packets filled across overlapping triangles of one draw give the scal
     raster::Renderer scalar({.threads = 1, .tile_size = 64, .lanes = 1});
     const auto reference = draw(OverlapShader{}, scalar);
     for (const int lanes : {1, 4, 8, 16})
-      for (const unsigned threads : {1u, 2u}) {
-        raster::Renderer r({.threads = threads, .tile_size = 16, .lanes = lanes});
+      for (const unsigned threads : {1u, 2u})
+        for (const bool dispatch : {false, true}) {
+        raster::Renderer r({.threads = threads, .tile_size = 16, .lanes = lanes, .dispatch = dispatch});
+        CAPTURE(dispatch);
         CAPTURE(lanes);
         CAPTURE(threads);
         CHECK(draw(OverlapPacketShader{}, r) == reference);

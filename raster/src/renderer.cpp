@@ -23,8 +23,8 @@ void clear_tile(Target& target, const TileRect& r, const ClearValues& clear) {
     std::fill(depths + row + r.x0, depths + row + r.x1, clear.depth);
   }
 }
-int checked_lanes(int lanes) {
-  if (lanes == 0) return simd::kNativeWidth;
+int checked_lanes(int lanes, simd::Isa isa) {
+  if (lanes == 0) return isa == simd::Isa::Avx512 ? 16 : isa == simd::Isa::Avx2 ? 8 : simd::kNativeWidth;
   if (lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16)
     throw std::invalid_argument("Renderer: lanes " + std::to_string(lanes) + " must be 0, 1, 4, 8 or 16");
   return lanes;
@@ -32,7 +32,10 @@ int checked_lanes(int lanes) {
 }  // namespace
 
 Renderer::Renderer(RendererOptions options)
-    : pool_(options.threads), tile_size_(checked_tile_size(options.tile_size)), lanes_(checked_lanes(options.lanes)) {}
+    : pool_(options.threads),
+      tile_size_(checked_tile_size(options.tile_size)),
+      isa_(options.dispatch ? simd::cpu_isa() : simd::Isa::Baseline),
+      lanes_(checked_lanes(options.lanes, isa_)) {}
 
 Renderer::~Renderer() = default;
 
@@ -71,7 +74,7 @@ void Renderer::end_frame(const std::function<void(const TileRect&)>& after_tile)
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
       if (clear) clear_tile(target, rect, *clear);
-      for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_);
+      for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_, isa_);
       if (after_tile) after_tile(rect);
     });
   }

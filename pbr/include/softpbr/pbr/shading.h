@@ -150,6 +150,8 @@ struct PbrShader {
     glm::vec3 normal;
     glm::vec2 uv;
   };
+  // No texture lookups, so no derivatives: helper lanes of a quad are not interpolated.
+  static constexpr bool kUsesDerivatives = false;
 
   glm::mat4 model{1.0f};
   glm::mat3 normal_matrix{1.0f};  // inverse transpose of model's upper 3×3

@@ -66,8 +66,10 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
     for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
       for (int k = 0; k < kN; ++k) {
         b.v[k][lane] = b.v[k][0];
-        b.ddx[k][lane] = b.ddx[k][0];
-        b.ddy[k][lane] = b.ddy[k][0];
+        if constexpr (kUsesDerivatives<S>) {
+          b.ddx[k][lane] = b.ddx[k][0];
+          b.ddy[k][lane] = b.ddy[k][0];
+        }
       }
       b.pos_x[lane] = b.pos_x[0];
       b.pos_y[lane] = b.pos_y[0];
@@ -81,8 +83,13 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
   FragmentPacket<F, V> p;
   for (int k = 0; k < kN; ++k) {
     p.v[k] = load(b.v[k]);
-    p.ddx[k] = load(b.ddx[k]);
-    p.ddy[k] = load(b.ddy[k]);
+    if constexpr (kUsesDerivatives<S>) {
+      p.ddx[k] = load(b.ddx[k]);
+      p.ddy[k] = load(b.ddy[k]);
+    } else {
+      p.ddx[k] = F(0.0f);
+      p.ddy[k] = F(0.0f);
+    }
   }
   p.pos_x = load(b.pos_x);
   p.pos_y = load(b.pos_y);
@@ -188,9 +195,12 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       }
       if (mask == 0) continue;
 
-      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives).
+      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives), or
+      // at the covered ones only when the shader reads no derivatives.
+      constexpr bool kDerivatives = kUsesDerivatives<S>;
       float values[4][kN > 0 ? kN : 1];
       for (int j = 0; j < 4; ++j) {
+        if (!kDerivatives && !(mask & (1u << j))) continue;
         const float a0 = w[0][j] * t.inv_w[0];
         const float a1 = w[1][j] * t.inv_w[1];
         const float a2 = w[2][j] * t.inv_w[2];
@@ -205,8 +215,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       }
       float ddx[kN > 0 ? kN : 1], ddy[kN > 0 ? kN : 1];
       for (int k = 0; k < kN; ++k) {
-        ddx[k] = values[1][k] - values[0][k];
-        ddy[k] = values[2][k] - values[0][k];
+        ddx[k] = kDerivatives ? values[1][k] - values[0][k] : 0.0f;
+        ddy[k] = kDerivatives ? values[2][k] - values[0][k] : 0.0f;
       }
       if constexpr (W == 0) {
         const V vddx = varyings_from_floats<V>(ddx);
@@ -229,8 +239,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           const int lane = packet.count++;
           for (int k = 0; k < kN; ++k) {
             packet.v[k][lane] = values[j][k];
-            packet.ddx[k][lane] = ddx[k];
-            packet.ddy[k][lane] = ddy[k];
+            if constexpr (kDerivatives) {
+              packet.ddx[k][lane] = ddx[k];
+              packet.ddy[k][lane] = ddy[k];
+            }
           }
           packet.pos_x[lane] = static_cast<float>(lane_x[j]) + 0.5f;
           packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
@@ -257,19 +269,44 @@ void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile
   if constexpr (W > 0) detail::flush_packet<W>(shader, packet, geometry.state, target.colors().data());
 }
 
+#if SOFTPBR_SIMD_DISPATCH
+// The same kernel source compiled for AVX2 and AVX-512 (simd.h): run only when
+// simd::cpu_isa() allows.
+template <int W, Shader S>
+SOFTPBR_TARGET_AVX2 void raster_tile_avx2(const S& shader, const DrawGeometry& geometry, std::size_t tile,
+                                          const TileRect& rect, Target& target) {
+  raster_tile<W>(shader, geometry, tile, rect, target);
+}
+template <int W, Shader S>
+SOFTPBR_TARGET_AVX512 void raster_tile_avx512(const S& shader, const DrawGeometry& geometry, std::size_t tile,
+                                              const TileRect& rect, Target& target) {
+  raster_tile<W>(shader, geometry, tile, rect, target);
+}
+#endif
+
 // The same, at the lane count `lanes` (0: the widest native one) when the shader has
-// fragment_packet(), else through its scalar fragment().
+// fragment_packet(), else through its scalar fragment(). With isa above Baseline (which
+// the CPU must have), 8 lanes run the AVX2 kernel and 16 lanes the AVX-512 one.
 template <Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
-                 Target& target, int lanes) {
+                 Target& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {
   if constexpr (PacketShaderFor<S, float> && PacketShaderFor<S, simd::Vec<4>>) {
     switch (lanes == 0 ? simd::kNativeWidth : lanes) {
       case 1: return raster_tile<1>(shader, geometry, tile, rect, target);
       case 4: return raster_tile<4>(shader, geometry, tile, rect, target);
-      case 8: return raster_tile<8>(shader, geometry, tile, rect, target);
-      default: return raster_tile<16>(shader, geometry, tile, rect, target);
+      case 8:
+#if SOFTPBR_SIMD_DISPATCH
+        if (isa != simd::Isa::Baseline) return raster_tile_avx2<8>(shader, geometry, tile, rect, target);
+#endif
+        return raster_tile<8>(shader, geometry, tile, rect, target);
+      default:
+#if SOFTPBR_SIMD_DISPATCH
+        if (isa == simd::Isa::Avx512) return raster_tile_avx512<16>(shader, geometry, tile, rect, target);
+#endif
+        return raster_tile<16>(shader, geometry, tile, rect, target);
     }
   } else {
+    (void)isa;
     raster_tile<0>(shader, geometry, tile, rect, target);
   }
 }

@@ -35,8 +35,13 @@ struct RendererOptions {
   unsigned threads = 0;  // 0: all hardware threads; 1: everything inline on the caller
   int tile_size = 64;    // even, in [kMinTileSize, kMaxTileSize]
   // Pixels per fragment_packet() call for packet shaders: 1, 4, 8 or 16; 0 picks the
-  // widest the build targets natively (simd::kNativeWidth). Any width gives the same bits.
+  // widest this CPU runs natively (16 with AVX-512 and 8 with AVX2 when `dispatch` is
+  // on, else simd::kNativeWidth of the build). Any width gives the same bits.
   int lanes = 0;
+  // Run packet kernels compiled for the CPU's widest instruction set (runtime dispatch,
+  // simd.h: AVX2 for 8 lanes, AVX-512 for 16) when it has one; false: the build's own
+  // code only. The same bits either way.
+  bool dispatch = true;
 };
 
 // What begin_frame() clears the target to.
@@ -58,6 +63,8 @@ class Renderer {
 
   unsigned threads() const { return pool_.size(); }
   int lanes() const { return lanes_; }
+  // The instruction set the packet kernels run with (Baseline: the build's own).
+  simd::Isa isa() const { return isa_; }
   int tile_size() const { return tile_size_; }
 
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
@@ -106,14 +113,14 @@ class Renderer {
   struct DrawCall {
     virtual ~DrawCall() = default;
     // One virtual call per draw and tile; the shader inlines inside.
-    virtual void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes) const = 0;
+    virtual void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes, simd::Isa isa) const = 0;
     DrawGeometry geometry;
   };
   template <Shader S>
   struct TypedDrawCall final : DrawCall {
     explicit TypedDrawCall(const S& s) : shader(s) {}
-    void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes) const override {
-      raster_tile(shader, this->geometry, tile, rect, target, lanes);
+    void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes, simd::Isa isa) const override {
+      raster_tile(shader, this->geometry, tile, rect, target, lanes, isa);
     }
     S shader;
   };
@@ -123,6 +130,7 @@ class Renderer {
 
   ThreadPool pool_;
   int tile_size_;
+  simd::Isa isa_;
   int lanes_;
   Target* target_ = nullptr;
   TileGrid grid_;

@@ -84,6 +84,17 @@ concept PacketShaderFor = requires(const S& s, const FragmentPacket<F, typename 
   { s.template fragment_packet<F>(p) } -> std::same_as<Color<F>>;
 };
 
+// A shader that reads no derivatives (Fragment::ddx/ddy, FragmentPacket::ddx/ddy) may say
+//   static constexpr bool kUsesDerivatives = false;
+// The rasterizer then interpolates only the covered pixels of a quad, not the helper
+// lanes, and hands it zero derivatives: less work per quad, the same image, since the
+// shader never reads them.
+template <class S>
+inline constexpr bool kUsesDerivatives = true;
+template <class S>
+  requires requires { S::kUsesDerivatives; }
+inline constexpr bool kUsesDerivatives<S> = S::kUsesDerivatives;
+
 // Number of floats in a varyings struct.
 template <class V>
 inline constexpr int kVaryingCount = std::is_empty_v<V> ? 0 : static_cast<int>(sizeof(V) / sizeof(float));

@@ -178,6 +178,37 @@ struct LaneCount<Vec<N>> {
   static constexpr int value = N;
 };
 
+// --- Runtime dispatch: kernels compiled for wider instruction sets than the build's. ---
+//
+// SOFTPBR_TARGET_AVX2 / SOFTPBR_TARGET_AVX512 mark a function compiled for AVX2 or
+// AVX-512 whatever the build targets, with everything it calls inlined into it (flatten):
+// the shading code inside is the very same source, its vector operations just map to
+// wider registers. No FMA is enabled (and -ffp-contract=off forbids contraction anyway),
+// no approximate reciprocal is used: the same IEEE operations, so the same bits. Such a
+// function may only run when cpu_isa() says the CPU has the instruction set.
+enum class Isa : std::uint8_t { Baseline, Avx2, Avx512 };
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define SOFTPBR_SIMD_DISPATCH 1
+#define SOFTPBR_TARGET_AVX2 __attribute__((target("avx2,avx,popcnt"), flatten))
+#define SOFTPBR_TARGET_AVX512 __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt"), flatten))
+// The widest instruction set of this CPU (and OS) that a dispatched kernel can use.
+inline Isa cpu_isa() {
+  static const Isa isa = [] {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw"))
+      return Isa::Avx512;
+    if (__builtin_cpu_supports("avx2")) return Isa::Avx2;
+    return Isa::Baseline;
+  }();
+  return isa;
+}
+#else
+#define SOFTPBR_SIMD_DISPATCH 0
+inline Isa cpu_isa() { return Isa::Baseline; }
+#endif
+
 // The widest lane count the compiler targets natively (chosen at compile time).
 #if defined(__AVX512F__)
 inline constexpr int kNativeWidth = 16;
