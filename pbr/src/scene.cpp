@@ -24,7 +24,7 @@ auto with_context(const std::string& where, F&& f) {
 
 namespace {
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
-                  const std::function<void(const raster::TileRect&)>& after_tile);
+                  const raster::Renderer::TileCallback& after_tile);
 }  // namespace
 
 void render(const Scene& scene, raster::Renderer& renderer, raster::Target& target) {
@@ -37,13 +37,15 @@ void render_rgba8(const Scene& scene, raster::Renderer& renderer, raster::Target
   image.width = target.width();
   image.height = target.height();
   image.rgba.resize(static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()) * 4);
-  render_frame(scene, renderer, target,
-               [&](const raster::TileRect& r) { mapper.encode(target, r.x0, r.y0, r.x1, r.y1, image); });
+  render_frame(scene, renderer, target, [&](const raster::TileRect& r, bool only_clear) {
+    if (only_clear) mapper.encode_uniform(scene.background, r.x0, r.y0, r.x1, r.y1, image);
+    else mapper.encode(target, r.x0, r.y0, r.x1, r.y1, image);
+  });
 }
 
 namespace {
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
-                  const std::function<void(const raster::TileRect&)>& after_tile) {
+                  const raster::Renderer::TileCallback& after_tile) {
   validate(scene.camera);
   // Validate and prepare everything before the frame starts.
   auto lights = std::make_shared<std::vector<PreparedLight>>();

@@ -153,6 +153,16 @@ void encode_rect(const raster::Target& target, int x0, int y0, int x1, int y1, f
 
 std::uint8_t ToneMapper::encode(float v) const { return encode_fast(thresholds_, first_.data(), v); }
 
+void ToneMapper::encode_uniform(const glm::vec4& c, int x0, int y0, int x1, int y1, raster::Image8& image) const {
+  const glm::vec3 m = apply_tone_map(settings_.tone_map, glm::vec3(c) * scale_);
+  const std::uint8_t code[4] = {encode(m.r), encode(m.g), encode(m.b), raster::unorm8(c.a)};
+  for (int y = y0; y < y1; ++y) {
+    std::uint8_t* out = image.rgba.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
+                                             static_cast<std::size_t>(x0)) * 4;
+    for (int x = x0; x < x1; ++x, out += 4) std::memcpy(out, code, 4);
+  }
+}
+
 void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image) const {
   const auto run = [&]<ToneMap kOp>() {
     encode_rect<kOp>(target, x0, y0, x1, y1, scale_, thresholds_, first_.data(), image);

@@ -14,14 +14,23 @@ int checked_tile_size(int tile) {
                                 std::to_string(kMinTileSize) + ", " + std::to_string(kMaxTileSize) + "]");
   return tile;
 }
-void clear_tile(Target& target, const TileRect& r, const ClearValues& clear) {
+// Clears a tile. A tile no triangle touches is written with streaming stores (simd.h):
+// nothing will read it soon, so it need not be fetched into the cache first.
+void clear_tile(Target& target, const TileRect& r, const ClearValues& clear, bool streaming) {
   glm::vec4* colors = target.colors().data();
   float* depths = target.depths().data();
+  const float color[4] = {clear.color.r, clear.color.g, clear.color.b, clear.color.a};
+  const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
   for (int y = r.y0; y < r.y1; ++y) {
     const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width());
-    std::fill(colors + row + r.x0, colors + row + r.x1, clear.color);
+    if (streaming) {
+      simd::stream_fill4(reinterpret_cast<float*>(colors + row + r.x0), color, n);
+    } else {
+      std::fill(colors + row + r.x0, colors + row + r.x1, clear.color);
+    }
     std::fill(depths + row + r.x0, depths + row + r.x1, clear.depth);
   }
+  if (streaming) simd::stream_fence();
 }
 int checked_lanes(int lanes, simd::Isa isa) {
   if (lanes == 0) return isa == simd::Isa::Avx512 ? 16 : isa == simd::Isa::Avx2 ? 8 : simd::kNativeWidth;
@@ -65,7 +74,7 @@ void Renderer::require_frame() const {
 
 void Renderer::end_frame() { end_frame(nullptr); }
 
-void Renderer::end_frame(const std::function<void(const TileRect&)>& after_tile) {
+void Renderer::end_frame(const TileCallback& after_tile) {
   if (!target_) throw std::logic_error("Renderer::end_frame: no frame is open");
   Target& target = *target_;
   target_ = nullptr;
@@ -73,9 +82,12 @@ void Renderer::end_frame(const std::function<void(const TileRect&)>& after_tile)
     const std::optional<ClearValues> clear = clear_;
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
-      if (clear) clear_tile(target, rect, *clear);
-      for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_, isa_);
-      if (after_tile) after_tile(rect);
+      bool touched = false;
+      for (const auto& draw : draws_) touched = touched || draw->geometry.touches(tile);
+      if (clear) clear_tile(target, rect, *clear, !touched);
+      if (touched)
+        for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_, isa_);
+      if (after_tile) after_tile(rect, clear && !touched);
     });
   }
   for (auto& draw : draws_) {

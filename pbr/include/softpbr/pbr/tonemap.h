@@ -16,6 +16,7 @@
 
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "softpbr/raster/target.h"
 
@@ -58,6 +59,10 @@ class ToneMapper {
   // Tone maps and encodes pixels [x0, x1) × [y0, y1) of `target` into `image` (of the
   // target's size; rgba holds width × height × 4 bytes).
   void encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image) const;
+
+  // The same for a piece whose every pixel is `color` (e.g. a tile holding only the clear
+  // colour): the bytes encode() would write, computed once.
+  void encode_uniform(const glm::vec4& color, int x0, int y0, int x1, int y1, raster::Image8& image) const;
 
   // The 8-bit code of a tone-mapped value: the number of thresholds ≤ v (0 for NaN).
   std::uint8_t encode(float v) const;

@@ -176,54 +176,60 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       if (mask == 0) continue;
 
       // Unbiased edge values as floats: the screen-space barycentric weights × 2·area.
-      float w[3][4];
+      // From here the four lanes run as one simd::Vec<4>, each lane the same IEEE
+      // operations in the same order as one pixel would take alone.
+      using V4 = simd::Vec<4>;
+      alignas(16) float wf[3][4];
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 4; ++j) w[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
+        for (int j = 0; j < 4; ++j) wf[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
+      const V4 w0 = V4::load(wf[0]), w1 = V4::load(wf[1]), w2 = V4::load(wf[2]);
 
       // Early depth test (shaders cannot change depth, nor discard): a passing pixel's
       // depth is written now, so later triangles test against it even while its colour
       // waits in a packet.
-      float z[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      alignas(16) float z[4];
+      {
+        const V4 l1 = w1 * V4(t.inv_area);
+        const V4 l2 = w2 * V4(t.inv_area);
+        simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(z);
+      }
       for (int j = 0; j < 4; ++j) {
         if (!(mask & (1u << j))) continue;
-        const float l1 = w[1][j] * t.inv_area;
-        const float l2 = w[2][j] * t.inv_area;
-        z[j] = std::clamp(t.z0 + l1 * t.dz1 + l2 * t.dz2, 0.0f, 1.0f);
         const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
         if (!depth_passes(state.depth_test, z[j], depths[idx])) mask &= ~(1u << j);
         else if (state.depth_write) depths[idx] = z[j];
       }
       if (mask == 0) continue;
 
-      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives), or
-      // at the covered ones only when the shader reads no derivatives.
+      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives):
+      // b1, b2 are the perspective-correct weights of vertices 1 and 2; beyond the
+      // horizon (s ≤ 0, helper lanes only) they are 0, i.e. the lane takes v0.
       constexpr bool kDerivatives = kUsesDerivatives<S>;
-      float values[4][kN > 0 ? kN : 1];
-      for (int j = 0; j < 4; ++j) {
-        if (!kDerivatives && !(mask & (1u << j))) continue;
-        const float a0 = w[0][j] * t.inv_w[0];
-        const float a1 = w[1][j] * t.inv_w[1];
-        const float a2 = w[2][j] * t.inv_w[2];
-        const float s = a0 + a1 + a2;
-        float b1 = 0.0f, b2 = 0.0f;  // beyond the horizon (helper lanes only): use v0
-        if (s > 0.0f) {
-          const float rs = 1.0f / s;
-          b1 = a1 * rs;
-          b2 = a2 * rs;
-        }
-        for (int k = 0; k < kN; ++k) values[j][k] = v0[k] + b1 * d1[k] + b2 * d2[k];
+      alignas(16) float values[kN > 0 ? kN : 1][4];  // [varying][lane]
+      {
+        const V4 a0 = w0 * V4(t.inv_w[0]);
+        const V4 a1 = w1 * V4(t.inv_w[1]);
+        const V4 a2 = w2 * V4(t.inv_w[2]);
+        const V4 sum = a0 + a1 + a2;
+        const auto ahead = sum > V4(0.0f);
+        const V4 rs = V4(1.0f) / simd::select(ahead, sum, V4(1.0f));
+        const V4 b1 = simd::select(ahead, a1 * rs, V4(0.0f));
+        const V4 b2 = simd::select(ahead, a2 * rs, V4(0.0f));
+        for (int k = 0; k < kN; ++k) (V4(v0[k]) + b1 * V4(d1[k]) + b2 * V4(d2[k])).store(values[k]);
       }
       float ddx[kN > 0 ? kN : 1], ddy[kN > 0 ? kN : 1];
       for (int k = 0; k < kN; ++k) {
-        ddx[k] = kDerivatives ? values[1][k] - values[0][k] : 0.0f;
-        ddy[k] = kDerivatives ? values[2][k] - values[0][k] : 0.0f;
+        ddx[k] = kDerivatives ? values[k][1] - values[k][0] : 0.0f;
+        ddy[k] = kDerivatives ? values[k][2] - values[k][0] : 0.0f;
       }
       if constexpr (W == 0) {
         const V vddx = varyings_from_floats<V>(ddx);
         const V vddy = varyings_from_floats<V>(ddy);
         for (int j = 0; j < 4; ++j) {
           if (!(mask & (1u << j))) continue;
-          const Fragment<V> f{varyings_from_floats<V>(values[j]),
+          float lane_values[kN > 0 ? kN : 1];
+          for (int k = 0; k < kN; ++k) lane_values[k] = values[k][j];
+          const Fragment<V> f{varyings_from_floats<V>(lane_values),
                               vddx,
                               vddy,
                               {static_cast<float>(lane_x[j]) + 0.5f, static_cast<float>(lane_y[j]) + 0.5f},
@@ -238,7 +244,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           if (!(mask & (1u << j))) continue;
           const int lane = packet.count++;
           for (int k = 0; k < kN; ++k) {
-            packet.v[k][lane] = values[j][k];
+            packet.v[k][lane] = values[k][j];
             if constexpr (kDerivatives) {
               packet.ddx[k][lane] = ddx[k];
               packet.ddy[k][lane] = ddy[k];

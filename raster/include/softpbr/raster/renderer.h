@@ -103,11 +103,14 @@ class Renderer {
   // Rasterizes the frame's draws into the target and closes the frame.
   void end_frame();
 
-  // The same, calling after_tile(rect) for every tile of the frame, on the thread that
-  // drew it, as soon as its last draw is done: to resolve or tone map the tile while it is
-  // in cache. Calls for different tiles may run at the same time; each tile's pixels
-  // belong to its call alone until end_frame() returns.
-  void end_frame(const std::function<void(const TileRect&)>& after_tile);
+  // The same, calling after_tile(rect, only_clear) for every tile of the frame, on the
+  // thread that drew it, as soon as its last draw is done: to resolve or tone map the tile
+  // while it is in cache. only_clear is true when the frame cleared and no triangle came
+  // near the tile: every pixel holds the clear values. Calls for different tiles may run
+  // at the same time; each tile's pixels belong to its call alone until end_frame()
+  // returns.
+  using TileCallback = std::function<void(const TileRect& rect, bool only_clear)>;
+  void end_frame(const TileCallback& after_tile);
 
  private:
   struct DrawCall {

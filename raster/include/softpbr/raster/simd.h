@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -96,16 +97,11 @@ struct Mask {
 
 inline bool select(bool m, bool a, bool b) { return m ? a : b; }
 inline float select(bool m, float a, float b) { return m ? a : b; }
+// Lane-wise choice (GCC/Clang vector conditional: a blend, whatever the register width;
+// lanes of a mask are all ones or all zeros).
 template <int N>
 inline Vec<N> select(Mask<N> m, Vec<N> a, Vec<N> b) {
-  using I = typename Mask<N>::native;
-  I ai, bi;
-  std::memcpy(&ai, &a.v, sizeof ai);
-  std::memcpy(&bi, &b.v, sizeof bi);
-  const I r = (ai & m.m) | (bi & ~m.m);
-  Vec<N> out;
-  std::memcpy(&out.v, &r, sizeof r);
-  return out;
+  return Vec<N>(m.m ? a.v : b.v);
 }
 
 // min/max as comparisons, identical for every lane type (std::min's rule: b < a ? b : a).
@@ -126,9 +122,19 @@ inline Mask<N> both(Mask<N> a, Mask<N> b) { return a & b; }
 inline bool any(bool m) { return m; }
 template <int N>
 inline bool any(Mask<N> m) {
-  for (int i = 0; i < N; ++i)
-    if (m.m[i]) return true;
-  return false;
+  // Or the halves together down to four lanes, in registers.
+  if constexpr (N == 16) {
+    using I8 = typename detail::Native<8>::i;
+    const I8 r = __builtin_shufflevector(m.m, m.m, 0, 1, 2, 3, 4, 5, 6, 7) |
+                 __builtin_shufflevector(m.m, m.m, 8, 9, 10, 11, 12, 13, 14, 15);
+    return any(Mask<8>(r));
+  } else if constexpr (N == 8) {
+    using I4 = typename detail::Native<4>::i;
+    const I4 r = __builtin_shufflevector(m.m, m.m, 0, 1, 2, 3) | __builtin_shufflevector(m.m, m.m, 4, 5, 6, 7);
+    return any(Mask<4>(r));
+  } else {
+    return (m.m[0] | m.m[1] | m.m[2] | m.m[3]) != 0;
+  }
 }
 
 // Correctly rounded square root (IEEE-754 requires it of sqrtss/sqrtps alike).
@@ -151,16 +157,16 @@ inline Vec<N> sqrt(Vec<N> x) {
   if constexpr (N == 4) {
     __m128 r = _mm_sqrt_ps(reinterpret_cast<__m128>(x.v));
     return Vec<N>(reinterpret_cast<typename Vec<N>::native>(r));
+  } else if constexpr (N == 8) {
+    // Narrower registers than the vector: halves, split and joined in registers (a trip
+    // through memory would stall on store forwarding).
+    const Vec<4> lo = sqrt(Vec<4>(__builtin_shufflevector(x.v, x.v, 0, 1, 2, 3)));
+    const Vec<4> hi = sqrt(Vec<4>(__builtin_shufflevector(x.v, x.v, 4, 5, 6, 7)));
+    return Vec<N>(__builtin_shufflevector(lo.v, hi.v, 0, 1, 2, 3, 4, 5, 6, 7));
   } else {
-    // Narrower registers than the vector: take it four lanes at a time.
-    Vec<N> out;
-    for (int i = 0; i < N; i += 4) {
-      __m128 part;
-      std::memcpy(&part, reinterpret_cast<const float*>(&x.v) + i, sizeof part);
-      part = _mm_sqrt_ps(part);
-      std::memcpy(reinterpret_cast<float*>(&out.v) + i, &part, sizeof part);
-    }
-    return out;
+    const Vec<8> lo = sqrt(Vec<8>(__builtin_shufflevector(x.v, x.v, 0, 1, 2, 3, 4, 5, 6, 7)));
+    const Vec<8> hi = sqrt(Vec<8>(__builtin_shufflevector(x.v, x.v, 8, 9, 10, 11, 12, 13, 14, 15)));
+    return Vec<N>(__builtin_shufflevector(lo.v, hi.v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
   }
 #else
   Vec<N> out;
@@ -208,6 +214,25 @@ inline Isa cpu_isa() {
 #define SOFTPBR_SIMD_DISPATCH 0
 inline Isa cpu_isa() { return Isa::Baseline; }
 #endif
+
+// Writes the four floats `pattern` n times from dst (n × 16 bytes) with streaming
+// (non-temporal) stores where the target has them: memory written that nobody reads soon
+// stays out of the cache. Call stream_fence() before other threads read it.
+inline void stream_fill4(float* dst, const float pattern[4], std::size_t n) {
+#if defined(__SSE2__)
+  const __m128 p = _mm_loadu_ps(pattern);
+  std::size_t i = 0;
+  for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + 4 * i) & 15) != 0; ++i) _mm_storeu_ps(dst + 4 * i, p);
+  for (; i < n; ++i) _mm_stream_ps(dst + 4 * i, p);
+#else
+  for (std::size_t i = 0; i < n; ++i) std::memcpy(dst + 4 * i, pattern, 4 * sizeof(float));
+#endif
+}
+inline void stream_fence() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
 
 // The widest lane count the compiler targets natively (chosen at compile time).
 #if defined(__AVX512F__)
