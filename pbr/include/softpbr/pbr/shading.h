@@ -145,10 +145,11 @@ inline glm::vec3 shade(const ShadingMaterial& m, std::span<const PreparedLight> 
 // reflectance equation per pixel. Alpha is 1.
 struct PbrShader {
   using Vertex = MeshVertex;
+  // Only what the equation reads: the mesh's uv is not passed on (no textures yet; each
+  // varying costs memory per vertex and work per pixel).
   struct Varyings {
     glm::vec3 world_position;
     glm::vec3 normal;
-    glm::vec2 uv;
   };
   // No texture lookups, so no derivatives: helper lanes of a quad are not interpolated.
   static constexpr bool kUsesDerivatives = false;
@@ -165,7 +166,6 @@ struct PbrShader {
     const glm::vec4 world = model * glm::vec4(in.position, 1.0f);
     out.world_position = glm::vec3(world);
     out.normal = normal_matrix * in.normal;
-    out.uv = in.uv;
     return view_projection * world;
   }
   // One pixel.
