@@ -12,7 +12,9 @@
 //   llvmpipe ms  median wall time of clear + draws + glFinish into the RGBA8 buffer (its
 //                fragment shader tone maps)
 //   ratio        softpbr / llvmpipe: below 1 means softpbr is faster
-//   PSNR dB      between the two RGBA8 images (RGB channels)
+//   PSNR dB      between the two RGBA8 images (RGB channels); max diff: the largest
+//                difference of one channel in 8-bit steps; differ: share of RGB channels
+//                that differ at all
 // --images DIR writes both images of every scene as PNGs (NAME_softpbr.png,
 // NAME_llvmpipe.png) to look at the differences.
 #include <sys/wait.h>
@@ -60,18 +62,27 @@ double time_ms(F&& f) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// PSNR over the RGB channels of two RGBA8 images of the same size (infinite when equal).
-double psnr(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+// PSNR over the RGB channels of two RGBA8 images of the same size (infinite when equal),
+// the largest difference of one channel, and the share of channels that differ.
+struct Difference {
+  double psnr;
+  int max;
+  double differing;  // fraction of RGB channels
+};
+Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
   double sum = 0.0;
-  std::size_t n = 0;
+  std::size_t n = 0, differing = 0;
+  int max = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (i % 4 == 3) continue;
-    const double d = static_cast<double>(a[i]) - static_cast<double>(b[i]);
-    sum += d * d;
+    const int d = static_cast<int>(a[i]) - static_cast<int>(b[i]);
+    sum += static_cast<double>(d) * d;
+    max = std::max(max, std::abs(d));
+    differing += d != 0;
     ++n;
   }
-  if (sum == 0.0) return INFINITY;
-  return 10.0 * std::log10(255.0 * 255.0 / (sum / static_cast<double>(n)));
+  const double psnr = sum == 0.0 ? INFINITY : 10.0 * std::log10(255.0 * 255.0 / (sum / static_cast<double>(n)));
+  return {psnr, max, static_cast<double>(differing) / static_cast<double>(n)};
 }
 
 void run_child(const Options& o, unsigned threads) {
@@ -99,8 +110,9 @@ void run_child(const Options& o, unsigned threads) {
       }
     }
     const double soft_ms = median(soft), llvm_ms = median(lp_ms);
-    std::printf("%-24s %7u %11.2f %11.2f %8.3f %9.1f %10zu\n", s.name.c_str(), threads, soft_ms, llvm_ms,
-                soft_ms / llvm_ms, psnr(image.rgba, gl.pixels()), s.triangles);
+    const Difference d = compare(image.rgba, gl.pixels());
+    std::printf("%-22s %7u %10.2f %11.2f %7.3f %8.1f %8d %7.3f%% %9zu\n", s.name.c_str(), threads, soft_ms, llvm_ms,
+                soft_ms / llvm_ms, d.psnr, d.max, 100.0 * d.differing, s.triangles);
     std::fflush(stdout);
     if (!o.images.empty()) {
       std::filesystem::create_directories(o.images);
@@ -149,8 +161,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("softpbr vs llvmpipe: median ms per frame to an RGBA8 image; ratio = softpbr / llvmpipe\n");
-  std::printf("%-24s %7s %11s %11s %8s %9s %10s\n", "scene", "threads", "softpbr ms", "llvmpipe ms", "ratio",
-              "PSNR dB", "triangles");
+  std::printf("%-22s %7s %10s %11s %7s %8s %8s %8s %9s\n", "scene", "threads", "softpbr ms", "llvmpipe ms", "ratio",
+              "PSNR dB", "max diff", "differ", "triangles");
   std::fflush(stdout);
   int status = 0;
   for (const unsigned t : o.threads) {

@@ -70,9 +70,12 @@ inline Vec3L<F> lanes(const glm::vec3& v) {
 template <class F>
 inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
   const F len2 = simd::dot(v, v);
-  const auto ok = simd::both(len2 > F(0.0f), len2 < F(std::numeric_limits<float>::infinity()));
-  const F len = simd::sqrt(simd::select(ok, len2, F(1.0f)));
-  return simd::select(ok, v / len, fallback);
+  // 0 < len2 < ∞ as two nested selects rather than one combined mask: the same lanes,
+  // and it stays a vector blend in wide kernels (simd.h, any()).
+  const F one(1.0f), inf(std::numeric_limits<float>::infinity());
+  const F len = simd::sqrt(simd::select(len2 > F(0.0f), simd::select(len2 < inf, len2, one), one));
+  const Vec3L<F> unit = v / len;
+  return simd::select(len2 > F(0.0f), simd::select(len2 < inf, unit, fallback), fallback);
 }
 
 // Schlick's Fresnel for lanes (brdf.h's F_Schlick per lane).

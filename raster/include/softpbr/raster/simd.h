@@ -97,11 +97,15 @@ struct Mask {
 
 inline bool select(bool m, bool a, bool b) { return m ? a : b; }
 inline float select(bool m, float a, float b) { return m ? a : b; }
-// Lane-wise choice (GCC/Clang vector conditional: a blend, whatever the register width;
-// lanes of a mask are all ones or all zeros).
+// Lane-wise choice as bit operations on the lanes' bits (a mask lane is all ones or all
+// zeros): (a & m) | (b & ~m), in registers of any width. (Both a vector conditional and a
+// copy through memcpy get split into single lanes by GCC when the function is compiled
+// for narrower registers than the vector, even once inlined into a wider kernel.)
 template <int N>
 inline Vec<N> select(Mask<N> m, Vec<N> a, Vec<N> b) {
-  return Vec<N>(m.m ? a.v : b.v);
+  using I = typename Mask<N>::native;
+  using F = typename Vec<N>::native;
+  return Vec<N>((F)(((I)a.v & m.m) | ((I)b.v & ~m.m)));
 }
 
 // min/max as comparisons, identical for every lane type (std::min's rule: b < a ? b : a).
@@ -120,20 +124,26 @@ template <int N>
 inline Mask<N> both(Mask<N> a, Mask<N> b) { return a & b; }
 
 inline bool any(bool m) { return m; }
+// Whether any of eight non-negative lanes is above zero.
+inline bool any_set(Vec<8> x) {
+  const auto h = __builtin_shufflevector(x.v, x.v, 0, 1, 2, 3) + __builtin_shufflevector(x.v, x.v, 4, 5, 6, 7);
+  return h[0] + h[1] + h[2] + h[3] > 0.0f;
+}
+
+// Whether any lane is set. The mask feeds a blend straight away and the sum is taken on
+// floats: a mask used as data (or two masks combined with & |) is split into single lanes
+// by GCC when the function is compiled for narrower registers than the vector, even once
+// inlined into a wider kernel (see SOFTPBR_TARGET_AVX512); a blend is not.
 template <int N>
 inline bool any(Mask<N> m) {
-  // Or the halves together down to four lanes, in registers.
+  const Vec<N> ones = select(m, Vec<N>(1.0f), Vec<N>(0.0f));
   if constexpr (N == 16) {
-    using I8 = typename detail::Native<8>::i;
-    const I8 r = __builtin_shufflevector(m.m, m.m, 0, 1, 2, 3, 4, 5, 6, 7) |
-                 __builtin_shufflevector(m.m, m.m, 8, 9, 10, 11, 12, 13, 14, 15);
-    return any(Mask<8>(r));
+    return any_set(Vec<8>(__builtin_shufflevector(ones.v, ones.v, 0, 1, 2, 3, 4, 5, 6, 7) +
+                          __builtin_shufflevector(ones.v, ones.v, 8, 9, 10, 11, 12, 13, 14, 15)));
   } else if constexpr (N == 8) {
-    using I4 = typename detail::Native<4>::i;
-    const I4 r = __builtin_shufflevector(m.m, m.m, 0, 1, 2, 3) | __builtin_shufflevector(m.m, m.m, 4, 5, 6, 7);
-    return any(Mask<4>(r));
+    return any_set(Vec<8>(ones.v));
   } else {
-    return (m.m[0] | m.m[1] | m.m[2] | m.m[3]) != 0;
+    return ones.v[0] + ones.v[1] + ones.v[2] + ones.v[3] > 0.0f;
   }
 }
 
