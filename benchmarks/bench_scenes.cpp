@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
         ->Arg(1)
         ->Arg(2)
         ->UseRealTime()
+        ->MeasureProcessCPUTime()  // CPU / Time = threads busy on average
         ->Unit(benchmark::kMillisecond);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
