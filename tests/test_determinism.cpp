@@ -328,3 +328,25 @@ TEST_CASE("packet shading gives the scalar shader's bits at every lane width, th
         CHECK(hashes(t) == reference);
       }
 }
+
+TEST_CASE("rasterizing in several passes (a small geometry budget) gives the one-pass bits") {
+  const Scene s = make_scene();
+  for (const unsigned threads : {1u, 3u}) {
+    raster::Renderer one_pass({.threads = threads, .tile_size = 32, .geometry_budget = 0});
+    raster::Target t(kW, kH);
+    draw_scene(s, one_pass, t);
+    const Hashes reference = hashes(t);
+    for (const std::size_t budget : {std::size_t{1}, std::size_t{200} << 10}) {  // after every draw; now and then
+      raster::Renderer r({.threads = threads, .tile_size = 32, .geometry_budget = budget});
+      CAPTURE(threads);
+      CAPTURE(budget);
+      draw_scene(s, r, t);
+      CHECK(hashes(t) == reference);
+      draw_lit<LitPacketShader>(s, r, t);  // and a second frame on the same renderer
+      raster::Renderer fresh({.threads = threads, .tile_size = 32, .geometry_budget = 0});
+      raster::Target u(kW, kH);
+      draw_lit<LitPacketShader>(s, fresh, u);
+      CHECK(hashes(t) == hashes(u));
+    }
+  }
+}

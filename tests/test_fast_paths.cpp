@@ -71,8 +71,10 @@ TEST_CASE("render_rgba8 gives the bytes of render() then tone_map_to_rgba8 for e
     for (std::size_t i = 0; i < reference.rgba.size(); i += 4) lit += reference.rgba[i] > 10;
     CHECK(lit > 1000);
     for (const unsigned threads : {1u, 2u, 3u})
-      for (const int tile : {8, 64}) {
-        raster::Renderer r({.threads = threads, .tile_size = tile});
+      for (const int tile : {8, 64})
+        for (const std::size_t budget : {std::size_t{0}, std::size_t{1}}) {  // one pass; a pass per draw
+        raster::Renderer r({.threads = threads, .tile_size = tile, .geometry_budget = budget});
+        CAPTURE(budget);
         raster::Image8 image;
         pbr::render_rgba8(scene, r, target, out, image);
         CAPTURE(threads);

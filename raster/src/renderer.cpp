@@ -44,7 +44,8 @@ Renderer::Renderer(RendererOptions options)
     : pool_(options.threads),
       tile_size_(checked_tile_size(options.tile_size)),
       isa_(options.dispatch ? simd::cpu_isa() : simd::Isa::Baseline),
-      lanes_(checked_lanes(options.lanes, isa_)) {}
+      lanes_(checked_lanes(options.lanes, isa_)),
+      geometry_budget_(options.geometry_budget) {}
 
 Renderer::~Renderer() = default;
 
@@ -54,6 +55,9 @@ void Renderer::begin_frame(Target& target) {
   grid_ = TileGrid(target.width(), target.height(), tile_size_);
   draws_.clear();
   clear_.reset();
+  pending_bytes_ = 0;
+  cleared_ = false;
+  touched_.assign(grid_.count(), 0);
 }
 
 void Renderer::begin_frame(Target& target, const ClearValues& clear) {
@@ -78,24 +82,32 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   if (!target_) throw std::logic_error("Renderer::end_frame: no frame is open");
   Target& target = *target_;
   target_ = nullptr;
-  if (!draws_.empty() || clear_ || after_tile) {
-    const std::optional<ClearValues> clear = clear_;
+  rasterize_pending(target, after_tile ? &after_tile : nullptr);
+  clear_.reset();
+}
+
+void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile) {
+  const bool clear_now = clear_ && !cleared_;
+  if (!draws_.empty() || clear_now || after_tile) {
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
       bool touched = false;
       for (const auto& draw : draws_) touched = touched || draw->geometry.touches(tile);
-      if (clear) clear_tile(target, rect, *clear, !touched);
-      if (touched)
+      if (clear_now) clear_tile(target, rect, *clear_, !touched);
+      if (touched) {
         for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_, isa_);
-      if (after_tile) after_tile(rect, clear && !touched);
+        touched_[tile] = 1;  // one writer per tile
+      }
+      if (after_tile) (*after_tile)(rect, clear_.has_value() && touched_[tile] == 0);
     });
   }
+  cleared_ = cleared_ || clear_now;
   for (auto& draw : draws_) {
     draw->geometry.recycle();
     spare_.push_back(std::move(draw->geometry));
   }
   draws_.clear();
-  clear_.reset();
+  pending_bytes_ = 0;
 }
 
 }  // namespace softpbr::raster

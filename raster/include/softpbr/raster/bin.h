@@ -59,6 +59,9 @@ struct DrawGeometry {
   // Empties everything but keeps the memory for the next draw.
   void recycle();
 
+  // Bytes held (capacity) by the vertices, triangles and bins.
+  std::size_t bytes() const;
+
   // Whether any triangle of the draw was binned to tile `t`.
   bool touches(std::size_t t) const {
     for (const TriangleChunk& c : chunks)

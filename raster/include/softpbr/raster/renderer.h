@@ -42,6 +42,11 @@ struct RendererOptions {
   // simd.h: AVX2 for 8 lanes, AVX-512 for 16) when it has one; false: the build's own
   // code only. The same bits either way.
   bool dispatch = true;
+  // Bytes of binned geometry (transformed vertices, set-up triangles, tile lists) a frame
+  // may hold: past it, draw() rasterizes the draws so far into the tiles and recycles
+  // their memory, so peak memory stays bounded however many triangles a frame has. The
+  // same bits either way (each tile still applies every draw in order). 0: no limit.
+  std::size_t geometry_budget = std::size_t{8} << 20;
 };
 
 // What begin_frame() clears the target to.
@@ -87,7 +92,9 @@ class Renderer {
     call->geometry.state = state;
     run_vertex_stage(pool_, call->shader, vertices, Viewport{grid_.width, grid_.height}, call->geometry.vertices);
     assemble_triangles(pool_, indices, grid_, call->geometry);
+    pending_bytes_ += call->geometry.bytes();
     draws_.push_back(std::move(call));
+    if (geometry_budget_ != 0 && pending_bytes_ > geometry_budget_) rasterize_pending(*target_, nullptr);
   }
 
   // Draws vertices 3k, 3k+1, 3k+2 as triangle k; the count must be a multiple of 3.
@@ -130,6 +137,9 @@ class Renderer {
 
   void require_frame() const;
   DrawGeometry take_geometry();
+  // Rasterizes the pending draws into every tile (clearing first if the frame clears and
+  // has not cleared yet), calls after_tile if given, and recycles their geometry.
+  void rasterize_pending(Target& target, const TileCallback* after_tile);
 
   ThreadPool pool_;
   int tile_size_;
@@ -140,6 +150,10 @@ class Renderer {
   std::vector<std::unique_ptr<DrawCall>> draws_;
   std::optional<ClearValues> clear_;
   std::vector<DrawGeometry> spare_;  // geometry of past draws, kept for their memory
+  std::size_t geometry_budget_;
+  std::size_t pending_bytes_ = 0;       // geometry held by draws_
+  bool cleared_ = false;                // the frame's clear is done (by an earlier pass)
+  std::vector<std::uint8_t> touched_;   // per tile: a triangle was rasterized into it
 };
 
 }  // namespace softpbr::raster
