@@ -97,15 +97,13 @@ struct Mask {
 
 inline bool select(bool m, bool a, bool b) { return m ? a : b; }
 inline float select(bool m, float a, float b) { return m ? a : b; }
-// Lane-wise choice as bit operations on the lanes' bits (a mask lane is all ones or all
-// zeros): (a & m) | (b & ~m), in registers of any width. (Both a vector conditional and a
-// copy through memcpy get split into single lanes by GCC when the function is compiled
-// for narrower registers than the vector, even once inlined into a wider kernel.)
+// Lane-wise choice: a GCC/Clang vector conditional (a blend at any register width; a
+// mask lane is all ones or all zeros). Written this way, a compare that reads a select's
+// result stays a vector compare in a wide kernel compiled from this baseline code (a
+// select through integer bit operations or memcpy gets split into single lanes there).
 template <int N>
 inline Vec<N> select(Mask<N> m, Vec<N> a, Vec<N> b) {
-  using I = typename Mask<N>::native;
-  using F = typename Vec<N>::native;
-  return Vec<N>((F)(((I)a.v & m.m) | ((I)b.v & ~m.m)));
+  return Vec<N>(m.m ? a.v : b.v);
 }
 
 // min/max as comparisons, identical for every lane type (std::min's rule: b < a ? b : a).
