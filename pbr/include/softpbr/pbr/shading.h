@@ -70,12 +70,14 @@ inline Vec3L<F> lanes(const glm::vec3& v) {
 template <class F>
 inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
   const F len2 = simd::dot(v, v);
-  // 0 < len2 < ∞ as two nested selects rather than one combined mask: the same lanes,
-  // and it stays a vector blend in wide kernels (simd.h, any()).
+  // "0 < len2 < ∞" as a chain — the second test reads the first select's result — rather
+  // than one combined mask or two tests of len2: the same lanes, and in wide kernels it
+  // stays vector compares and blends (GCC splits combined tests into single lanes, simd.h).
   const F one(1.0f), inf(std::numeric_limits<float>::infinity());
-  const F len = simd::sqrt(simd::select(len2 > F(0.0f), simd::select(len2 < inf, len2, one), one));
+  const F positive = simd::select(len2 > F(0.0f), len2, inf);  // 0, negative and NaN → ∞
+  const F len = simd::sqrt(simd::select(positive < inf, positive, one));
   const Vec3L<F> unit = v / len;
-  return simd::select(len2 > F(0.0f), simd::select(len2 < inf, unit, fallback), fallback);
+  return simd::select(positive < inf, unit, fallback);
 }
 
 // Schlick's Fresnel for lanes (brdf.h's F_Schlick per lane).
