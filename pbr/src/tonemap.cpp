@@ -12,6 +12,7 @@
 
 #include "softpbr/raster/color.h"
 #include "softpbr/raster/dmath.h"
+#include "softpbr/raster/simd.h"
 
 namespace softpbr::pbr {
 
@@ -156,18 +157,18 @@ std::uint8_t ToneMapper::encode(float v) const { return encode_fast(thresholds_,
 void ToneMapper::encode_uniform(const glm::vec4& c, int x0, int y0, int x1, int y1, raster::Image8& image) const {
   const glm::vec3 m = apply_tone_map(settings_.tone_map, glm::vec3(c) * scale_);
   const std::uint8_t code[4] = {encode(m.r), encode(m.g), encode(m.b), raster::unorm8(c.a)};
-  constexpr int kRun = 64;  // pixels per copy
-  std::uint8_t run[kRun * 4];
-  for (int i = 0; i < kRun; ++i) std::memcpy(run + 4 * i, code, 4);
+  // Four pixels' bytes as one 16-byte pattern, written with streaming stores: the image
+  // is not read again in this frame (simd.h; the bits are copied, not computed on).
+  float pattern[4];
+  for (float& p : pattern) std::memcpy(&p, code, 4);
+  const int n = x1 - x0;
   for (int y = y0; y < y1; ++y) {
     std::uint8_t* out = image.rgba.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
                                              static_cast<std::size_t>(x0)) * 4;
-    for (int x = x0; x < x1; x += kRun) {
-      const int n = std::min(kRun, x1 - x);
-      std::memcpy(out, run, static_cast<std::size_t>(n) * 4);
-      out += static_cast<std::size_t>(n) * 4;
-    }
+    simd::stream_fill4(reinterpret_cast<float*>(out), pattern, static_cast<std::size_t>(n / 4));
+    for (int x = n / 4 * 4; x < n; ++x) std::memcpy(out + 4 * x, code, 4);
   }
+  simd::stream_fence();
 }
 
 void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image) const {
