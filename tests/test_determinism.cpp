@@ -122,6 +122,19 @@ static_assert(raster::PacketShaderFor<LitPacketShader, float> &&
               raster::PacketShaderFor<LitPacketShader, softpbr::simd::Vec<4>>);
 static_assert(!raster::PacketShaderFor<LitShader, float>);
 
+TEST_CASE("lanes = 0 runs the widest kernel the CPU has when dispatching, the build's width otherwise") {
+  const raster::Renderer plain({.threads = 1, .dispatch = false});
+  CHECK(plain.isa() == softpbr::simd::Isa::Baseline);
+  CHECK(plain.lanes() == softpbr::simd::kNativeWidth);
+  const raster::Renderer dispatched({.threads = 1});
+  CHECK(dispatched.isa() == softpbr::simd::cpu_isa());
+  const int expected = softpbr::simd::cpu_isa() == softpbr::simd::Isa::Avx512 ? 16
+                       : softpbr::simd::cpu_isa() == softpbr::simd::Isa::Avx2 ? 8
+                                                                               : softpbr::simd::kNativeWidth;
+  CHECK(dispatched.lanes() == expected);
+  MESSAGE("this CPU's packet kernels: " << dispatched.lanes() << " lanes, isa " << static_cast<int>(dispatched.isa()));
+}
+
 struct Scene {
   glm::mat4 view_projection;
   pbr::Mesh sphere;
@@ -302,8 +315,10 @@ TEST_CASE("packet shading gives the scalar shader's bits at every lane width, th
   CHECK(covered > kW * kH / 10);
   for (const int lanes : {0, 1, 4, 8, 16})
     for (const unsigned threads : {1u, 3u})
-      for (const int tile : {16, 64}) {
-        raster::Renderer r({.threads = threads, .tile_size = tile, .lanes = lanes});
+      for (const int tile : {16, 64})
+        for (const bool dispatch : {false, true}) {  // the build's code, then AVX2 / AVX-512 kernels
+        raster::Renderer r({.threads = threads, .tile_size = tile, .lanes = lanes, .dispatch = dispatch});
+        CAPTURE(dispatch);
         CAPTURE(lanes);
         CAPTURE(threads);
         CAPTURE(tile);
@@ -312,4 +327,26 @@ TEST_CASE("packet shading gives the scalar shader's bits at every lane width, th
         draw_lit<LitShader>(s, r, t);  // lanes do not matter to a scalar shader
         CHECK(hashes(t) == reference);
       }
+}
+
+TEST_CASE("rasterizing in several passes (a small geometry budget) gives the one-pass bits") {
+  const Scene s = make_scene();
+  for (const unsigned threads : {1u, 3u}) {
+    raster::Renderer one_pass({.threads = threads, .tile_size = 32, .geometry_budget = 0});
+    raster::Target t(kW, kH);
+    draw_scene(s, one_pass, t);
+    const Hashes reference = hashes(t);
+    for (const std::size_t budget : {std::size_t{1}, std::size_t{200} << 10}) {  // after every draw; now and then
+      raster::Renderer r({.threads = threads, .tile_size = 32, .geometry_budget = budget});
+      CAPTURE(threads);
+      CAPTURE(budget);
+      draw_scene(s, r, t);
+      CHECK(hashes(t) == reference);
+      draw_lit<LitPacketShader>(s, r, t);  // and a second frame on the same renderer
+      raster::Renderer fresh({.threads = threads, .tile_size = 32, .geometry_budget = 0});
+      raster::Target u(kW, kH);
+      draw_lit<LitPacketShader>(s, fresh, u);
+      CHECK(hashes(t) == hashes(u));
+    }
+  }
 }

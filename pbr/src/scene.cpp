@@ -22,7 +22,30 @@ auto with_context(const std::string& where, F&& f) {
 }
 }  // namespace
 
+namespace {
+void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
+                  const raster::Renderer::TileCallback& after_tile);
+}  // namespace
+
 void render(const Scene& scene, raster::Renderer& renderer, raster::Target& target) {
+  render_frame(scene, renderer, target, nullptr);
+}
+
+void render_rgba8(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
+                  const OutputSettings& output, raster::Image8& image) {
+  const ToneMapper mapper(output);
+  image.width = target.width();
+  image.height = target.height();
+  image.rgba.resize(static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()) * 4);
+  render_frame(scene, renderer, target, [&](const raster::TileRect& r, bool only_clear) {
+    if (only_clear) mapper.encode_uniform(scene.background, r.x0, r.y0, r.x1, r.y1, image);
+    else mapper.encode(target, r.x0, r.y0, r.x1, r.y1, image);
+  });
+}
+
+namespace {
+void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
+                  const raster::Renderer::TileCallback& after_tile) {
   validate(scene.camera);
   // Validate and prepare everything before the frame starts.
   auto lights = std::make_shared<std::vector<PreparedLight>>();
@@ -59,7 +82,8 @@ void render(const Scene& scene, raster::Renderer& renderer, raster::Target& targ
     renderer.end_frame();
     throw;
   }
-  renderer.end_frame();
+  renderer.end_frame(after_tile);
 }
+}  // namespace
 
 }  // namespace softpbr::pbr

@@ -2,7 +2,9 @@
 #include "softpbr/pbr/tonemap.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -10,6 +12,7 @@
 
 #include "softpbr/raster/color.h"
 #include "softpbr/raster/dmath.h"
+#include "softpbr/raster/simd.h"
 
 namespace softpbr::pbr {
 
@@ -87,23 +90,106 @@ float exposure_scale(float stops) {
 }
 }  // namespace
 
-raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSettings& s) {
+namespace {
+OutputSettings checked(const OutputSettings& s) {
   if (!(s.gamma >= 0.0f) || !std::isfinite(s.gamma))
     throw std::invalid_argument("gamma: must be 0 (sRGB) or a positive number");
-  const float scale = exposure_scale(s.exposure);
-  const std::array<float, 255> t = transfer_thresholds(s.gamma);
+  return s;
+}
+}  // namespace
+
+ToneMapper::ToneMapper(const OutputSettings& s)
+    : settings_(checked(s)), scale_(exposure_scale(s.exposure)), thresholds_(transfer_thresholds(s.gamma)) {
+  // Positive floats order as their bits, so key k = bits >> 16 covers the values from
+  // float(k << 16) up to the next key's start; keys up to that of 1.0f cover [0, 1].
+  constexpr std::uint32_t kLastKey = 0x3f800000u >> 16;
+  first_.resize(kLastKey + 1);
+  std::size_t below = 0;
+  for (std::uint32_t k = 0; k <= kLastKey; ++k) {
+    const float start = std::bit_cast<float>(k << 16);
+    while (below < thresholds_.size() && thresholds_[below] < start) ++below;
+    first_[k] = static_cast<std::uint8_t>(below);
+  }
+}
+
+namespace {
+// The code of v: first[] gives the thresholds below v's key, then a step or two.
+inline std::uint8_t encode_fast(const std::array<float, 255>& t, const std::uint8_t* first, float v) {
+  if (!(v >= t[0])) return 0;  // NaN too
+  if (!(v < 1.0f)) return encode(t, v);
+  unsigned k = first[std::bit_cast<std::uint32_t>(v) >> 16];
+  while (k < t.size() && t[k] <= v) ++k;
+  return static_cast<std::uint8_t>(k);
+}
+
+template <ToneMap kOp>
+void encode_rect(const raster::Target& target, int x0, int y0, int x1, int y1, float scale,
+                 const std::array<float, 255>& t, const std::uint8_t* first, raster::Image8& image) {
+  const std::size_t width = static_cast<std::size_t>(target.width());
+  const glm::vec4* colors = target.colors().data();
+  // Runs of equal pixels (the background) are common: the previous pixel's code is reused
+  // when the float bits are the same, which changes no byte.
+  glm::vec4 last;
+  std::uint8_t last_code[4] = {0, 0, 0, 0};
+  bool have_last = false;
+  for (int y = y0; y < y1; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * width;
+    std::uint8_t* out = image.rgba.data() + (row + static_cast<std::size_t>(x0)) * 4;
+    for (int x = x0; x < x1; ++x, out += 4) {
+      const glm::vec4& c = colors[row + static_cast<std::size_t>(x)];
+      if (!have_last || std::memcmp(&c, &last, sizeof c) != 0) {
+        const glm::vec3 m = apply_tone_map(kOp, glm::vec3(c) * scale);
+        last_code[0] = encode_fast(t, first, m.r);
+        last_code[1] = encode_fast(t, first, m.g);
+        last_code[2] = encode_fast(t, first, m.b);
+        last_code[3] = raster::unorm8(c.a);
+        last = c;
+        have_last = true;
+      }
+      std::memcpy(out, last_code, 4);
+    }
+  }
+}
+}  // namespace
+
+std::uint8_t ToneMapper::encode(float v) const { return encode_fast(thresholds_, first_.data(), v); }
+
+void ToneMapper::encode_uniform(const glm::vec4& c, int x0, int y0, int x1, int y1, raster::Image8& image) const {
+  const glm::vec3 m = apply_tone_map(settings_.tone_map, glm::vec3(c) * scale_);
+  const std::uint8_t code[4] = {encode(m.r), encode(m.g), encode(m.b), raster::unorm8(c.a)};
+  // Four pixels' bytes as one 16-byte pattern, written with streaming stores: the image
+  // is not read again in this frame (simd.h; the bits are copied, not computed on).
+  float pattern[4];
+  for (float& p : pattern) std::memcpy(&p, code, 4);
+  const int n = x1 - x0;
+  for (int y = y0; y < y1; ++y) {
+    std::uint8_t* out = image.rgba.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) +
+                                             static_cast<std::size_t>(x0)) * 4;
+    simd::stream_fill4(reinterpret_cast<float*>(out), pattern, static_cast<std::size_t>(n / 4));
+    for (int x = n / 4 * 4; x < n; ++x) std::memcpy(out + 4 * x, code, 4);
+  }
+  simd::stream_fence();
+}
+
+void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image) const {
+  const auto run = [&]<ToneMap kOp>() {
+    encode_rect<kOp>(target, x0, y0, x1, y1, scale_, thresholds_, first_.data(), image);
+  };
+  switch (settings_.tone_map) {
+    case ToneMap::None: return run.template operator()<ToneMap::None>();
+    case ToneMap::Reinhard: return run.template operator()<ToneMap::Reinhard>();
+    case ToneMap::Aces: return run.template operator()<ToneMap::Aces>();
+    default: return run.template operator()<ToneMap::Neutral>();
+  }
+}
+
+raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSettings& s) {
+  const ToneMapper mapper(s);
   raster::Image8 image;
   image.width = target.width();
   image.height = target.height();
   image.rgba.resize(target.colors().size() * 4);
-  std::uint8_t* out = image.rgba.data();
-  for (const glm::vec4& c : target.colors()) {
-    const glm::vec3 m = apply_tone_map(s.tone_map, glm::vec3(c) * scale);
-    *out++ = encode(t, m.r);
-    *out++ = encode(t, m.g);
-    *out++ = encode(t, m.b);
-    *out++ = raster::unorm8(c.a);
-  }
+  mapper.encode(target, 0, 0, target.width(), target.height(), image);
   return image;
 }
 

@@ -36,6 +36,15 @@ void DrawGeometry::recycle() {
   }
 }
 
+std::size_t DrawGeometry::bytes() const {
+  auto held = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  std::size_t n = held(vertices.position) + held(vertices.values) + held(vertices.outcode) + held(vertices.screen) +
+                  chunks.capacity() * sizeof(TriangleChunk);
+  for (const TriangleChunk& c : chunks)
+    n += held(c.triangles) + held(c.clip_varyings) + held(c.offsets) + held(c.list) + held(c.scratch);
+  return n;
+}
+
 void validate_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("draw: " + std::to_string(indices.size()) +

@@ -12,6 +12,7 @@
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
+#include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/renderer.h"
 #include "softpbr/raster/target.h"
 
@@ -35,5 +36,11 @@ struct Scene {
 // PbrShader, back faces culled, in one frame of `renderer`. Throws std::invalid_argument
 // naming the object or light and field when a value is invalid; nothing is drawn then.
 void render(const Scene& scene, raster::Renderer& renderer, raster::Target& target);
+
+// render(), then the output transform into `image` (resized to the target): each tile is
+// tone mapped and encoded by the thread that drew it, right after it (ToneMapper). The
+// same bytes as tone_map_to_rgba8(target, output) after render(). Throws as both.
+void render_rgba8(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
+                  const OutputSettings& output, raster::Image8& image);
 
 }  // namespace softpbr::pbr

@@ -70,9 +70,14 @@ inline Vec3L<F> lanes(const glm::vec3& v) {
 template <class F>
 inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
   const F len2 = simd::dot(v, v);
-  const auto ok = simd::both(len2 > F(0.0f), len2 < F(std::numeric_limits<float>::infinity()));
-  const F len = simd::sqrt(simd::select(ok, len2, F(1.0f)));
-  return simd::select(ok, v / len, fallback);
+  // "0 < len2 < ∞" as a chain — the second test reads the first select's result — rather
+  // than one combined mask or two tests of len2: the same lanes, and in wide kernels it
+  // stays vector compares and blends (GCC splits combined tests into single lanes, simd.h).
+  const F one(1.0f), inf(std::numeric_limits<float>::infinity());
+  const F positive = simd::select(len2 > F(0.0f), len2, inf);  // 0, negative and NaN → ∞
+  const F len = simd::sqrt(simd::select(positive < inf, positive, one));
+  const Vec3L<F> unit = v / len;
+  return simd::select(positive < inf, unit, fallback);
 }
 
 // Schlick's Fresnel for lanes (brdf.h's F_Schlick per lane).
@@ -145,11 +150,14 @@ inline glm::vec3 shade(const ShadingMaterial& m, std::span<const PreparedLight> 
 // reflectance equation per pixel. Alpha is 1.
 struct PbrShader {
   using Vertex = MeshVertex;
+  // Only what the equation reads: the mesh's uv is not passed on (no textures yet; each
+  // varying costs memory per vertex and work per pixel).
   struct Varyings {
     glm::vec3 world_position;
     glm::vec3 normal;
-    glm::vec2 uv;
   };
+  // No texture lookups, so no derivatives: helper lanes of a quad are not interpolated.
+  static constexpr bool kUsesDerivatives = false;
 
   glm::mat4 model{1.0f};
   glm::mat3 normal_matrix{1.0f};  // inverse transpose of model's upper 3×3
@@ -163,7 +171,6 @@ struct PbrShader {
     const glm::vec4 world = model * glm::vec4(in.position, 1.0f);
     out.world_position = glm::vec3(world);
     out.normal = normal_matrix * in.normal;
-    out.uv = in.uv;
     return view_projection * world;
   }
   // One pixel.

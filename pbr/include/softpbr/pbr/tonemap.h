@@ -8,12 +8,15 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include "softpbr/raster/target.h"
 
@@ -42,6 +45,34 @@ glm::vec3 apply_tone_map(ToneMap op, glm::vec3 c);
 // Tone maps and encodes the target's colour to 8 bits; alpha stays linear. Throws
 // std::invalid_argument for a non-finite exposure or a gamma that is negative or not finite.
 raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSettings& settings);
+
+// The same output transform prepared once, to encode a target piece by piece (e.g. each
+// tile right after the renderer has drawn it, see render_rgba8 in scene.h). Encoding a
+// value looks its 8-bit code up through a table indexed by the float's top 16 bits, then
+// steps over the few thresholds left: the same code as a binary search over the 255
+// thresholds, in a few operations.
+class ToneMapper {
+ public:
+  // Throws std::invalid_argument as tone_map_to_rgba8.
+  explicit ToneMapper(const OutputSettings& settings);
+
+  // Tone maps and encodes pixels [x0, x1) × [y0, y1) of `target` into `image` (of the
+  // target's size; rgba holds width × height × 4 bytes).
+  void encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image) const;
+
+  // The same for a piece whose every pixel is `color` (e.g. a tile holding only the clear
+  // colour): the bytes encode() would write, computed once.
+  void encode_uniform(const glm::vec4& color, int x0, int y0, int x1, int y1, raster::Image8& image) const;
+
+  // The 8-bit code of a tone-mapped value: the number of thresholds ≤ v (0 for NaN).
+  std::uint8_t encode(float v) const;
+
+ private:
+  OutputSettings settings_;
+  float scale_;
+  std::array<float, 255> thresholds_;
+  std::vector<std::uint8_t> first_;  // per top-16-bit key k of v in [0, 1): #thresholds < float(k << 16)
+};
 
 // Writes the linear colour (× 2^exposure, no tone map) as a Radiance RGBE .hdr file
 // through stb_image_write, atomically. Throws std::runtime_error naming the path.

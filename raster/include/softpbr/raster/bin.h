@@ -59,6 +59,16 @@ struct DrawGeometry {
   // Empties everything but keeps the memory for the next draw.
   void recycle();
 
+  // Bytes held (capacity) by the vertices, triangles and bins.
+  std::size_t bytes() const;
+
+  // Whether any triangle of the draw was binned to tile `t`.
+  bool touches(std::size_t t) const {
+    for (const TriangleChunk& c : chunks)
+      if (!c.offsets.empty() && c.offsets[t + 1] != c.offsets[t]) return true;
+    return false;
+  }
+
   // Varyings of vertex `id` of a triangle in chunk `chunk`.
   const float* varyings(const TriangleChunk& chunk, std::uint32_t id) const {
     const std::size_t n = static_cast<std::size_t>(vertices.varyings);

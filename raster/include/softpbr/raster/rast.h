@@ -50,12 +50,15 @@ struct PacketBuffer {
   alignas(64) float depth[W];
   std::size_t index[W];  // pixel index in the target
   int count = 0;
+  bool front_facing = true;  // of every lane (a packet holds one facing)
 };
 
 // Shades the buffered lanes with fragment_packet<Vec<W>> (or <float> for W = 1), writes them.
+// Depth was written when the lanes passed the depth test (see raster_triangle); colour is
+// written here in lane order, so a pixel that two buffered triangles cover ends up blended
+// in submission order.
 template <int W, class S, int kN>
-void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, const DrawState& state,
-                  glm::vec4* colors, float* depths) {
+void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, glm::vec4* colors) {
   using V = typename S::Varyings;
   using F = std::conditional_t<W == 1, float, simd::Vec<W>>;
   if (b.count == 0) return;
@@ -63,8 +66,10 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, co
     for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
       for (int k = 0; k < kN; ++k) {
         b.v[k][lane] = b.v[k][0];
-        b.ddx[k][lane] = b.ddx[k][0];
-        b.ddy[k][lane] = b.ddy[k][0];
+        if constexpr (kUsesDerivatives<S>) {
+          b.ddx[k][lane] = b.ddx[k][0];
+          b.ddy[k][lane] = b.ddy[k][0];
+        }
       }
       b.pos_x[lane] = b.pos_x[0];
       b.pos_y[lane] = b.pos_y[0];
@@ -78,13 +83,18 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, co
   FragmentPacket<F, V> p;
   for (int k = 0; k < kN; ++k) {
     p.v[k] = load(b.v[k]);
-    p.ddx[k] = load(b.ddx[k]);
-    p.ddy[k] = load(b.ddy[k]);
+    if constexpr (kUsesDerivatives<S>) {
+      p.ddx[k] = load(b.ddx[k]);
+      p.ddy[k] = load(b.ddy[k]);
+    } else {
+      p.ddx[k] = F(0.0f);
+      p.ddy[k] = F(0.0f);
+    }
   }
   p.pos_x = load(b.pos_x);
   p.pos_y = load(b.pos_y);
   p.depth = load(b.depth);
-  p.front_facing = front_facing;
+  p.front_facing = b.front_facing;
   const Color<F> c = shader.template fragment_packet<F>(p);
   float out[4][W];
   if constexpr (W == 1) {
@@ -95,15 +105,19 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, bool front_facing, co
   for (int lane = 0; lane < b.count; ++lane) {
     const std::size_t idx = b.index[lane];
     colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
-    if (state.depth_write) depths[idx] = b.depth[lane];
   }
   b.count = 0;
 }
 
+template <int W, Shader S>
+using PacketFor = PacketBuffer<(W > 0 ? W : 1), kVaryingCount<typename S::Varyings>>;
+
 // W = 0: the shader's scalar fragment(); W ≥ 1: packets of W lanes through fragment_packet.
+// Packets fill across the triangles of a tile (one facing per packet): small triangles
+// still shade full packets. `packet` carries the lanes waiting from earlier triangles.
 template <int W, Shader S>
 void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
-                     const Triangle& t, const TileRect& tile, Target& target) {
+                     const Triangle& t, const TileRect& tile, Target& target, PacketFor<W, S>& packet) {
   using V = typename S::Varyings;
   constexpr int kN = kVaryingCount<V>;
   constexpr std::int64_t kStep = kSubpixelScale;  // one pixel in fixed point
@@ -133,7 +147,12 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   const int width = target.width();
   glm::vec4* colors = target.colors().data();
   float* depths = target.depths().data();
-  [[maybe_unused]] PacketBuffer<(W > 0 ? W : 1), kN> packet;
+  if constexpr (W > 0) {
+    if (packet.front_facing != t.front_facing) {
+      flush_packet<W>(shader, packet, state, colors);
+      packet.front_facing = t.front_facing;
+    }
+  }
 
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
@@ -157,48 +176,60 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       if (mask == 0) continue;
 
       // Unbiased edge values as floats: the screen-space barycentric weights × 2·area.
-      float w[3][4];
+      // From here the four lanes run as one simd::Vec<4>, each lane the same IEEE
+      // operations in the same order as one pixel would take alone.
+      using V4 = simd::Vec<4>;
+      alignas(16) float wf[3][4];
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 4; ++j) w[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
+        for (int j = 0; j < 4; ++j) wf[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
+      const V4 w0 = V4::load(wf[0]), w1 = V4::load(wf[1]), w2 = V4::load(wf[2]);
 
-      // Early depth test (shaders cannot change depth).
-      float z[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      // Early depth test (shaders cannot change depth, nor discard): a passing pixel's
+      // depth is written now, so later triangles test against it even while its colour
+      // waits in a packet.
+      alignas(16) float z[4];
+      {
+        const V4 l1 = w1 * V4(t.inv_area);
+        const V4 l2 = w2 * V4(t.inv_area);
+        simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(z);
+      }
       for (int j = 0; j < 4; ++j) {
         if (!(mask & (1u << j))) continue;
-        const float l1 = w[1][j] * t.inv_area;
-        const float l2 = w[2][j] * t.inv_area;
-        z[j] = std::clamp(t.z0 + l1 * t.dz1 + l2 * t.dz2, 0.0f, 1.0f);
         const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
         if (!depth_passes(state.depth_test, z[j], depths[idx])) mask &= ~(1u << j);
+        else if (state.depth_write) depths[idx] = z[j];
       }
       if (mask == 0) continue;
 
-      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives).
-      float values[4][kN > 0 ? kN : 1];
-      for (int j = 0; j < 4; ++j) {
-        const float a0 = w[0][j] * t.inv_w[0];
-        const float a1 = w[1][j] * t.inv_w[1];
-        const float a2 = w[2][j] * t.inv_w[2];
-        const float s = a0 + a1 + a2;
-        float b1 = 0.0f, b2 = 0.0f;  // beyond the horizon (helper lanes only): use v0
-        if (s > 0.0f) {
-          const float rs = 1.0f / s;
-          b1 = a1 * rs;
-          b2 = a2 * rs;
-        }
-        for (int k = 0; k < kN; ++k) values[j][k] = v0[k] + b1 * d1[k] + b2 * d2[k];
+      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives):
+      // b1, b2 are the perspective-correct weights of vertices 1 and 2; beyond the
+      // horizon (s ≤ 0, helper lanes only) they are 0, i.e. the lane takes v0.
+      constexpr bool kDerivatives = kUsesDerivatives<S>;
+      alignas(16) float values[kN > 0 ? kN : 1][4];  // [varying][lane]
+      {
+        const V4 a0 = w0 * V4(t.inv_w[0]);
+        const V4 a1 = w1 * V4(t.inv_w[1]);
+        const V4 a2 = w2 * V4(t.inv_w[2]);
+        const V4 sum = a0 + a1 + a2;
+        const auto ahead = sum > V4(0.0f);
+        const V4 rs = V4(1.0f) / simd::select(ahead, sum, V4(1.0f));
+        const V4 b1 = simd::select(ahead, a1 * rs, V4(0.0f));
+        const V4 b2 = simd::select(ahead, a2 * rs, V4(0.0f));
+        for (int k = 0; k < kN; ++k) (V4(v0[k]) + b1 * V4(d1[k]) + b2 * V4(d2[k])).store(values[k]);
       }
       float ddx[kN > 0 ? kN : 1], ddy[kN > 0 ? kN : 1];
       for (int k = 0; k < kN; ++k) {
-        ddx[k] = values[1][k] - values[0][k];
-        ddy[k] = values[2][k] - values[0][k];
+        ddx[k] = kDerivatives ? values[k][1] - values[k][0] : 0.0f;
+        ddy[k] = kDerivatives ? values[k][2] - values[k][0] : 0.0f;
       }
       if constexpr (W == 0) {
         const V vddx = varyings_from_floats<V>(ddx);
         const V vddy = varyings_from_floats<V>(ddy);
         for (int j = 0; j < 4; ++j) {
           if (!(mask & (1u << j))) continue;
-          const Fragment<V> f{varyings_from_floats<V>(values[j]),
+          float lane_values[kN > 0 ? kN : 1];
+          for (int k = 0; k < kN; ++k) lane_values[k] = values[k][j];
+          const Fragment<V> f{varyings_from_floats<V>(lane_values),
                               vddx,
                               vddy,
                               {static_cast<float>(lane_x[j]) + 0.5f, static_cast<float>(lane_y[j]) + 0.5f},
@@ -207,27 +238,27 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           const glm::vec4 src = shader.fragment(f);
           const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
           colors[idx] = blend(state.blend, src, colors[idx]);
-          if (state.depth_write) depths[idx] = z[j];
         }
       } else {
         for (int j = 0; j < 4; ++j) {
           if (!(mask & (1u << j))) continue;
           const int lane = packet.count++;
           for (int k = 0; k < kN; ++k) {
-            packet.v[k][lane] = values[j][k];
-            packet.ddx[k][lane] = ddx[k];
-            packet.ddy[k][lane] = ddy[k];
+            packet.v[k][lane] = values[k][j];
+            if constexpr (kDerivatives) {
+              packet.ddx[k][lane] = ddx[k];
+              packet.ddy[k][lane] = ddy[k];
+            }
           }
           packet.pos_x[lane] = static_cast<float>(lane_x[j]) + 0.5f;
           packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
           packet.depth[lane] = z[j];
           packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          if (packet.count == W) flush_packet<W>(shader, packet, t.front_facing, state, colors, depths);
+          if (packet.count == W) flush_packet<W>(shader, packet, state, colors);
         }
       }
     }
   }
-  if constexpr (W > 0) flush_packet<W>(shader, packet, t.front_facing, state, colors, depths);
 }
 
 }  // namespace detail
@@ -237,24 +268,51 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
 template <int W, Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  Target& target) {
+  detail::PacketFor<W, S> packet;
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
-      detail::raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target);
+      detail::raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
+  if constexpr (W > 0) detail::flush_packet<W>(shader, packet, geometry.state, target.colors().data());
 }
 
+#if SOFTPBR_SIMD_DISPATCH
+// The same kernel source compiled for AVX2 and AVX-512 (simd.h): run only when
+// simd::cpu_isa() allows.
+template <int W, Shader S>
+SOFTPBR_TARGET_AVX2 void raster_tile_avx2(const S& shader, const DrawGeometry& geometry, std::size_t tile,
+                                          const TileRect& rect, Target& target) {
+  raster_tile<W>(shader, geometry, tile, rect, target);
+}
+template <int W, Shader S>
+SOFTPBR_TARGET_AVX512 void raster_tile_avx512(const S& shader, const DrawGeometry& geometry, std::size_t tile,
+                                              const TileRect& rect, Target& target) {
+  raster_tile<W>(shader, geometry, tile, rect, target);
+}
+#endif
+
 // The same, at the lane count `lanes` (0: the widest native one) when the shader has
-// fragment_packet(), else through its scalar fragment().
+// fragment_packet(), else through its scalar fragment(). With isa above Baseline (which
+// the CPU must have), 8 lanes run the AVX2 kernel and 16 lanes the AVX-512 one.
 template <Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
-                 Target& target, int lanes) {
+                 Target& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {
   if constexpr (PacketShaderFor<S, float> && PacketShaderFor<S, simd::Vec<4>>) {
     switch (lanes == 0 ? simd::kNativeWidth : lanes) {
       case 1: return raster_tile<1>(shader, geometry, tile, rect, target);
       case 4: return raster_tile<4>(shader, geometry, tile, rect, target);
-      case 8: return raster_tile<8>(shader, geometry, tile, rect, target);
-      default: return raster_tile<16>(shader, geometry, tile, rect, target);
+      case 8:
+#if SOFTPBR_SIMD_DISPATCH
+        if (isa != simd::Isa::Baseline) return raster_tile_avx2<8>(shader, geometry, tile, rect, target);
+#endif
+        return raster_tile<8>(shader, geometry, tile, rect, target);
+      default:
+#if SOFTPBR_SIMD_DISPATCH
+        if (isa == simd::Isa::Avx512) return raster_tile_avx512<16>(shader, geometry, tile, rect, target);
+#endif
+        return raster_tile<16>(shader, geometry, tile, rect, target);
     }
   } else {
+    (void)isa;
     raster_tile<0>(shader, geometry, tile, rect, target);
   }
 }

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -34,8 +35,18 @@ struct RendererOptions {
   unsigned threads = 0;  // 0: all hardware threads; 1: everything inline on the caller
   int tile_size = 64;    // even, in [kMinTileSize, kMaxTileSize]
   // Pixels per fragment_packet() call for packet shaders: 1, 4, 8 or 16; 0 picks the
-  // widest the build targets natively (simd::kNativeWidth). Any width gives the same bits.
+  // widest this CPU runs natively (16 with AVX-512 and 8 with AVX2 when `dispatch` is
+  // on, else simd::kNativeWidth of the build). Any width gives the same bits.
   int lanes = 0;
+  // Run packet kernels compiled for the CPU's widest instruction set (runtime dispatch,
+  // simd.h: AVX2 for 8 lanes, AVX-512 for 16) when it has one; false: the build's own
+  // code only. The same bits either way.
+  bool dispatch = true;
+  // Bytes of binned geometry (transformed vertices, set-up triangles, tile lists) a frame
+  // may hold: past it, draw() rasterizes the draws so far into the tiles and recycles
+  // their memory, so peak memory stays bounded however many triangles a frame has. The
+  // same bits either way (each tile still applies every draw in order). 0: no limit.
+  std::size_t geometry_budget = std::size_t{8} << 20;
 };
 
 // What begin_frame() clears the target to.
@@ -57,6 +68,8 @@ class Renderer {
 
   unsigned threads() const { return pool_.size(); }
   int lanes() const { return lanes_; }
+  // The instruction set the packet kernels run with (Baseline: the build's own).
+  simd::Isa isa() const { return isa_; }
   int tile_size() const { return tile_size_; }
 
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
@@ -79,7 +92,9 @@ class Renderer {
     call->geometry.state = state;
     run_vertex_stage(pool_, call->shader, vertices, Viewport{grid_.width, grid_.height}, call->geometry.vertices);
     assemble_triangles(pool_, indices, grid_, call->geometry);
+    pending_bytes_ += call->geometry.bytes();
     draws_.push_back(std::move(call));
+    if (geometry_budget_ != 0 && pending_bytes_ > geometry_budget_) rasterize_pending(*target_, nullptr);
   }
 
   // Draws vertices 3k, 3k+1, 3k+2 as triangle k; the count must be a multiple of 3.
@@ -95,33 +110,50 @@ class Renderer {
   // Rasterizes the frame's draws into the target and closes the frame.
   void end_frame();
 
+  // The same, calling after_tile(rect, only_clear) for every tile of the frame, on the
+  // thread that drew it, as soon as its last draw is done: to resolve or tone map the tile
+  // while it is in cache. only_clear is true when the frame cleared and no triangle came
+  // near the tile: every pixel holds the clear values. Calls for different tiles may run
+  // at the same time; each tile's pixels belong to its call alone until end_frame()
+  // returns.
+  using TileCallback = std::function<void(const TileRect& rect, bool only_clear)>;
+  void end_frame(const TileCallback& after_tile);
+
  private:
   struct DrawCall {
     virtual ~DrawCall() = default;
     // One virtual call per draw and tile; the shader inlines inside.
-    virtual void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes) const = 0;
+    virtual void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes, simd::Isa isa) const = 0;
     DrawGeometry geometry;
   };
   template <Shader S>
   struct TypedDrawCall final : DrawCall {
     explicit TypedDrawCall(const S& s) : shader(s) {}
-    void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes) const override {
-      raster_tile(shader, this->geometry, tile, rect, target, lanes);
+    void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes, simd::Isa isa) const override {
+      raster_tile(shader, this->geometry, tile, rect, target, lanes, isa);
     }
     S shader;
   };
 
   void require_frame() const;
   DrawGeometry take_geometry();
+  // Rasterizes the pending draws into every tile (clearing first if the frame clears and
+  // has not cleared yet), calls after_tile if given, and recycles their geometry.
+  void rasterize_pending(Target& target, const TileCallback* after_tile);
 
   ThreadPool pool_;
   int tile_size_;
+  simd::Isa isa_;
   int lanes_;
   Target* target_ = nullptr;
   TileGrid grid_;
   std::vector<std::unique_ptr<DrawCall>> draws_;
   std::optional<ClearValues> clear_;
   std::vector<DrawGeometry> spare_;  // geometry of past draws, kept for their memory
+  std::size_t geometry_budget_;
+  std::size_t pending_bytes_ = 0;       // geometry held by draws_
+  bool cleared_ = false;                // the frame's clear is done (by an earlier pass)
+  std::vector<std::uint8_t> touched_;   // per tile: a triangle was rasterized into it
 };
 
 }  // namespace softpbr::raster

@@ -20,7 +20,7 @@
 // Packet shaders. A shader may also provide, written once against a lane type F (float or
 // simd::Vec<N>, see simd.h):
 //   template <class F> Color<F> fragment_packet(const FragmentPacket<F, Varyings>& p) const;
-// Each lane of a packet is one covered pixel of one triangle, with exactly the values a
+// Each lane of a packet is one covered pixel of a triangle, with exactly the values a
 // Fragment would hold for it. The renderer then shades N pixels per call (RendererOptions::
 // lanes); with lanes = 1 it calls fragment_packet<float>. Every lane computes the same
 // IEEE operations as the scalar code, so images are bit-identical at every width.
@@ -58,7 +58,7 @@ struct FragmentPacket {
   F ddy[kCount > 0 ? kCount : 1];
   F pos_x, pos_y;  // pixel centres
   F depth;
-  bool front_facing;  // one triangle per packet
+  bool front_facing;  // one facing per packet (lanes may come from several triangles)
 };
 
 template <class F>
@@ -83,6 +83,17 @@ template <class S, class F>
 concept PacketShaderFor = requires(const S& s, const FragmentPacket<F, typename S::Varyings>& p) {
   { s.template fragment_packet<F>(p) } -> std::same_as<Color<F>>;
 };
+
+// A shader that reads no derivatives (Fragment::ddx/ddy, FragmentPacket::ddx/ddy) may say
+//   static constexpr bool kUsesDerivatives = false;
+// The rasterizer then interpolates only the covered pixels of a quad, not the helper
+// lanes, and hands it zero derivatives: less work per quad, the same image, since the
+// shader never reads them.
+template <class S>
+inline constexpr bool kUsesDerivatives = true;
+template <class S>
+  requires requires { S::kUsesDerivatives; }
+inline constexpr bool kUsesDerivatives<S> = S::kUsesDerivatives;
 
 // Number of floats in a varyings struct.
 template <class V>

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -96,16 +97,13 @@ struct Mask {
 
 inline bool select(bool m, bool a, bool b) { return m ? a : b; }
 inline float select(bool m, float a, float b) { return m ? a : b; }
+// Lane-wise choice: a GCC/Clang vector conditional (a blend at any register width; a
+// mask lane is all ones or all zeros). Written this way, a compare that reads a select's
+// result stays a vector compare in a wide kernel compiled from this baseline code (a
+// select through integer bit operations or memcpy gets split into single lanes there).
 template <int N>
 inline Vec<N> select(Mask<N> m, Vec<N> a, Vec<N> b) {
-  using I = typename Mask<N>::native;
-  I ai, bi;
-  std::memcpy(&ai, &a.v, sizeof ai);
-  std::memcpy(&bi, &b.v, sizeof bi);
-  const I r = (ai & m.m) | (bi & ~m.m);
-  Vec<N> out;
-  std::memcpy(&out.v, &r, sizeof r);
-  return out;
+  return Vec<N>(m.m ? a.v : b.v);
 }
 
 // min/max as comparisons, identical for every lane type (std::min's rule: b < a ? b : a).
@@ -124,11 +122,27 @@ template <int N>
 inline Mask<N> both(Mask<N> a, Mask<N> b) { return a & b; }
 
 inline bool any(bool m) { return m; }
+// Whether any of eight non-negative lanes is above zero.
+inline bool any_set(Vec<8> x) {
+  const auto h = __builtin_shufflevector(x.v, x.v, 0, 1, 2, 3) + __builtin_shufflevector(x.v, x.v, 4, 5, 6, 7);
+  return h[0] + h[1] + h[2] + h[3] > 0.0f;
+}
+
+// Whether any lane is set. The mask feeds a blend straight away and the sum is taken on
+// floats: a mask used as data (or two masks combined with & |) is split into single lanes
+// by GCC when the function is compiled for narrower registers than the vector, even once
+// inlined into a wider kernel (see SOFTPBR_TARGET_AVX512); a blend is not.
 template <int N>
 inline bool any(Mask<N> m) {
-  for (int i = 0; i < N; ++i)
-    if (m.m[i]) return true;
-  return false;
+  const Vec<N> ones = select(m, Vec<N>(1.0f), Vec<N>(0.0f));
+  if constexpr (N == 16) {
+    return any_set(Vec<8>(__builtin_shufflevector(ones.v, ones.v, 0, 1, 2, 3, 4, 5, 6, 7) +
+                          __builtin_shufflevector(ones.v, ones.v, 8, 9, 10, 11, 12, 13, 14, 15)));
+  } else if constexpr (N == 8) {
+    return any_set(Vec<8>(ones.v));
+  } else {
+    return ones.v[0] + ones.v[1] + ones.v[2] + ones.v[3] > 0.0f;
+  }
 }
 
 // Correctly rounded square root (IEEE-754 requires it of sqrtss/sqrtps alike).
@@ -151,16 +165,16 @@ inline Vec<N> sqrt(Vec<N> x) {
   if constexpr (N == 4) {
     __m128 r = _mm_sqrt_ps(reinterpret_cast<__m128>(x.v));
     return Vec<N>(reinterpret_cast<typename Vec<N>::native>(r));
+  } else if constexpr (N == 8) {
+    // Narrower registers than the vector: halves, split and joined in registers (a trip
+    // through memory would stall on store forwarding).
+    const Vec<4> lo = sqrt(Vec<4>(__builtin_shufflevector(x.v, x.v, 0, 1, 2, 3)));
+    const Vec<4> hi = sqrt(Vec<4>(__builtin_shufflevector(x.v, x.v, 4, 5, 6, 7)));
+    return Vec<N>(__builtin_shufflevector(lo.v, hi.v, 0, 1, 2, 3, 4, 5, 6, 7));
   } else {
-    // Narrower registers than the vector: take it four lanes at a time.
-    Vec<N> out;
-    for (int i = 0; i < N; i += 4) {
-      __m128 part;
-      std::memcpy(&part, reinterpret_cast<const float*>(&x.v) + i, sizeof part);
-      part = _mm_sqrt_ps(part);
-      std::memcpy(reinterpret_cast<float*>(&out.v) + i, &part, sizeof part);
-    }
-    return out;
+    const Vec<8> lo = sqrt(Vec<8>(__builtin_shufflevector(x.v, x.v, 0, 1, 2, 3, 4, 5, 6, 7)));
+    const Vec<8> hi = sqrt(Vec<8>(__builtin_shufflevector(x.v, x.v, 8, 9, 10, 11, 12, 13, 14, 15)));
+    return Vec<N>(__builtin_shufflevector(lo.v, hi.v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
   }
 #else
   Vec<N> out;
@@ -177,6 +191,56 @@ template <int N>
 struct LaneCount<Vec<N>> {
   static constexpr int value = N;
 };
+
+// --- Runtime dispatch: kernels compiled for wider instruction sets than the build's. ---
+//
+// SOFTPBR_TARGET_AVX2 / SOFTPBR_TARGET_AVX512 mark a function compiled for AVX2 or
+// AVX-512 whatever the build targets, with everything it calls inlined into it (flatten):
+// the shading code inside is the very same source, its vector operations just map to
+// wider registers. No FMA is enabled (and -ffp-contract=off forbids contraction anyway),
+// no approximate reciprocal is used: the same IEEE operations, so the same bits. Such a
+// function may only run when cpu_isa() says the CPU has the instruction set.
+enum class Isa : std::uint8_t { Baseline, Avx2, Avx512 };
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define SOFTPBR_SIMD_DISPATCH 1
+#define SOFTPBR_TARGET_AVX2 __attribute__((target("avx2,avx,popcnt"), flatten))
+#define SOFTPBR_TARGET_AVX512 __attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt"), flatten))
+// The widest instruction set of this CPU (and OS) that a dispatched kernel can use.
+inline Isa cpu_isa() {
+  static const Isa isa = [] {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw"))
+      return Isa::Avx512;
+    if (__builtin_cpu_supports("avx2")) return Isa::Avx2;
+    return Isa::Baseline;
+  }();
+  return isa;
+}
+#else
+#define SOFTPBR_SIMD_DISPATCH 0
+inline Isa cpu_isa() { return Isa::Baseline; }
+#endif
+
+// Writes the four floats `pattern` n times from dst (n × 16 bytes) with streaming
+// (non-temporal) stores where the target has them: memory written that nobody reads soon
+// stays out of the cache. Call stream_fence() before other threads read it.
+inline void stream_fill4(float* dst, const float pattern[4], std::size_t n) {
+#if defined(__SSE2__)
+  const __m128 p = _mm_loadu_ps(pattern);
+  std::size_t i = 0;
+  for (; i < n && (reinterpret_cast<std::uintptr_t>(dst + 4 * i) & 15) != 0; ++i) _mm_storeu_ps(dst + 4 * i, p);
+  for (; i < n; ++i) _mm_stream_ps(dst + 4 * i, p);
+#else
+  for (std::size_t i = 0; i < n; ++i) std::memcpy(dst + 4 * i, pattern, 4 * sizeof(float));
+#endif
+}
+inline void stream_fence() {
+#if defined(__SSE2__)
+  _mm_sfence();
+#endif
+}
 
 // The widest lane count the compiler targets natively (chosen at compile time).
 #if defined(__AVX512F__)

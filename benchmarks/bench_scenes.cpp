@@ -1,0 +1,77 @@
+// bench_scenes — the scenes of issue 6 through softpbr (Google Benchmark).
+//
+//   bench_scenes [--benchmark_filter=gallery64_1080p] [--benchmark_min_time=0.5]
+//
+// Every scene of scenes.h (the paper's gallery at 64, 16 and 256 segments at 1920×1080
+// and at 512×512, the fill-rate scene, the shared meshes when ../shared/models exists),
+// each at 1 and 2 renderer threads. One iteration is one frame of pbr::render(): clear,
+// 21 (or 8) draws with the PBR shader, end_frame() with each tile tone mapped to RGBA8
+// right after it is drawn (pbr::render_rgba8: the finished image). Counters:
+//   ms/frame   wall-clock time per frame
+//   Mpix/s     shaded pixels (covered pixels × the scene's overdraw) per second
+//   Mtri/s     submitted triangles per second
+//   peak_MiB   peak heap during a frame beyond what existed before the target was made
+//              (the meshes and the scene): target + per-frame geometry
+// The renderer, target and meshes are built and one frame is drawn before timing.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <vector>
+
+#include "memory.h"
+#include "scenes.h"
+#include "softpbr/pbr/scene.h"
+#include "softpbr/pbr/tonemap.h"
+
+namespace bench = softpbr::bench;
+namespace pbr = softpbr::pbr;
+namespace raster = softpbr::raster;
+
+namespace {
+
+std::size_t covered_pixels(const raster::Target& target) {
+  const auto d = target.depths();
+  return static_cast<std::size_t>(std::count_if(d.begin(), d.end(), [](float z) { return z < 1.0f; }));
+}
+
+void run_scene(benchmark::State& state, const bench::BenchScene* s) {
+  const unsigned threads = static_cast<unsigned>(state.range(0));
+  raster::Renderer renderer({.threads = threads, .tile_size = 64});
+  bench::reset_heap_peak();
+  const std::size_t before = bench::heap_in_use();
+  raster::Target target(s->width, s->height);
+  raster::Image8 image;
+  pbr::render_rgba8(s->scene, renderer, target, s->output, image);  // warm-up: buffers reach their size
+  const double shaded = static_cast<double>(covered_pixels(target)) * s->overdraw;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) pbr::render_rgba8(s->scene, renderer, target, s->output, image);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double frames = static_cast<double>(state.iterations());
+  const std::size_t peak = bench::heap_peak() - before;
+
+  state.counters["ms/frame"] = 1e3 * seconds / frames;
+  state.counters["Mpix/s"] = 1e-6 * shaded * frames / seconds;
+  state.counters["Mtri/s"] = 1e-6 * static_cast<double>(s->triangles) * frames / seconds;
+  state.counters["peak_MiB"] = static_cast<double>(peak) / (1024.0 * 1024.0);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  static const std::vector<bench::BenchScene> scenes = bench::all_scenes(bench::default_shared_models());
+  for (const bench::BenchScene& s : scenes)
+    benchmark::RegisterBenchmark(s.name.c_str(), run_scene, &s)
+        ->ArgName("threads")
+        ->Arg(1)
+        ->Arg(2)
+        ->UseRealTime()
+        ->MeasureProcessCPUTime()  // CPU / Time = threads busy on average
+        ->Unit(benchmark::kMillisecond);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,52 @@
+// benchmarks/llvmpipe.h — the same scenes through Mesa's llvmpipe (OSMesa), for the
+// side-by-side comparison of compare_llvmpipe. Built only when Mesa's OSMesa headers are
+// found (Debian: apt-get install libosmesa6-dev).
+//
+// The GLSL below is softpbr's equation, term for term (pbr/shading.h, pbr/brdf.h,
+// pbr/light.h: GGX D, Schlick-GGX G with k = (r+1)²/8, Schlick F, kD = max(1 − F, 0)
+// (1 − metallic), Lambert, inverse-square point lights, ambient · c · ao + emissive), then
+// Reinhard and the gamma curve in the fragment shader, written to an RGBA8 buffer. The
+// vertex stage is the same (world position, normal matrix, view-projection), the meshes
+// the same vertex and index buffers, back faces culled, depth test less.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "softpbr/pbr/scene.h"
+#include "softpbr/pbr/tonemap.h"
+
+namespace softpbr::bench {
+
+class LlvmpipeRenderer {
+ public:
+  // Creates an OSMesa core-profile (3.3) context rendering into a width × height RGBA8
+  // buffer. llvmpipe reads LP_NUM_THREADS when its screen is created, i.e. with the first
+  // context of the process: set it before. Throws std::runtime_error on failure.
+  LlvmpipeRenderer(int width, int height);
+  ~LlvmpipeRenderer();
+  LlvmpipeRenderer(const LlvmpipeRenderer&) = delete;
+  LlvmpipeRenderer& operator=(const LlvmpipeRenderer&) = delete;
+
+  // Uploads the scene's meshes and sets its uniforms (outside any timing). Point lights
+  // only (the benchmark scenes have nothing else); throws std::invalid_argument otherwise.
+  void load(const pbr::Scene& scene, const pbr::OutputSettings& output);
+
+  // One frame: clear + one draw per object + glFinish.
+  void render();
+
+  // The last frame, RGBA8, row 0 at the top (as softpbr's Image8).
+  const std::vector<std::uint8_t>& pixels() const { return pixels_; }
+
+  // "llvmpipe (LLVM 15.0.6, 256 bits)" or the like.
+  std::string renderer_name() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::vector<std::uint8_t> pixels_;
+};
+
+}  // namespace softpbr::bench

@@ -1,0 +1,130 @@
+// The benchmark scenes (see scenes.h).
+#include "scenes.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/mesh.h"
+#include "softpbr/pbr/obj.h"
+
+namespace softpbr::bench {
+
+namespace {
+
+std::size_t count_triangles(const pbr::Scene& s) {
+  std::size_t n = 0;
+  for (const pbr::Object& o : s.objects) n += o.mesh->triangle_count();
+  return n;
+}
+
+std::string size_suffix(int width, int height) {
+  if (width == 1920 && height == 1080) return "1080p";
+  return std::to_string(width) + "x" + std::to_string(height);
+}
+
+// The three rows: gold and copper metal, red dielectric (0.8, 0.1, 0.1) — the
+// "plastic_red" preset, whose roughness the gallery overrides per column.
+pbr::GalleryOptions benchmark_gallery_options() {
+  pbr::GalleryOptions o;
+  o.rows = {"gold", "copper", "plastic_red"};
+  o.columns = 7;
+  o.first_roughness = 0.05f;
+  o.last_roughness = 1.0f;
+  return o;
+}
+
+}  // namespace
+
+BenchScene gallery_scene(int segments, int width, int height) {
+  BenchScene b;
+  b.name = "gallery" + std::to_string(segments) + "_" + size_suffix(width, height);
+  b.width = width;
+  b.height = height;
+  b.scene = pbr::make_gallery(benchmark_gallery_options());
+  // make_gallery uses segments/2 rings; the triangle counts (169k at 64, 2.7M at
+  // 256) are those of segments × segments: one shared sphere, rings = segments.
+  auto sphere = std::make_shared<const pbr::Mesh>(pbr::uv_sphere(0.4f, segments, segments));
+  for (pbr::Object& o : b.scene.objects) o.mesh = sphere;
+  b.output = pbr::gallery_output();
+  b.triangles = count_triangles(b.scene);
+  return b;
+}
+
+BenchScene fill_scene(int width, int height, int layers) {
+  BenchScene b;
+  b.name = "fill" + std::to_string(layers) + "x_" + size_suffix(width, height);
+  b.width = width;
+  b.height = height;
+  b.scene = pbr::make_gallery(benchmark_gallery_options());  // camera, lights, ambient
+  const auto gallery_objects = b.scene.objects;
+  b.scene.objects.clear();
+  // A 40 × 40 plane facing +z covers the whole view from z = −3.5 to 0 (the view is at
+  // most 2 × 12.5 · tan 22.5° × 16/9 ≈ 18.4 wide there); nearer each layer, so with the
+  // depth test Less every layer is shaded.
+  auto plane = std::make_shared<pbr::Mesh>(pbr::plane(40.0f, 40.0f, 1));
+  // plane() lies in y = 0 with normal +y: turn it to face the camera (+z).
+  // A quarter turn about x, written out (glm::rotate would call libm): y → z, z → −y.
+  glm::mat4 face_camera(1.0f);
+  face_camera[1] = {0.0f, 0.0f, 1.0f, 0.0f};   // image of the y axis
+  face_camera[2] = {0.0f, -1.0f, 0.0f, 0.0f};  // image of the z axis
+  for (int l = 0; l < layers; ++l) {
+    const float z = -3.5f + 0.5f * static_cast<float>(l);
+    const pbr::Object& like = gallery_objects[static_cast<std::size_t>(l * 3) % gallery_objects.size()];
+    b.scene.objects.push_back({plane, like.material, glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, z}) * face_camera});
+  }
+  b.output = pbr::gallery_output();
+  b.overdraw = layers;
+  b.triangles = count_triangles(b.scene);
+  return b;
+}
+
+BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height) {
+  pbr::GalleryOptions o = benchmark_gallery_options();
+  o.mesh = std::make_shared<const pbr::Mesh>(pbr::merge_shapes(pbr::load_obj(obj)));
+  BenchScene b;
+  b.name = "mesh_" + name + "_" + size_suffix(width, height);
+  b.width = width;
+  b.height = height;
+  b.scene = pbr::make_gallery(o);
+  b.output = pbr::gallery_output();
+  b.triangles = count_triangles(b.scene);
+  return b;
+}
+
+std::vector<BenchScene> all_scenes(const std::filesystem::path& shared_models) {
+  std::vector<BenchScene> scenes;
+  scenes.push_back(gallery_scene(64, 1920, 1080));
+  scenes.push_back(gallery_scene(16, 1920, 1080));
+  scenes.push_back(gallery_scene(256, 1920, 1080));
+  scenes.push_back(gallery_scene(64, 512, 512));
+  scenes.push_back(fill_scene(1920, 1080));
+  const struct {
+    const char* name;
+    const char* file;
+  } meshes[] = {{"bunny", "stanford-bunny/stanford-bunny.obj"}, {"armadillo", "armadillo/armadillo.obj"}, {"spot", "spot/spot_triangulated.obj"}};
+  std::error_code ec;
+  if (!std::filesystem::is_directory(shared_models, ec)) {
+    std::fprintf(stderr, "note: %s not found: the shared-mesh scenes are skipped\n", shared_models.string().c_str());
+    return scenes;
+  }
+  for (const auto& m : meshes) {
+    const std::filesystem::path path = shared_models / m.file;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+      std::fprintf(stderr, "note: %s not found: mesh_%s skipped\n", path.string().c_str(), m.name);
+      continue;
+    }
+    scenes.push_back(mesh_scene(m.name, path, 1920, 1080));
+  }
+  return scenes;
+}
+
+std::filesystem::path default_shared_models() {
+  if (const char* env = std::getenv("SOFTPBR_SHARED_MODELS")) return env;
+  return std::filesystem::path(SOFTPBR_SOURCE_DIR) / ".." / "shared" / "models";
+}
+
+}  // namespace softpbr::bench
