@@ -251,6 +251,14 @@ diff)
   check 2 a.exr /dev/zero.exr
   ln -s /dev/zero zero.exr
   check 2 a.exr zero.exr
+  # Fuzzer findings (fuzz/README.md): a data window near ±2^31 (tinyexr overflows int on
+  # it) is refused before decoding; pixel data that fails to decode is one error line.
+  hostile=$src/cli/tests/hostile
+  check 2 a.exr "$hostile/data-window-overflow.exr"
+  grep -q "data-window-overflow.exr: data window (4096, -2147483648) - (1693613119, 1466004577) is not 1 to 16384 pixels on each side" err.txt \
+    || fail "data window overflow: $(cat err.txt)"
+  check 2 a.exr "$hostile/bad-pixel-data.exr"
+  grep -q "bad-pixel-data.exr: not a readable OpenEXR file" err.txt || fail "bad pixel data: $(cat err.txt)"
   check 1 a.png small.png
   grep -q "different sizes, 160x90 and 80x45" out.txt || fail "size mismatch not described"
   check 2 a.png missing.png
