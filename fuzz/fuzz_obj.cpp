@@ -32,13 +32,19 @@ constexpr std::string_view kMtlSeparator = "\n%%MTL%%\n";
   std::abort();
 }
 
+// The private temporary folder, removed when the fuzzer exits.
+struct Folder {
+  fs::path path = fs::temp_directory_path() / ("softpbr-fuzz-obj-" + std::to_string(::getpid()));
+  Folder() { fs::create_directories(path); }
+  ~Folder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
 const fs::path& folder() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("softpbr-fuzz-obj-" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
+  static const Folder dir;
+  return dir.path;
 }
 
 void write(const fs::path& path, std::string_view bytes) {

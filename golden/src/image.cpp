@@ -12,6 +12,7 @@
 #include <stb_image_write.h>
 
 #include "softpbr/raster/color.h"
+#include "hdr_scan.h"
 #include "samples.h"
 
 namespace softpbr::golden {
@@ -107,6 +108,11 @@ Image8 load_png(const std::filesystem::path& path) {
 ImageF load_hdr(const std::filesystem::path& path) {
   File f = open_checked(path, true);
   int w = 0, h = 0, channels = 0;
+  // stb_image hangs on some truncated files (hdr_scan.h): check the data is all there.
+  if (!stbi_info_from_file(f.get(), &w, &h, &channels)) fail(path, "not a readable image");
+  const long start = std::ftell(f.get());
+  if (const std::string problem = detail::hdr_truncation(f.get(), w, h); !problem.empty()) fail(path, problem);
+  if (start < 0 || std::fseek(f.get(), start, SEEK_SET) != 0) fail(path, "cannot seek back to the start");
   std::unique_ptr<float, StbFree> data(stbi_loadf_from_file(f.get(), &w, &h, &channels, 3));
   if (!data) fail(path, std::string("cannot decode (") + stbi_failure_reason() + ")");
   return decode_hdr(data.get(), w, h);

@@ -1,0 +1,100 @@
+// Hostile PNG and Radiance .hdr files: each loads or is a clear error naming the file, in
+// bounded time. Regression tests for fuzz/fuzz_image's findings.
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "softpbr/golden/image.h"
+
+namespace golden = softpbr::golden;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_hostile_image";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+void write(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+const std::string kHeader = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+
+// One new-style RLE scanline of width 8: the marker, then per component a run of 8.
+std::string rle_scanline() {
+  std::string s = {2, 2, 0, 8};
+  for (int k = 0; k < 4; ++k) s += {static_cast<char>(128 + 8), static_cast<char>(k == 3 ? 129 : 100)};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("an .hdr file cut inside a run-length encoded scanline is an error, not an endless loop") {
+  // fuzz_image's finding (timeout, stb_image 2.28 looping on zero counts read past the end):
+  // a 8x3 RLE file whose data stops in the middle of the second scanline's runs.
+  const std::string finding = kHeader + "-Y 3 +X 8\n" +
+                              std::string("\x02\x02\x00\x08\x88\x64\x88\x32\x88\x19\x88\x80"
+                                          "\x02\x02\x00\x08\x08\x88\x64\x05\x00\x00\x88\x2e\x32\x88\x19\x88\x80",
+                                          31);
+  const fs::path path = scratch("finding-rle-truncated.hdr");
+  write(path, finding);
+  try {
+    golden::load_hdr(path);
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).rfind(path.string() + ": truncated", 0) == 0);
+  }
+}
+
+TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") {
+  struct Case {
+    const char* name;
+    std::string file;
+    int width, height;
+  };
+  const Case cases[] = {
+      {"rle", kHeader + "-Y 2 +X 8\n" + rle_scanline() + rle_scanline(), 8, 2},
+      {"flat", kHeader + "-Y 1 +X 2\n" + std::string("\x80\x40\x20\x81\x01\x02\x03\x82", 8), 2, 1},
+      // A scanline without the RLE marker switches the decoder to flat pixels.
+      {"rle-then-flat", kHeader + "-Y 1 +X 8\n" + std::string(8 * 4, '\x81'), 8, 1},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    const fs::path path = scratch(std::string("prefix-") + c.name + ".hdr");
+    const std::size_t data_start = c.file.find('\n', kHeader.size()) + 1;
+    for (std::size_t n = data_start; n < c.file.size(); ++n) {
+      CAPTURE(n);
+      write(path, c.file.substr(0, n));
+      CHECK_THROWS_AS(golden::load_hdr(path), std::runtime_error);
+    }
+    write(path, c.file);
+    const golden::ImageF image = golden::load_hdr(path);
+    CHECK(image.width == c.width);
+    CHECK(image.height == c.height);
+  }
+}
+
+TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused before decoding") {
+  // A PNG header (IHDR) claiming 100000 x 100000 pixels, and an .hdr resolution line
+  // claiming 100000 x 100000; neither has the data.
+  const std::string png_ihdr("\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00"
+                             "\x00\x00\x00\x00\x00\x00\x00\x00IEND\xae\x42\x60\x82",
+                             45);
+  write(scratch("huge.png"), png_ihdr);
+  CHECK_THROWS_AS(golden::load_png(scratch("huge.png")), std::runtime_error);
+  write(scratch("huge.hdr"), kHeader + "-Y 100000 +X 100000\n");
+  try {
+    golden::load_hdr(scratch("huge.hdr"));
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).find("100000x100000") != std::string::npos);
+  }
+}
