@@ -8,7 +8,7 @@ BUILD_DIR=${BUILD_DIR:-$SOFTPBR_ROOT/build}
 BUILD_TYPE=${BUILD_TYPE:-Release}
 
 # Debian 12 package names. Keep in step with the find_package calls in CMakeLists.txt.
-SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev)
+SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev libtinyexr-dev)
 # .ci/fuzz adds these (libFuzzer, ASan, UBSan and TSan come with Debian's clang 14).
 SOFTPBR_FUZZ_PACKAGES=(clang libclang-rt-14-dev)
 

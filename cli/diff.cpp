@@ -1,0 +1,100 @@
+// `softpbr diff` (see diff.h): the comparison, statistics and diff images are
+// softpbr::golden's (golden/include/softpbr/golden/compare.h).
+#include "diff.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "cli_error.h"
+#include "exr_io.h"
+#include "softpbr/golden/compare.h"
+#include "softpbr/golden/image.h"
+
+namespace softpbr::cli {
+
+namespace golden = softpbr::golden;
+
+CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
+  CLI::App* c = app.add_subcommand("diff", "Compare two images (.png, .hdr or .exr): exit 0 if they match within the "
+                                           "tolerance, 1 if not, 2 on error");
+  c->add_option("expected", a.expected, "The reference image")->required();
+  c->add_option("actual", a.actual, "The image to check")->required();
+  c->add_option("--max-diff", a.max_diff,
+                "A pixel differs when one of its channels differs by more than this (8-bit codes for PNG, "
+                "float values for .hdr and .exr)")
+      ->capture_default_str();
+  c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")->capture_default_str();
+  c->add_option("--out", a.out, "Write a heat map of the difference (.png): black where equal, red to white");
+  c->add_flag("--side-by-side", a.side_by_side, "With --out: expected | actual | heat map");
+  c->add_flag("-q,--quiet", a.quiet, "Print nothing; the exit code says it");
+  c->footer(kExitCodesHelp);
+  return c;
+}
+
+namespace {
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return ext;
+}
+
+template <class Image>
+int compare_and_report(const DiffArgs& a, const Image& expected, const Image& actual) {
+  const golden::Comparison c = golden::compare(expected, actual, a.max_diff);
+  const bool within = c.same_size() && c.pixels_above <= a.max_pixels;
+  if (!a.out.empty()) {
+    try {
+      const raster::Image8 picture = a.side_by_side || !c.same_size() ? golden::side_by_side(expected, actual)
+                                                                      : golden::diff_image(expected, actual);
+      raster::write_png(a.out, picture);
+    } catch (const std::exception& e) {
+      throw Error(kExitUsage, e.what());
+    }
+  }
+  if (!a.quiet) {
+    if (!c.same_size())
+      std::printf("%s vs %s: different sizes, %dx%d and %dx%d\n", a.expected.c_str(), a.actual.c_str(),
+                  c.expected_width, c.expected_height, c.actual_width, c.actual_height);
+    else if (c.identical)
+      std::printf("%s vs %s: identical (%dx%d)\n", a.expected.c_str(), a.actual.c_str(), c.actual_width, c.actual_height);
+    else
+      std::printf("%s vs %s: %s: %llu of %llu pixels differ by more than %g (allowed: %llu), largest difference %g, "
+                  "PSNR %.2f dB\n",
+                  a.expected.c_str(), a.actual.c_str(), within ? "within tolerance" : "DIFFERENT",
+                  static_cast<unsigned long long>(c.pixels_above), static_cast<unsigned long long>(c.pixels),
+                  a.max_diff, static_cast<unsigned long long>(a.max_pixels), c.max_diff(), c.psnr);
+  }
+  return within ? kExitOk : kExitDifferent;
+}
+}  // namespace
+
+int run_diff(const DiffArgs& a) {
+  if (!(a.max_diff >= 0) || !std::isfinite(a.max_diff))
+    throw Error(kExitUsage, "--max-diff: expected a finite number >= 0, got " + std::to_string(a.max_diff));
+  if (!a.out.empty() && lower_extension(a.out) != ".png") throw Error(kExitUsage, a.out + ": --out writes a .png");
+  const std::string ea = lower_extension(a.expected), eb = lower_extension(a.actual);
+  const bool float_a = ea == ".hdr" || ea == ".exr", float_b = eb == ".hdr" || eb == ".exr";
+  if (float_a != float_b)
+    throw Error(kExitUsage, a.expected + ", " + a.actual + ": cannot compare an 8-bit image with a float (.hdr/.exr) image");
+  try {
+    if (!float_a) return compare_and_report(a, golden::load_png(a.expected), golden::load_png(a.actual));
+    auto load = [](const std::string& path, const std::string& ext) {
+      return ext == ".exr" ? load_exr(path) : golden::load_hdr(path);
+    };
+    golden::ImageF expected = load(a.expected, ea), actual = load(a.actual, eb);
+    // .exr against .hdr: compare what the .hdr could hold (RGBE keeps 8 mantissa bits, no alpha).
+    if (ea != eb) {
+      golden::ImageF& exr = ea == ".exr" ? expected : actual;
+      exr = golden::hdr_round_trip(exr);
+    }
+    return compare_and_report(a, expected, actual);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(kExitUsage, e.what());  // golden's messages start with the file's path
+  }
+}
+
+}  // namespace softpbr::cli

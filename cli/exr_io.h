@@ -1,0 +1,21 @@
+// exr_io.h — OpenEXR output and input for the command line, through tinyexr (Debian's
+// libtinyexr-dev): 32-bit float RGBA, ZIP compressed, written atomically.
+#pragma once
+
+#include <filesystem>
+
+#include "softpbr/golden/image.h"
+#include "softpbr/raster/target.h"
+
+namespace softpbr::cli {
+
+// Writes the target's linear colour × 2^exposure and its alpha as float R, G, B, A
+// channels (values kept exactly, including negatives; non-finite ones become 0, as in
+// .hdr output). Throws std::runtime_error naming the path.
+void write_exr(const std::filesystem::path& path, const raster::Target& target, float exposure);
+
+// Reads an OpenEXR file's R, G, B(, A) channels as linear float RGBA (alpha 1 when
+// absent). Throws std::runtime_error naming the path.
+golden::ImageF load_exr(const std::filesystem::path& path);
+
+}  // namespace softpbr::cli

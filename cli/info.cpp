@@ -1,0 +1,128 @@
+// `softpbr info` (see info.h).
+#include "info.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include <glm/geometric.hpp>
+
+#include "cli_error.h"
+#include "softpbr/pbr/obj.h"
+#include "softpbr/pbr/scene_file.h"
+
+namespace softpbr::cli {
+
+namespace pbr = softpbr::pbr;
+
+CLI::App* add_info_command(CLI::App& app, InfoArgs& a) {
+  CLI::App* c = app.add_subcommand(
+      "info", "Describe an OBJ model (shapes, counts, bounds, materials, problems) or a scene file (.json)");
+  c->add_option("file", a.file, "An .obj model or a .json scene")->required();
+  c->footer(kExitCodesHelp);
+  return c;
+}
+
+namespace {
+
+struct MeshProblems {
+  std::size_t degenerate = 0;  // triangles of zero area (two equal positions or collinear)
+};
+
+MeshProblems find_problems(const pbr::Mesh& mesh) {
+  MeshProblems p;
+  for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+    const glm::vec3 a = mesh.vertices[mesh.indices[t]].position, b = mesh.vertices[mesh.indices[t + 1]].position,
+                    c = mesh.vertices[mesh.indices[t + 2]].position;
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    if (n.x == 0.0f && n.y == 0.0f && n.z == 0.0f) ++p.degenerate;
+  }
+  return p;
+}
+
+void print_vec(const char* label, glm::vec3 v) { std::printf("%s(%g, %g, %g)", label, v.x, v.y, v.z); }
+
+int info_obj(const std::string& path) {
+  pbr::ObjModel model;
+  try {
+    model = pbr::load_obj(path);
+  } catch (const std::exception& e) {
+    throw Error(kExitInput, e.what());
+  }
+  std::size_t vertices = 0, triangles = 0;
+  pbr::Bounds all{glm::vec3(std::numeric_limits<float>::infinity()), glm::vec3(-std::numeric_limits<float>::infinity())};
+  std::vector<std::string> problems = model.warnings;
+  std::printf("%s\n", path.c_str());
+  std::printf("  shapes     %zu\n", model.shapes.size());
+  for (const pbr::ObjShape& s : model.shapes) {
+    vertices += s.mesh.vertices.size();
+    triangles += s.mesh.triangle_count();
+    const pbr::Bounds b = pbr::bounds(s.mesh);
+    if (!b.empty()) all = {glm::min(all.min, b.min), glm::max(all.max, b.max)};
+    const std::string name = s.name.empty() ? "(unnamed)" : s.name;
+    const std::string material =
+        s.material >= 0 ? model.materials[static_cast<std::size_t>(s.material)].first : "(default material)";
+    std::printf("    %-24s %8zu vertices %8zu triangles  %s\n", name.c_str(), s.mesh.vertices.size(),
+                s.mesh.triangle_count(), material.c_str());
+    const MeshProblems p = find_problems(s.mesh);
+    if (p.degenerate)
+      problems.push_back("shape " + name + ": " + std::to_string(p.degenerate) + " zero-area triangles (drawn as nothing)");
+    if (s.mesh.triangle_count() == 0) problems.push_back("shape " + name + ": no triangles");
+  }
+  std::printf("  vertices   %zu\n  triangles  %zu\n", vertices, triangles);
+  if (all.empty()) {
+    std::printf("  bounds     (empty)\n");
+    problems.push_back("the model has no vertices");
+  } else {
+    print_vec("  bounds     min ", all.min);
+    print_vec(" max ", all.max);
+    print_vec(" size ", all.extent());
+    std::printf("\n");
+  }
+  std::printf("  materials  %zu\n", model.materials.size());
+  for (const auto& [name, m] : model.materials)
+    std::printf("    %-24s base_color (%g, %g, %g) metallic %g roughness %g emissive (%g, %g, %g)\n", name.c_str(),
+                m.base_color.r, m.base_color.g, m.base_color.b, m.metallic, m.roughness, m.emissive.r, m.emissive.g,
+                m.emissive.b);
+  std::printf("  problems   %zu\n", problems.size());
+  for (const std::string& p : problems) std::printf("    %s\n", p.c_str());
+  return kExitOk;
+}
+
+int info_scene(const std::string& path) {
+  pbr::SceneFile file;
+  try {
+    file = pbr::load_scene_file(path);
+  } catch (const pbr::SceneFileError& e) {
+    throw Error(kExitInput, e.what());
+  }
+  const pbr::Scene& s = file.scene;
+  std::printf("%s\n", path.c_str());
+  std::printf("  objects    %zu (%llu triangles)\n", s.objects.size(), static_cast<unsigned long long>(file.triangles));
+  std::printf("  lights     %zu\n", s.lights.size());
+  print_vec("  camera     position ", s.camera.position);
+  print_vec(" target ", s.camera.target);
+  std::printf("\n  render     %dx%d, tone map %s, exposure %g, gamma %s\n", file.render.width, file.render.height,
+              std::string(pbr::tone_map_name(file.render.output.tone_map)).c_str(), file.render.output.exposure,
+              file.render.output.gamma > 0 ? std::to_string(file.render.output.gamma).c_str() : "srgb");
+  std::printf("  memory     %s (estimate: meshes and draws %s, image %s)\n",
+              pbr::format_bytes(file.mesh_bytes + pbr::image_memory(file.render.width, file.render.height)).c_str(),
+              pbr::format_bytes(file.mesh_bytes).c_str(),
+              pbr::format_bytes(pbr::image_memory(file.render.width, file.render.height)).c_str());
+  std::printf("  problems   %zu\n", file.warnings.size());
+  for (const std::string& w : file.warnings) std::printf("    %s\n", w.c_str());
+  return kExitOk;
+}
+
+}  // namespace
+
+int run_info(const InfoArgs& a) {
+  std::string ext = std::filesystem::path(a.file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  if (ext == ".json") return info_scene(a.file);
+  if (ext == ".obj") return info_obj(a.file);
+  throw Error(kExitUsage, a.file + ": expected an .obj model or a .json scene");
+}
+
+}  // namespace softpbr::cli

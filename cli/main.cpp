@@ -1,0 +1,52 @@
+// softpbr — the command line: render scene files, compare images, inspect models.
+//
+//   softpbr render SCENE.json -o OUT.png [--width W --height H --threads N --tile-size T
+//                  --tonemap NAME --exposure E --frames A..B --shard i/N]
+//   softpbr diff A.png B.png [--max-diff N --max-pixels P --out diff.png]
+//   softpbr info MODEL.obj | SCENE.json
+//
+// Every failure is one line on stderr and an exit code (cli_error.h).
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_error.h"
+#include "diff.h"
+#include "info.h"
+#include "render.h"
+
+int main(int argc, char** argv) {
+  using namespace softpbr::cli;
+  CLI::App app{"softpbr: bit-exact physically based rendering on the CPU"};
+  app.require_subcommand(1);
+  app.footer(std::string(kExitCodesHelp) + "\nScene files: docs/scene-format.md");
+  RenderArgs render;
+  InfoArgs info;
+  DiffArgs diff;
+  CLI::App* render_cmd = add_render_command(app, render);
+  CLI::App* info_cmd = add_info_command(app, info);
+  CLI::App* diff_cmd = add_diff_command(app, diff);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);  // prints the help or the error
+    return rc == 0 ? kExitOk : kExitUsage;
+  }
+  const bool diffing = diff_cmd->parsed();
+  try {
+    if (render_cmd->parsed()) return run_render(render);
+    if (info_cmd->parsed()) return run_info(info);
+    return run_diff(diff);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return diffing && e.code() != kExitDifferent ? kExitUsage : e.code();
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "softpbr: out of memory\n");
+    return diffing ? kExitUsage : kExitInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "softpbr: internal error: %s\n", e.what());
+    return diffing ? kExitUsage : kExitInternal;
+  }
+}

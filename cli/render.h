@@ -1,0 +1,30 @@
+// render.h — `softpbr render SCENE -o OUT.png [...]`: a scene file to images, one frame or a
+// sharded frame list (see docs/scene-format.md for the scene and the command).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+namespace softpbr::cli {
+
+struct RenderArgs {
+  std::string scene;
+  std::vector<std::string> outputs;
+  int width = 0, height = 0, threads = 0, tile_size = 0;
+  std::string tonemap;
+  float exposure = 0.0f;
+  std::string frames, shard;
+  bool force = false;
+  bool quiet = false;
+  double max_memory_mib = 0;
+  // Which options were given (command-line values override the scene file's).
+  CLI::Option *width_opt = nullptr, *height_opt = nullptr, *threads_opt = nullptr, *tile_opt = nullptr,
+              *tonemap_opt = nullptr, *exposure_opt = nullptr, *frames_opt = nullptr, *shard_opt = nullptr;
+};
+
+CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
+int run_render(const RenderArgs& args);
+
+}  // namespace softpbr::cli

@@ -1,0 +1,289 @@
+#!/usr/bin/env bash
+# The softpbr command line, end to end (run by ctest as cli_GROUP):
+#   driver.sh GROUP SOFTPBR SOURCE_DIR WORK_DIR
+# Groups:
+#   scenes  every examples/scenes/*.json renders to its golden hash (cli/tests/scenes.hashes)
+#           and golden PNG (cli/tests/goldens/), the same for any --threads/--tile-size;
+#           gallery.json and gallery_spot.json give the library's own gallery goldens
+#           (tests/goldens/*.hash: the JSON files are make_gallery() exactly)
+#   errors  every error case: its one-line message, its exit code, and no output file
+#           created or truncated
+#   frames  shards cover a frame list exactly once, with the same images as one run; a
+#           re-run skips complete frames
+#   kill    a render killed with SIGKILL mid-way leaves only complete frames; a re-run
+#           completes the job with the same images as an uninterrupted run
+#   diff    softpbr diff: exit 0 within tolerance, 1 outside, 2 on error; --out
+#   info    softpbr info on models and scenes, and its errors
+# SOFTPBR_UPDATE_GOLDENS=1 rewrites cli/tests/scenes.hashes and goldens/*.png (look at them!).
+set -u
+group=$1 softpbr=$2 src=$3 work=$4
+rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+pass() { echo "ok: $*"; }
+scenes=$src/examples/scenes
+
+# expect_error CODE 'EXPECTED STDERR LINE' ARGS... — runs softpbr, checks the exit code and
+# that stderr is exactly that one line.
+expect_error() {
+  local code=$1 line=$2; shift 2
+  "$softpbr" "$@" >stdout.txt 2>stderr.txt
+  local rc=$? got
+  got=$(cat stderr.txt)
+  if [ "$rc" -ne "$code" ]; then fail "softpbr $* exited $rc, expected $code (stderr: $got)"; return; fi
+  if [ "$got" != "$line" ]; then fail "softpbr $*: stderr was
+  $got
+expected
+  $line"; return; fi
+  pass "exit $code: $line"
+}
+
+case $group in
+scenes)
+  hashes=$src/cli/tests/scenes.hashes
+  [ "${SOFTPBR_UPDATE_GOLDENS:-}" = 1 ] && : >"$hashes.new"
+  for scene in "$scenes"/*.json; do
+    name=$(basename "$scene" .json)
+    out=$("$softpbr" render "$scene" -o "$name.png" --threads 2 --tile-size 64) || { fail "$name: render failed"; continue; }
+    hash=${out##*hash }
+    # The same bits for other thread counts and tile sizes (at a quarter of the size, to be quick).
+    small=$("$softpbr" render "$scene" -o small.png --width 320 --height 180)
+    for opts in "--threads 1 --tile-size 16" "--threads 3 --tile-size 256"; do
+      other=$("$softpbr" render "$scene" -o other.png --width 320 --height 180 $opts)
+      [ "${other##*hash }" = "${small##*hash }" ] || fail "$name: $opts gives hash ${other##*hash }, not ${small##*hash }"
+    done
+    if [ "${SOFTPBR_UPDATE_GOLDENS:-}" = 1 ]; then
+      echo "$name $hash" >>"$hashes.new"
+      cp "$name.png" "$src/cli/tests/goldens/$name.png"
+      continue
+    fi
+    want=$(awk -v n="$name" '$1 == n { print $2 }' "$hashes")
+    if [ "$hash" = "$want" ]; then pass "$name: hash $hash"; else fail "$name: hash $hash, golden ${want:-missing} (SOFTPBR_UPDATE_GOLDENS=1 ctest -R cli_scenes to accept)"; fi
+    "$softpbr" diff "$src/cli/tests/goldens/$name.png" "$name.png" -q || fail "$name: PNG differs from cli/tests/goldens/$name.png"
+  done
+  [ "${SOFTPBR_UPDATE_GOLDENS:-}" = 1 ] && mv "$hashes.new" "$hashes"
+  # The JSON galleries are the library's gallery scenes, bit for bit (tests/goldens, 640x360).
+  for name in gallery gallery_spot; do
+    out=$("$softpbr" render "$scenes/$name.json" -o "$name-small.png" --width 640 --height 360)
+    want=$(cat "$src/tests/goldens/$name.hash")
+    [ "${out##*hash }" = "$want" ] && pass "$name.json = make_gallery ($want)" || fail "$name.json at 640x360: ${out##*hash }, make_gallery's golden $want"
+  done
+  # The complete scene of docs/scene-format.md renders (the models folder beside it).
+  cp -r "$scenes/models" models
+  awk '/^## A complete small scene/ { on = 1 } on && /^```$/ && started { exit } started { print } on && /^```json$/ { started = 1 }' \
+    "$src/docs/scene-format.md" >snippet.json
+  "$softpbr" render -o snippet.png snippet.json --width 80 --height 60 -q && [ -s snippet.png ] \
+    && pass "the docs' complete scene renders (-o before the scene works too)" || fail "docs/scene-format.md's scene does not render"
+  # Three formats from one render; progress goes to stderr only on a terminal.
+  "$softpbr" render "$scenes/lights.json" -o all.png -o all.hdr -o all.exr --width 64 --height 40 >stdout.txt 2>stderr.txt || fail "png+hdr+exr render failed"
+  [ -s all.png ] && [ -s all.hdr ] && head -c 10 all.hdr | grep -q '#?RADIANCE' || fail "png+hdr: missing or wrong files"
+  [ "$(od -An -tx1 -N4 all.exr | tr -d ' ')" = 762f3101 ] || fail "all.exr does not start with the OpenEXR magic number"
+  [ -s stderr.txt ] && fail "stderr not empty without a terminal: $(cat stderr.txt)"
+  [ "$(wc -l <stdout.txt)" -eq 3 ] || fail "expected one stdout line per output"
+  # The .exr holds the float colour exactly: encoded as RGBE it is the .hdr, bit for bit;
+  # and it is the same file for any thread count and tile size.
+  "$softpbr" diff all.hdr all.exr -q && pass ".exr, RGBE-encoded, equals the .hdr" || fail ".exr and .hdr of one render differ"
+  "$softpbr" render "$scenes/lights.json" -o other.exr --width 64 --height 40 --threads 1 --tile-size 8 -q
+  cmp -s all.exr other.exr && pass ".exr identical for other threads/tiles" || fail ".exr differs with --threads 1 --tile-size 8"
+  ;;
+
+errors)
+  cp -r "$scenes/models" models
+  printf 'KEEP' >keep.png
+  # scene_with 'JSON' — a small valid scene with one replaced fragment
+  base='{"camera": {"position": [0, 0, 3]}, "lights": [{"type": "point", "position": [1, 1, 2], "intensity": 5}], "objects": [{"mesh": {"type": "cube"}, "material": {"preset": "gold", "roughness": 0.5}}], "render": {"width": 32, "height": 24}}'
+  scene_with() { local from=$1 to=$2; echo "${base/"$from"/"$to"}" >bad.json; }
+  scene_with '' ''
+  "$softpbr" render bad.json -o ok.png -q || fail "the base error scene does not render"
+  while IFS='|' read -r from to code line; do
+    [ -z "$from" ] && continue
+    scene_with "$from" "$to"
+    expect_error "$code" "$line" render bad.json -o keep.png
+  done <<'EOF'
+"roughness": 0.5|"roughness": 2|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got 2
+"roughness": 0.5|"roughness": "NaN"|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got "NaN"
+"roughness": 0.5|"rougness": 0.5|3|bad.json: /objects/0/material/rougness: unknown key "rougness" (did you mean "roughness"?)
+"roughness": 0.5|"roughness": 0.5, "shiny": true|3|bad.json: /objects/0/material/shiny: unknown key "shiny" (expected one of: preset, base_color, metallic, roughness, ao, emissive)
+"width": 32|"width": 0|3|bad.json: /render/width: expected an integer in [1, 16384], got 0
+"width": 32|"width": -5|3|bad.json: /render/width: expected an integer in [1, 16384], got -5
+"width": 32|"width": "32"|3|bad.json: /render/width: expected an integer in [1, 16384], got "32"
+"width": 32|"width": 32.5|3|bad.json: /render/width: expected an integer in [1, 16384], got 32.5
+"height": 24|"height": 1e400|3|bad.json: invalid JSON: number overflow parsing '1e400'
+"preset": "gold"|"preset": "gld"|3|bad.json: /objects/0/material/preset: expected one of gold, copper, silver, aluminium, iron, titanium, chromium, nickel, platinum, plastic_red, plastic_green, plastic_blue, rubber, white_paint, got "gld"
+"type": "cube"|"type": "cone"|3|bad.json: /objects/0/mesh/type: expected one of uv_sphere, icosphere, cube, plane, torus, got "cone"
+"type": "cube"|"file": "models/nope.obj"|3|bad.json: /objects/0/mesh/file: models/nope.obj: cannot open: no such file
+"intensity": 5|"intensity": -1|3|bad.json: /lights/0/intensity: expected a number >= 0, got -1
+"type": "point"|"type": "spot"|3|bad.json: /lights/0: missing key "direction"
+"position": [0, 0, 3]|"position": [0, 0]|3|bad.json: /camera/position: expected an array of 3 numbers, got [0,0]
+"position": [0, 0, 3]|"position": [0, 0, 0]|3|bad.json: /camera: camera target: must differ from position
+"objects": [|"objects": 7, "x": [|3|bad.json: /x: unknown key "x" (expected one of: camera, lights, ambient, meshes, objects, render, animation)
+"render": {|"render": [{|3|bad.json: invalid JSON: parse error at line 1, column 236: syntax error while parsing array - unexpected '}'; expected ']'
+EOF
+  # A 10^6-light scene: the count is refused with the limit, before any light is read.
+  { printf '{"lights": ['; yes 0, | head -n 999999 | tr -d '\n'; printf '0], "objects": []}'; } >lights.json
+  expect_error 3 "lights.json: /lights: too many entries: 1000000 (the limit is 256: every light is evaluated at every pixel)" \
+    render lights.json -o keep.png
+  # Memory is checked before allocating: a 16384² image (18 GiB estimated), a huge mesh.
+  scene_with '' ''
+  expect_error 3 "--width 16384 --height 16384: a 16384x16384 render of this scene needs an estimated 18.0 GiB, over the limit of 4.0 GiB (--max-memory)" \
+    render bad.json -o keep.png --width 16384 --height 16384
+  scene_with '{"type": "cube"}' '{"type": "uv_sphere", "segments": 4096, "rings": 4096}'
+  expect_error 3 "bad.json: /objects/0/mesh: this mesh brings the scene's estimated memory to 896.3 MiB, over the limit of 256.0 MiB" \
+    render bad.json -o keep.png --max-memory 256
+  # Unreadable scenes, unwritable outputs.
+  expect_error 3 "missing.json: cannot open the scene file: No such file or directory" render missing.json -o keep.png
+  expect_error 3 "models: is a folder, not a scene file" render models -o keep.png
+  expect_error 3 "/dev/zero: the scene file is over the limit of 64.0 MiB (meshes belong in OBJ files)" render /dev/zero -o keep.png
+  head -c 100 /dev/urandom >random.json
+  "$softpbr" render random.json -o keep.png 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && grep -q "^random.json: " stderr.txt && [ "$(wc -l <stderr.txt)" -eq 1 ] && pass "binary garbage: one line, exit 3" || fail "random.json: exit $rc: $(cat -v stderr.txt)"
+  scene_with '' ''
+  expect_error 4 "no/such/dir/out.png: cannot write: the folder no/such/dir does not exist" render bad.json -o no/such/dir/out.png
+  mkdir folder.png
+  expect_error 4 "folder.png: cannot write: it is a folder" render bad.json -o folder.png
+  # A write that fails half-way (a file size limit stands in for a full disk): exit 4, the
+  # old file untouched, no temporary left.
+  for ext in png hdr exr; do
+    printf 'KEEP' >"keep.$ext"
+    (trap '' XFSZ; ulimit -f 8; "$softpbr" render "$scenes/lights.json" -o "keep.$ext" --width 320 --height 200 >/dev/null 2>stderr.txt)
+    rc=$?
+    [ $rc -eq 4 ] && [ "$(cat stderr.txt)" = "keep.$ext: write failed (disk full?)" ] && [ "$(cat "keep.$ext")" = KEEP ] \
+      && pass "failed .$ext write: exit 4, old file kept" || fail "failed .$ext write: exit $rc, $(cat stderr.txt)"
+  done
+  rm keep.hdr keep.exr
+  # Command-line errors.
+  expect_error 2 "out.jpg: unknown output format \".jpg\" (expected .png, .hdr or .exr)" render bad.json -o out.jpg
+  expect_error 2 "--frames: expected A..B or A with 0 <= A <= B <= 9999999, got \"5..2\"" render bad.json -o f_#.png --frames 5..2
+  expect_error 2 "--shard: expected i/N with 0 <= i < N (i counts from 0), got \"3/3\"" render bad.json -o f_#.png --frames 0..9 --shard 3/3
+  expect_error 2 "out.png: with several frames an output needs a run of '#' for the frame number (e.g. out_####.png)" render bad.json -o out.png --frames 0..3
+  expect_error 2 "--tile-size: expected an even size, got 17" render bad.json -o keep.png --tile-size 17
+  expect_error 2 "--width: expected a value in [1, 16384], got 0" render bad.json -o keep.png --width 0
+  expect_error 2 "--tonemap: expected one of none, reinhard, aces, neutral, got \"filmic\"" render bad.json -o keep.png --tonemap filmic
+  "$softpbr" render bad.json -o keep.png --no-such-option >/dev/null 2>&1; [ $? -eq 2 ] && pass "unknown option: exit 2" || fail "unknown option: not exit 2"
+  "$softpbr" render --help | grep -q "Exit codes:" && pass "--help lists the exit codes" || fail "render --help has no exit codes"
+  # No failure created or truncated an output.
+  [ "$(cat keep.png)" = KEEP ] && pass "keep.png untouched by every failure" || fail "a failed render changed keep.png"
+  for f in out.png out.jpg models/*.png .keep.png.tmp* ; do [ -e "$f" ] && fail "a failed render left $f"; done
+  ;;
+
+frames)
+  args=(render "$scenes/turntable.json" --width 48 --height 36 --frames 3..12)
+  "$softpbr" "${args[@]}" -q -o all/f_####.png 2>/dev/null && fail "a missing output folder was accepted"
+  mkdir all shards
+  "$softpbr" "${args[@]}" -q -o all/f_####.png --threads 1 || fail "the unsharded run failed"
+  : >rendered.txt
+  for i in 0 1 2; do
+    "$softpbr" "${args[@]}" -o shards/f_####.png --shard $i/3 --threads 2 --tile-size 16 | grep hash >>rendered.txt
+  done
+  # Every frame 3..12 exactly once across the shards, and the same image as the single run.
+  sort rendered.txt | awk '{ print $1 }' | uniq -d | grep -q . && fail "a frame was rendered by two shards"
+  [ "$(wc -l <rendered.txt)" -eq 10 ] && pass "3 shards rendered 10 frames" || fail "shards rendered $(wc -l <rendered.txt) frames, not 10"
+  for f in $(seq 3 12); do
+    name=$(printf 'f_%04d.png' "$f")
+    cmp -s "all/$name" "shards/$name" || fail "$name: shard output differs from the single run (or is missing)"
+  done
+  [ "$(ls shards | wc -l)" -eq 10 ] && pass "shards wrote exactly frames 3..12" || fail "shards/ holds $(ls shards | wc -l) files"
+  cmp -s all/f_0003.png all/f_0004.png && fail "the animation does not move"
+  # More shards than frames: still each frame exactly once (most shards render nothing).
+  mkdir many && : >rendered.txt
+  for i in $(seq 0 12); do "$softpbr" "${args[@]}" -o many/f_####.png --shard "$i/13" | grep hash >>rendered.txt; done
+  [ "$(sort -u rendered.txt | wc -l)" -eq 10 ] && [ "$(wc -l <rendered.txt)" -eq 10 ] && [ "$(ls many | wc -l)" -eq 10 ] \
+    && pass "13 shards over 10 frames: each frame once" || fail "13 shards: $(wc -l <rendered.txt) renders"
+  # A temporary file a killed run left for a frame is removed when that frame is rendered.
+  touch shards/.f_0013.png.tmp12345
+  "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..13 -q -o shards/f_####.png
+  [ -e shards/.f_0013.png.tmp12345 ] && fail "a stale temporary file survived" || pass "stale temporary file removed"
+  rm -f shards/f_0013.png
+  # Progress goes to stderr only when it is a terminal (script(1) gives the command one).
+  mkdir tty
+  "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..5 -o tty/f_####.png >/dev/null 2>progress.txt \
+    || fail "the render for the progress check failed"
+  [ -s progress.txt ] && fail "progress written to a stderr that is not a terminal"
+  if command -v script >/dev/null; then
+    rm -f tty/*
+    script -qc "'$softpbr' render '$scenes/turntable.json' --width 48 --height 36 --frames 3..5 -o tty/f_####.png >/dev/null" /dev/null >progress.txt
+    grep -q "softpbr: frame 5, 3/3 done" progress.txt && pass "progress line on a terminal" || fail "no progress on a terminal: $(cat -v progress.txt)"
+  fi
+  # A re-run skips every complete frame; --force renders again.
+  "$softpbr" "${args[@]}" -o shards/f_####.png | tail -1 | grep -q "10 frames: 0 rendered, 10 skipped" && pass "re-run skips complete frames" || fail "re-run did not skip"
+  "$softpbr" "${args[@]}" -o shards/f_####.png --force | tail -1 | grep -q "10 rendered, 0 skipped" && pass "--force renders again" || fail "--force did not render"
+  ;;
+
+kill)
+  args=(render "$scenes/turntable.json" --width 240 --height 180 --frames 0..59 --threads 1)
+  mkdir ref out
+  "$softpbr" "${args[@]}" -q -o ref/f_####.png || fail "the reference run failed"
+  "$softpbr" "${args[@]}" -q -o out/f_####.png &
+  pid=$!
+  for _ in $(seq 1 400); do [ "$(ls out | wc -l)" -ge 5 ] && break; sleep 0.02; done
+  kill -9 "$pid"
+  wait "$pid" 2>/dev/null
+  done_before=$(ls out | wc -l)
+  [ "$done_before" -lt 60 ] && pass "killed after $done_before of 60 frames" || fail "the render finished before the kill"
+  for f in out/*.png; do cmp -s "$f" "ref/${f#out/}" || fail "$f after the kill is not the complete frame"; done
+  "$softpbr" "${args[@]}" -o out/f_####.png >rerun.txt || fail "the re-run failed"
+  tail -1 rerun.txt | grep -q "60 frames: $((60 - done_before)) rendered, $done_before skipped" && pass "re-run rendered only the missing frames" || fail "re-run: $(tail -1 rerun.txt)"
+  diff -r ref out >/dev/null && pass "after the re-run, out/ = the uninterrupted run" || fail "out/ differs from ref/ after the re-run"
+  ls -A out | grep -q '^\.' && fail "temporary files left in out/: $(ls -A out | grep '^\.')"
+  ;;
+
+diff)
+  "$softpbr" render "$scenes/gallery.json" -o a.png -o a.hdr --width 160 --height 90 -q
+  "$softpbr" render "$scenes/gallery.json" -o b.png -o b.hdr --width 160 --height 90 --exposure 0.05 -q
+  "$softpbr" render "$scenes/gallery.json" -o small.png --width 80 --height 45 -q
+  check() { local code=$1; shift; "$softpbr" diff "$@" >out.txt 2>err.txt; local rc=$?
+    [ $rc -eq "$code" ] && pass "diff $* → $rc" || fail "diff $* exited $rc, expected $code: $(cat out.txt err.txt)"; }
+  check 0 a.png a.png
+  grep -q identical out.txt || fail "identical images not reported as identical"
+  check 1 a.png b.png
+  check 0 a.png b.png --max-diff 255
+  check 1 a.png b.png --max-diff 1
+  check 0 a.png b.png --max-pixels 14400
+  check 0 a.hdr a.hdr
+  check 1 a.hdr b.hdr
+  "$softpbr" render "$scenes/gallery.json" -o a.exr --width 160 --height 90 -q
+  check 0 a.exr a.exr
+  check 0 a.hdr a.exr
+  check 1 b.hdr a.exr
+  check 2 a.png a.exr
+  printf 'not an exr' >bad.exr
+  check 2 a.exr bad.exr
+  check 2 a.exr /dev/zero.exr
+  ln -s /dev/zero zero.exr
+  check 2 a.exr zero.exr
+  check 1 a.png small.png
+  grep -q "different sizes, 160x90 and 80x45" out.txt || fail "size mismatch not described"
+  check 2 a.png missing.png
+  check 2 a.png a.hdr
+  check 2 a.png b.png --max-diff -1
+  check 2 a.png b.png --out nowhere/d.png
+  check 1 a.png b.png --out heat.png
+  "$softpbr" diff heat.png heat.png -q && [ "$(od -An -tu1 -j16 -N4 heat.png | awk '{print $1 * 16777216 + $2 * 65536 + $3 * 256 + $4}')" -eq 160 ] \
+    && pass "--out wrote a 160-wide heat map" || fail "--out heat map missing or wrong size"
+  check 1 a.png b.png --out side.png --side-by-side
+  [ "$(od -An -tu1 -j16 -N4 side.png | awk '{print $1 * 16777216 + $2 * 65536 + $3 * 256 + $4}')" -eq 480 ] \
+    && pass "--side-by-side is 3 images wide" || fail "side-by-side image is not 480 wide"
+  ;;
+
+info)
+  "$softpbr" info "$scenes/models/podium.obj" >out.txt || fail "info podium.obj failed"
+  for want in "shapes     3" "vertices   42" "triangles  24" "bounds     min (-1, 0, -1) max (1, 2.05, 1)" "materials  3" "brass" "problems   0"; do
+    grep -qF "$want" out.txt || fail "info podium.obj: no \"$want\" in: $(cat out.txt)"
+  done
+  printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\nl 1 2\n' >problems.obj
+  "$softpbr" info problems.obj >out.txt || fail "info problems.obj failed"
+  grep -q "1 zero-area triangles" out.txt && grep -q "problems   2" out.txt \
+    && pass "info reports zero-area triangles and the loader's warnings" || fail "info problems.obj: $(cat out.txt)"
+  printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n' >broken.obj
+  "$softpbr" info broken.obj >/dev/null 2>err.txt; rc=$?
+  [ $rc -eq 3 ] && grep -q "^broken.obj:4: " err.txt && [ "$(wc -l <err.txt)" -eq 1 ] && pass "broken OBJ: one line naming file:line, exit 3" || fail "broken.obj: exit $rc, $(cat err.txt)"
+  "$softpbr" info "$scenes/gallery.json" >out.txt && grep -q "objects    35 (" out.txt && grep -q "lights     3" out.txt \
+    && pass "info gallery.json" || fail "info gallery.json: $(cat out.txt)"
+  expect_error 3 "missing.obj: cannot open: no such file" info missing.obj
+  expect_error 2 "notes.txt: expected an .obj model or a .json scene" info notes.txt
+  ;;
+*) echo "unknown group $group" >&2; exit 2 ;;
+esac
+
+[ $failures -eq 0 ] || { echo "$failures failure(s) in cli_$group" >&2; exit 1; }
+echo "cli_$group: all passed"

@@ -1,0 +1,85 @@
+// softpbr/pbr/scene_file.h — JSON scene files: camera, lights, objects (procedural shapes
+// or OBJ files), materials, render settings and the turntable animation, loaded into a
+// pbr::Scene. The format is documented in docs/scene-format.md.
+//
+// Scene files are untrusted input (DESIGN.md §5): every key is known, every value has the
+// expected type and range, counts and memory are bounded before anything large is built,
+// and every problem is one SceneFileError line naming the file and the JSON pointer
+// (RFC 6901) of the value, e.g.
+//   gallery.json: /objects/3/material/roughness: expected a number in [0, 1], got 2
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "softpbr/pbr/animation.h"
+#include "softpbr/pbr/scene.h"
+#include "softpbr/pbr/tonemap.h"
+
+namespace softpbr::pbr {
+
+// A scene file is invalid; what() is one line: "FILE: /json/pointer: what was expected, got X".
+class SceneFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// ---- Limits (documented in docs/scene-format.md) -----------------------------------------
+// A scene file larger than this is refused before it is read: hand-written or generated
+// scenes are kilobytes; meshes belong in OBJ files.
+inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{64} << 20;
+// Every light is evaluated at every shaded pixel (no light culling), so the cost of a
+// frame grows linearly with the light count: 256 lights at 1920×1080 already take minutes.
+inline constexpr std::size_t kMaxLights = 256;
+// Each object is one draw call with its own vertex buffer.
+inline constexpr std::size_t kMaxObjects = 100000;
+// Default bound on the estimated memory of a render (scene_memory + image_memory).
+inline constexpr std::uint64_t kDefaultMemoryLimit = std::uint64_t{4} << 30;
+
+// Render settings: image size, output transform, renderer options.
+struct RenderSettings {
+  int width = 1280;
+  int height = 720;
+  OutputSettings output{0.0f, ToneMap::Reinhard, 0.0f};  // exposure, tone map, gamma (0 = sRGB)
+  unsigned threads = 0;                                    // 0: all hardware threads
+  int tile_size = 64;
+};
+
+struct SceneFile {
+  Scene scene;
+  RenderSettings render;
+  Animation animation;
+  std::uint64_t mesh_bytes = 0;   // memory the scene's meshes and their draws are estimated to need
+  std::uint64_t triangles = 0;    // drawn per frame (a shared mesh counts once per object)
+  std::vector<std::string> warnings;  // e.g. from OBJ files, one line each, naming the file
+};
+
+struct SceneLoadOptions {
+  // The loader refuses a scene whose meshes are estimated to need more (checked before a
+  // procedural mesh is generated; after an OBJ file is read, since its size is only then known).
+  std::uint64_t memory_limit = kDefaultMemoryLimit;
+};
+
+// Reads and validates a scene file. Relative mesh paths resolve against the file's folder.
+// Throws SceneFileError (one line: the path as given, the JSON pointer, the problem).
+SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOptions& options = {});
+
+// The same from text: `name` is used in messages, `base_dir` resolves relative mesh paths.
+SceneFile parse_scene_file(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
+                           const SceneLoadOptions& options = {});
+
+// The scene at frame `frame` of the file's animation (frame 0 is the scene as written).
+inline Scene animate(const SceneFile& file, long frame) { return animate(file.scene, file.animation, frame); }
+
+// Estimated bytes of the buffers a width × height render allocates: the float colour and
+// depth target and the largest output's buffers (.exr's: 72 bytes a pixel in all).
+std::uint64_t image_memory(int width, int height);
+
+// "1.5 GiB", "12.0 MiB", "640 B": for messages.
+std::string format_bytes(std::uint64_t bytes);
+
+}  // namespace softpbr::pbr

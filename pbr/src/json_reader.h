@@ -1,0 +1,84 @@
+// json_reader.h — checked reading of untrusted JSON (private to pbr/src): every access
+// names the value by its JSON pointer (RFC 6901), every problem is one SceneFileError line
+// "FILE: /pointer: expected …, got …".
+#pragma once
+
+#include <cmath>
+#include <initializer_list>
+#include <optional>
+#include <utility>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <nlohmann/json.hpp>
+
+#include "softpbr/pbr/scene_file.h"
+
+namespace softpbr::pbr::json_reader {
+
+using Json = nlohmann::json;
+
+// A value in the document and its pointer.
+struct Node {
+  const Json& value;
+  std::string pointer;  // "" for the root
+
+  Node child(std::string_view key) const;
+  Node at(std::size_t index) const;
+};
+
+// The reader of one file: knows its name for messages.
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const Node& node, const std::string& what) const;
+  [[noreturn]] void fail(const std::string& pointer, const std::string& what) const;
+  const std::string& file() const { return file_; }
+
+  // An object whose keys are all in `allowed` (else: unknown key, with the closest allowed one).
+  void object(const Node& node, std::initializer_list<std::string_view> allowed) const;
+  // The member `key` of an object node, if present.
+  std::optional<Node> member(const Node& node, std::string_view key) const;
+  Node required(const Node& node, std::string_view key) const;
+
+  // A finite number in [lo, hi] (inclusive unless open_lo/open_hi), as float or double.
+  double number(const Node& node, double lo, double hi, bool open_lo = false, bool open_hi = false) const;
+  float number_f(const Node& node, double lo, double hi, bool open_lo = false, bool open_hi = false) const;
+  // An integer in [lo, hi].
+  long long integer(const Node& node, long long lo, long long hi) const;
+  std::string string(const Node& node) const;
+  // One of `names`.
+  std::string choice(const Node& node, const std::vector<std::string>& names) const;
+  // An array of n numbers in [lo, hi] (finite).
+  std::vector<float> numbers(const Node& node, std::size_t n, double lo, double hi) const;
+  glm::vec3 vec3(const Node& node, double lo = -1e30, double hi = 1e30) const;
+  std::size_t array(const Node& node, std::size_t max_count, const std::string& limit_reason) const;
+
+ private:
+  std::string file_;
+};
+
+// Structural problems nlohmann's DOM parser would not report: a key that appears twice in
+// one object (it keeps the last silently), and nesting deeper than kMaxDepth (the DOM and
+// its printing recurse). Found in one iterative SAX pass before the DOM is built; returns
+// {pointer, message} of the first, or nothing (also when the text is not valid JSON: the
+// DOM parser reports that).
+inline constexpr std::size_t kMaxDepth = 32;  // scene files nest 6 deep (a matrix row)
+struct Problem {
+  std::string pointer;
+  std::string message;
+};
+std::optional<Problem> find_structure_problem(std::string_view text);
+
+// JSON text of a value for "got …", shortened to about 40 characters.
+std::string show(const Json& value);
+// A number as written in ranges: 1 → "1", 0.5 → "0.5", 1e30 → "1e+30".
+std::string show_number(double x);
+// Pointer escaping of one reference token (~ → ~0, / → ~1).
+std::string escape_token(std::string_view key);
+
+}  // namespace softpbr::pbr::json_reader
