@@ -4,7 +4,9 @@
 // memory stays bounded), a renderer with 1–4 threads, an even tile size from 8 to 4096 and
 // a packet width, then a few draws of triangles whose clip-space coordinates come from a
 // table of hostile values (NaN, ±Inf, ±FLT_MAX, huge, denormal, ±0, w ≤ 0) or from raw
-// float bits, with random depth/cull/blend state, drawn by a scalar or a packet shader.
+// float bits, with random depth/cull/blend state, drawn by a scalar or a packet shader,
+// or by the PBR shader (the same hostile values as object-space positions, normals and
+// UVs; material and lights from the bytes when they pass validation).
 //
 // Checked beyond "no crash, no sanitizer report": the image (colour and depth bits) is the
 // same when the frame is rendered again on one thread with 64×64 tiles and scalar
@@ -24,8 +26,11 @@
 #include <fuzzer/FuzzedDataProvider.h>
 #include <glm/vec3.hpp>
 
+#include "softpbr/pbr/camera.h"
+#include "softpbr/pbr/shading.h"
 #include "softpbr/raster/raster.h"
 
+namespace pbr = softpbr::pbr;
 namespace raster = softpbr::raster;
 
 namespace {
@@ -84,11 +89,15 @@ float hostile_float(FuzzedDataProvider& in) {
   }
 }
 
+enum class Kind { Scalar, Packet, Pbr };
+
 struct Draw {
   std::vector<Vertex> vertices;
   std::vector<std::uint32_t> indices;
   raster::DrawState state;
-  bool packet = false;
+  Kind kind = Kind::Scalar;
+  pbr::PbrShader pbr;  // Kind::Pbr: uniforms from the bytes, materials and lights validated
+  std::vector<pbr::MeshVertex> mesh;  // Kind::Pbr: the vertices as positions, normals, UVs
 };
 
 struct Frame {
@@ -96,6 +105,50 @@ struct Frame {
   bool clear = true;
   std::vector<Draw> draws;
 };
+
+glm::vec3 hostile_vec3(FuzzedDataProvider& in) {
+  const float x = hostile_float(in), y = hostile_float(in);
+  return {x, y, hostile_float(in)};
+}
+
+// The PBR shader as pbr::render() sets it up (a camera at (0, 0, 3) looking at the
+// origin), with a material and lights from the bytes that pass validation (or defaults):
+// hostile values reach shading only through vertex data, as in a real scene.
+void decode_pbr(FuzzedDataProvider& in, Draw& draw) {
+  for (const Vertex& v : draw.vertices)
+    draw.mesh.push_back({glm::vec3(v.position), v.color, {v.position.w, v.color.r}});
+  pbr::Camera camera;
+  draw.pbr.view_projection = camera.projection(1.0f) * camera.view();
+  draw.pbr.eye = camera.position;
+  draw.pbr.ambient = glm::vec3(in.ConsumeFloatingPointInRange(0.0f, 1.0f));
+  pbr::Material m;
+  m.base_color = hostile_vec3(in);
+  m.metallic = hostile_float(in);
+  m.roughness = hostile_float(in);
+  m.emissive = hostile_vec3(in);
+  try {
+    draw.pbr.material = pbr::prepare_material(m);
+  } catch (const std::invalid_argument&) {
+    draw.pbr.material = pbr::prepare_material(pbr::Material{});
+  }
+  auto lights = std::make_shared<std::vector<pbr::PreparedLight>>();
+  for (int i = in.ConsumeIntegralInRange(0, 3); i > 0; --i) {
+    pbr::Light l;
+    l.type = in.PickValueInArray({pbr::LightType::Point, pbr::LightType::Directional, pbr::LightType::Spot});
+    l.position = hostile_vec3(in);
+    l.direction = hostile_vec3(in);
+    l.color = hostile_vec3(in);
+    l.intensity = hostile_float(in);
+    l.range = hostile_float(in);
+    l.inner_cone = hostile_float(in);
+    l.outer_cone = hostile_float(in);
+    try {
+      lights->push_back(pbr::prepare_light(l));
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  draw.pbr.lights = lights;
+}
 
 Frame decode(FuzzedDataProvider& in) {
   Frame f;
@@ -109,7 +162,7 @@ Frame decode(FuzzedDataProvider& in) {
   const int draws = in.ConsumeIntegralInRange(1, 3);
   for (int d = 0; d < draws && in.remaining_bytes() > 0; ++d) {
     Draw draw;
-    draw.packet = in.ConsumeBool();
+    draw.kind = in.PickValueInArray({Kind::Scalar, Kind::Packet, Kind::Pbr});
     draw.state.depth_test = in.PickValueInArray({raster::DepthTest::Less, raster::DepthTest::LessEqual,
                                                  raster::DepthTest::Always});
     draw.state.depth_write = in.ConsumeBool();
@@ -128,6 +181,7 @@ Frame decode(FuzzedDataProvider& in) {
     const int indices = in.ConsumeIntegralInRange(0, 48);
     for (int i = 0; i < indices; ++i)
       draw.indices.push_back(in.ConsumeIntegralInRange<std::uint32_t>(0, static_cast<std::uint32_t>(vertices)));
+    if (draw.kind == Kind::Pbr) decode_pbr(in, draw);
     f.draws.push_back(std::move(draw));
   }
   return f;
@@ -156,8 +210,11 @@ raster::Target render(const Frame& f, raster::Renderer& renderer) {
   else renderer.begin_frame(target);
   for (const Draw& d : f.draws) {
     try {
-      if (d.packet) renderer.draw(PacketShader{}, std::span<const Vertex>(d.vertices), d.indices, d.state);
-      else renderer.draw(ScalarShader{}, std::span<const Vertex>(d.vertices), d.indices, d.state);
+      switch (d.kind) {
+        case Kind::Scalar: renderer.draw(ScalarShader{}, std::span<const Vertex>(d.vertices), d.indices, d.state); break;
+        case Kind::Packet: renderer.draw(PacketShader{}, std::span<const Vertex>(d.vertices), d.indices, d.state); break;
+        case Kind::Pbr: renderer.draw(d.pbr, std::span<const pbr::MeshVertex>(d.mesh), d.indices, d.state); break;
+      }
     } catch (const std::invalid_argument&) {  // index count not a multiple of 3
     } catch (const std::out_of_range&) {      // index past the vertices
     }
