@@ -38,7 +38,7 @@ std::string rle_scanline() {
 }  // namespace
 
 TEST_CASE("an .hdr file cut inside a run-length encoded scanline is an error, not an endless loop") {
-  // fuzz_image's finding (timeout, stb_image 2.28 looping on zero counts read past the end):
+  // fuzz_image's finding (timeout, stb_image 2.27 looping on zero counts read past the end):
   // a 8x3 RLE file whose data stops in the middle of the second scanline's runs.
   const std::string finding = kHeader + "-Y 3 +X 8\n" +
                               std::string("\x02\x02\x00\x08\x88\x64\x88\x32\x88\x19\x88\x80"

@@ -1,11 +1,12 @@
 // Internal to softpbr_golden: a walk over a Radiance .hdr file's pixel data, run before
 // stb_image decodes it, that refuses files whose data ends early.
 //
-// Why: stb_image (Debian's 2.28 build) reads zero bytes past the end of the data, and a
-// zero count inside a run-length-encoded scanline does not advance its loop, so a file cut
-// inside such a scanline makes stbi_loadf loop forever (found by fuzz/fuzz_image). A
-// truncated flat file makes it read up to width × height × 4 bytes of nothing. Walking
-// the data the way stb's decoder does, before it runs, turns both into an error.
+// Why: stb_image (v2.27 in Debian 12's libstb-dev) reads zero bytes past the end of the
+// data, and a zero count inside a run-length-encoded scanline does not advance its loop, so
+// a file cut inside such a scanline makes stbi_loadf loop forever (found by
+// fuzz/fuzz_image). A truncated flat file makes it read up to width × height × 4 bytes of
+// nothing. Walking the data the way stb's decoder does, before it runs, turns both into an
+// error.
 #pragma once
 
 #include <cstdio>
