@@ -82,6 +82,36 @@ TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") 
   }
 }
 
+TEST_CASE("load_png refuses other formats, whose stb decoders read past the end of a small file") {
+  // fuzz_image's finding (timeout): 24 bytes of run-length encoded grey TGA claiming
+  // 3340 x 3854 pixels, which stb_image decoded from zeros read past the end.
+  const std::string tga("\x01\x00\x0b\x00\x00\x31\x00\xb0\x42\x7e\x60\x0b\x0c\x0d\x0e\x0f\x10\x11\xf8\xeb\x15"
+                        "\xc3\x16\x82",
+                        24);
+  struct Case {
+    const char* name;
+    std::string bytes;
+  };
+  const Case cases[] = {
+      {"finding.tga", tga},
+      {"huge.pgm", "P5 16384 16384 255\n"},
+      {"huge.bmp", std::string("BM\x00\x00\x00\x00\x00\x00\x00\x00\x36\x00\x00\x00\x28\x00\x00\x00"
+                               "\x00\x40\x00\x00\x00\x40\x00\x00\x01\x00\x18\x00",
+                               30)},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    const fs::path path = scratch(c.name);
+    write(path, c.bytes);
+    try {
+      golden::load_png(path);
+      FAIL("no exception");
+    } catch (const std::runtime_error& e) {
+      CHECK(std::string(e.what()).rfind(path.string() + ": ", 0) == 0);
+    }
+  }
+}
+
 TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused before decoding") {
   // A PNG header (IHDR) claiming 100000 x 100000 pixels, and an .hdr resolution line
   // claiming 100000 x 100000; neither has the data.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -98,6 +99,14 @@ ImageF decode_hdr(const float* rgb, int w, int h) {
 Image8 load_png(const std::filesystem::path& path) {
   File f = open_checked(path, false);
   int w = 0, h = 0, channels = 0;
+  // PNG only: stb_image's TGA, BMP, PSD, PIC and PNM decoders read zeros past the end of a
+  // file, so a 24-byte TGA claiming 3340x3854 pixels decodes for seconds (fuzz_image).
+  // PNG's decoder stops where the compressed data does.
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  unsigned char head[8] = {};
+  if (std::fread(head, 1, 8, f.get()) != 8 || std::memcmp(head, kSignature, 8) != 0)
+    fail(path, "not a PNG file (no PNG signature)");
+  if (std::fseek(f.get(), 0, SEEK_SET) != 0) fail(path, "cannot seek back to the start");
   std::unique_ptr<stbi_uc, StbFree> data(stbi_load_from_file(f.get(), &w, &h, &channels, 4));
   if (!data) fail(path, std::string("cannot decode (") + stbi_failure_reason() + ")");
   Image8 image{w, h, {}};
