@@ -48,7 +48,9 @@ std::string hdr_truncation(std::FILE* file, int width, int height) {
   int empty_lines_seen = 0, line_length = 0, lines = 0;
   for (;;) {
     const int c = in.next();
-    if (c < 0) return "";  // no pixel data at all: stb reports a bad header itself
+    // The file ends in the header (stb reports a bad header itself), or on the resolution
+    // line: stb parses that line and then reads every pixel from past the end.
+    if (c < 0) return empty_lines_seen == 1 ? missing("the resolution line: there is no pixel data", in.read()) : "";
     if (c != '\n') {
       ++line_length;
       continue;
