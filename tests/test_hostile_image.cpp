@@ -96,7 +96,7 @@ TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") 
   }
 }
 
-TEST_CASE("load_png refuses other formats, whose stb decoders read past the end of a small file") {
+TEST_CASE("only PNG and .hdr files reach stb_image: other formats are refused by their first bytes") {
   // fuzz_image's finding (timeout): 24 bytes of run-length encoded grey TGA claiming
   // 3340 x 3854 pixels, which stb_image decoded from zeros read past the end.
   const std::string tga("\x01\x00\x0b\x00\x00\x31\x00\xb0\x42\x7e\x60\x0b\x0c\x0d\x0e\x0f\x10\x11\xf8\xeb\x15"
@@ -109,21 +109,27 @@ TEST_CASE("load_png refuses other formats, whose stb decoders read past the end 
   const Case cases[] = {
       {"finding.tga", tga},
       {"huge.pgm", "P5 16384 16384 255\n"},
+      // fuzz_image's finding (UBSan: signed overflow in stb's PNM header parser, which
+      // stbi_info tried on any file before the signature checks).
+      {"overflow.ppm", std::string("P696666666666b\0bb", 17)},
       {"huge.bmp", std::string("BM\x00\x00\x00\x00\x00\x00\x00\x00\x36\x00\x00\x00\x28\x00\x00\x00"
                                "\x00\x40\x00\x00\x00\x40\x00\x00\x01\x00\x18\x00",
                                30)},
   };
-  for (const Case& c : cases) {
-    CAPTURE(c.name);
-    const fs::path path = scratch(c.name);
-    write(path, c.bytes);
-    try {
-      golden::load_png(path);
-      FAIL("no exception");
-    } catch (const std::runtime_error& e) {
-      CHECK(std::string(e.what()).rfind(path.string() + ": ", 0) == 0);
+  for (const Case& c : cases)
+    for (const bool hdr : {false, true}) {
+      CAPTURE(c.name);
+      CAPTURE(hdr);
+      const fs::path path = scratch(c.name);
+      write(path, c.bytes);
+      try {
+        if (hdr) golden::load_hdr(path);
+        else golden::load_png(path);
+        FAIL("no exception");
+      } catch (const std::runtime_error& e) {
+        CHECK(std::string(e.what()).rfind(path.string() + ": not a readable image (no ", 0) == 0);
+      }
     }
-  }
 }
 
 TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused before decoding") {
