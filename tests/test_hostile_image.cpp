@@ -132,6 +132,24 @@ TEST_CASE("only PNG and .hdr files reach stb_image: other formats are refused by
     }
 }
 
+TEST_CASE("a PNG chunk claiming more bytes than the file has is refused before stb allocates them") {
+  // fuzz_image's finding (malloc of 2 GiB): a 9x1 1-bit PNG whose second IDAT chunk
+  // claims 0x5f80000b bytes in an 84-byte file.
+  const std::string finding(
+      "\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x00\x09\x00\x00\x00\x01\x01\x00\x00\x00\x00\x24\xb9"
+      "\xb9\xd0\x00\x00\x00\x0bIDATx\x9c\x63\x24\xb9\xb9\xd0\x00\x00\x00\x00\x60\xe0\x00\x02\x5f\x80\x00"
+      "\x0bIDAT\xae\x42\x60\x82\x63\x24\xb9\xb9\xd0\x00\x00\x00\x0bIL:\x00\x00\xe7",
+      83);
+  const fs::path path = scratch("finding-idat-claim.png");
+  write(path, finding);
+  try {
+    golden::load_png(path);
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).rfind(path.string() + ": cannot decode (truncated: chunk 'IDAT'", 0) == 0);
+  }
+}
+
 TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused before decoding") {
   // A PNG header (IHDR) claiming 100000 x 100000 pixels, and an .hdr resolution line
   // claiming 100000 x 100000; neither has the data.

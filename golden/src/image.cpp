@@ -14,6 +14,7 @@
 
 #include "softpbr/raster/color.h"
 #include "hdr_scan.h"
+#include "png_scan.h"
 #include "samples.h"
 
 namespace softpbr::golden {
@@ -118,6 +119,10 @@ ImageF decode_hdr(const float* rgb, int w, int h) {
 Image8 load_png(const std::filesystem::path& path) {
   File f = open_checked(path, false);
   int w = 0, h = 0, channels = 0;
+  // stb_image allocates what a chunk claims before reading it (png_scan.h).
+  if (const std::string problem = detail::png_truncation(f.get()); !problem.empty())
+    fail(path, "cannot decode (" + problem + ")");
+  if (std::fseek(f.get(), 0, SEEK_SET) != 0) fail(path, "cannot seek back to the start");
   std::unique_ptr<stbi_uc, StbFree> data(stbi_load_from_file(f.get(), &w, &h, &channels, 4));
   if (!data) fail(path, std::string("cannot decode (") + stbi_failure_reason() + ")");
   Image8 image{w, h, {}};
