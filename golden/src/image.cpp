@@ -7,11 +7,14 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include <stb_image.h>
 #include <stb_image_write.h>
 
 #include "softpbr/raster/color.h"
+#include "hdr_scan.h"
+#include "png_scan.h"
 #include "samples.h"
 
 namespace softpbr::golden {
@@ -31,14 +34,33 @@ struct StbFree {
   throw std::runtime_error(path.string() + ": " + what);
 }
 
-// Opens `path` and checks its header: readable by stb_image, a size a Target could have
-// (each side at most raster::kMaxTargetSize, so a hostile header cannot ask for more
-// memory than the largest render), and HDR or not as the caller wants.
+// PNG and Radiance files by their first bytes (the PNG signature; stb_image's HDR test).
+bool starts_with(const std::string& head, std::string_view magic) { return head.compare(0, magic.size(), magic) == 0; }
+bool is_png_signature(const std::string& head) { return starts_with(head, "\x89PNG\r\n\x1a\n"); }
+bool is_hdr_signature(const std::string& head) {
+  return starts_with(head, "#?RADIANCE\n") || starts_with(head, "#?RGBE\n");
+}
+
+// Opens `path` and checks its header: a PNG or .hdr file as the caller wants, readable by
+// stb_image, a size a Target could have (each side at most raster::kMaxTargetSize, so a
+// hostile header cannot ask for more memory than the largest render).
+//
+// Only PNG and .hdr reach stb_image, by their signatures: its other decoders misbehave on
+// hostile files (fuzz_image found a 24-byte TGA claiming 3340x3854 pixels that it decodes
+// for seconds from zeros read past the end, as its BMP, PSD, PIC and PNM decoders would,
+// and a signed overflow in its PNM header parser, which stbi_info reaches for any file).
 File open_checked(const std::filesystem::path& path, bool want_hdr) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) fail(path, "no such file");
   File f(std::fopen(path.c_str(), "rb"));
   if (!f) fail(path, "cannot open for reading");
+  std::string head(16, '\0');
+  head.resize(std::fread(head.data(), 1, head.size(), f.get()));
+  if (std::fseek(f.get(), 0, SEEK_SET) != 0) fail(path, "cannot seek back to the start");
+  if (is_hdr_signature(head) && !want_hdr) fail(path, "is a Radiance .hdr (float) image; load it with load_hdr");
+  if (is_png_signature(head) && want_hdr) fail(path, "is an 8-bit image, not a Radiance .hdr; load it with load_png");
+  if (!(want_hdr ? is_hdr_signature(head) : is_png_signature(head)))
+    fail(path, want_hdr ? "not a readable image (no Radiance .hdr signature)" : "not a readable image (no PNG signature)");
   int w = 0, h = 0, channels = 0;
   if (!stbi_info_from_file(f.get(), &w, &h, &channels))
     fail(path, std::string("not a readable image (") + stbi_failure_reason() + ")");
@@ -97,6 +119,10 @@ ImageF decode_hdr(const float* rgb, int w, int h) {
 Image8 load_png(const std::filesystem::path& path) {
   File f = open_checked(path, false);
   int w = 0, h = 0, channels = 0;
+  // stb_image allocates what a chunk claims before reading it (png_scan.h).
+  if (const std::string problem = detail::png_truncation(f.get()); !problem.empty())
+    fail(path, "cannot decode (" + problem + ")");
+  if (std::fseek(f.get(), 0, SEEK_SET) != 0) fail(path, "cannot seek back to the start");
   std::unique_ptr<stbi_uc, StbFree> data(stbi_load_from_file(f.get(), &w, &h, &channels, 4));
   if (!data) fail(path, std::string("cannot decode (") + stbi_failure_reason() + ")");
   Image8 image{w, h, {}};
@@ -107,6 +133,11 @@ Image8 load_png(const std::filesystem::path& path) {
 ImageF load_hdr(const std::filesystem::path& path) {
   File f = open_checked(path, true);
   int w = 0, h = 0, channels = 0;
+  // stb_image hangs on some truncated files (hdr_scan.h): check the data is all there.
+  if (!stbi_info_from_file(f.get(), &w, &h, &channels)) fail(path, "not a readable image");
+  const long start = std::ftell(f.get());
+  if (const std::string problem = detail::hdr_truncation(f.get(), w, h); !problem.empty()) fail(path, problem);
+  if (start < 0 || std::fseek(f.get(), start, SEEK_SET) != 0) fail(path, "cannot seek back to the start");
   std::unique_ptr<float, StbFree> data(stbi_loadf_from_file(f.get(), &w, &h, &channels, 3));
   if (!data) fail(path, std::string("cannot decode (") + stbi_failure_reason() + ")");
   return decode_hdr(data.get(), w, h);

@@ -23,9 +23,9 @@ struct ImageF {
   std::vector<float> rgba;  // width * height * 4 floats
 };
 
-// Loads an 8-bit image (PNG, or any other 8-bit format stb_image reads) as RGBA: grey and
-// RGB files get alpha 255, 16-bit files are reduced to 8 bits. Refuses .hdr files (stb
-// would tone map them; use load_hdr).
+// Loads a PNG image as RGBA: grey and RGB files get alpha 255, 16-bit files are reduced to
+// 8 bits. Refuses .hdr files (stb would tone map them; use load_hdr) and every other format
+// (stb_image's TGA/BMP/PSD/PNM decoders read on past the end of truncated files).
 Image8 load_png(const std::filesystem::path& path);
 
 // Loads a Radiance .hdr file as linear float RGBA with alpha 1. Refuses 8-bit files (stb

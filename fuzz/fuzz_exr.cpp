@@ -1,0 +1,63 @@
+// libFuzzer target: OpenEXR loading (cli::load_exr, the `softpbr diff` input path).
+//
+// The input is the file, written to a private temporary folder as fuzz.exr. A
+// std::runtime_error whose text starts with the path is a fine outcome; anything else is a
+// finding, as is a loaded image whose pixel count disagrees with its size.
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "exr_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+[[noreturn]] void finding(const char* what) {
+  std::fprintf(stderr, "fuzz_exr: %s\n", what);
+  std::abort();
+}
+
+// The private temporary folder, removed when the fuzzer exits.
+struct Folder {
+  fs::path path = fs::temp_directory_path() / ("softpbr-fuzz-exr-" + std::to_string(::getpid()));
+  Folder() { fs::create_directories(path); }
+  ~Folder() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+const fs::path& folder() {
+  static const Folder dir;
+  return dir.path;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const fs::path path = folder() / "fuzz.exr";
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+    if (!out) finding("cannot write the temporary input file");
+  }
+  try {
+    const softpbr::golden::ImageF image = softpbr::cli::load_exr(path);
+    if (image.width < 1 || image.height < 1 ||
+        image.rgba.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4)
+      finding("loaded image size disagrees with its pixels");
+  } catch (const std::runtime_error& e) {
+    if (std::string_view(e.what()).substr(0, path.string().size()) != path.string())
+      finding("an error that does not start with the file name");
+  }
+  return 0;
+}

@@ -1,0 +1,92 @@
+// The truncation check of Radiance .hdr pixel data (see hdr_scan.h). It follows
+// stbi__hdr_load in stb_image.h: header lines up to an empty line, the resolution line,
+// then either flat RGBE pixels (width < 8 or ≥ 32768) or, per scanline, the new-style RLE
+// marker (2, 2, width high byte with bit 7 clear, width low byte) and four component runs;
+// a scanline without the marker switches stb to flat pixels for the rest of the image.
+#include "hdr_scan.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace softpbr::golden::detail {
+
+namespace {
+
+// Byte reader over a FILE* that counts what it has read.
+class Reader {
+ public:
+  explicit Reader(std::FILE* f) : f_(f) {}
+  // The next byte, or −1 at the end.
+  int next() {
+    const int c = std::getc(f_);
+    if (c != EOF) ++read_;
+    return c;
+  }
+  // Skips `n` bytes; false if the file ends first.
+  bool skip(std::uint64_t n) {
+    for (; n > 0; --n)
+      if (next() < 0) return false;
+    return true;
+  }
+  std::uint64_t read() const { return read_; }
+
+ private:
+  std::FILE* f_;
+  std::uint64_t read_ = 0;
+};
+
+std::string missing(const char* what, std::uint64_t at) {
+  return std::string("truncated: the pixel data ends inside ") + what + " (after " + std::to_string(at) +
+         " bytes of the file)";
+}
+
+}  // namespace
+
+std::string hdr_truncation(std::FILE* file, int width, int height) {
+  Reader in(file);
+  // Header: the magic line, lines up to an empty one, then the resolution line.
+  int empty_lines_seen = 0, line_length = 0, lines = 0;
+  for (;;) {
+    const int c = in.next();
+    // The file ends in the header (stb reports a bad header itself), or on the resolution
+    // line: stb parses that line and then reads every pixel from past the end.
+    if (c < 0) return empty_lines_seen == 1 ? missing("the resolution line: there is no pixel data", in.read()) : "";
+    if (c != '\n') {
+      ++line_length;
+      continue;
+    }
+    ++lines;
+    if (lines > 1 && line_length == 0 && empty_lines_seen == 0) empty_lines_seen = 1;
+    else if (empty_lines_seen == 1) break;  // the resolution line just ended
+    line_length = 0;
+  }
+
+  const std::uint64_t pixels = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+  if (width < 8 || width >= 32768)
+    return in.skip(pixels * 4) ? "" : missing("the flat pixels", in.read());
+  for (int y = 0; y < height; ++y) {
+    const int c1 = in.next(), c2 = in.next(), hi = in.next();
+    if (hi < 0) return missing("a scanline marker", in.read());
+    if (c1 != 2 || c2 != 2 || (hi & 0x80) != 0)  // not RLE: stb decodes the rest flat, from pixel 1
+      return in.skip(4 + (pixels - 1) * 4 - 3) ? "" : missing("the flat pixels", in.read());
+    const int lo = in.next();
+    if (lo < 0) return missing("a scanline marker", in.read());
+    if ((hi << 8 | lo) != width) return "";  // stb: "invalid decoded scanline length"
+    for (int k = 0; k < 4; ++k)
+      for (int i = 0; i < width;) {
+        int count = in.next();
+        if (count < 0) return missing("a run-length encoded scanline", in.read());
+        if (count > 128) {
+          count -= 128;
+          if (in.next() < 0) return missing("a run-length encoded scanline", in.read());
+        } else if (count <= width - i && !in.skip(static_cast<std::uint64_t>(count))) {
+          return missing("a run-length encoded scanline", in.read());
+        }
+        if (count > width - i) return "";  // stb: "bad RLE data in HDR"
+        i += count;
+      }
+  }
+  return "";
+}
+
+}  // namespace softpbr::golden::detail

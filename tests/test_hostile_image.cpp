@@ -1,0 +1,168 @@
+// Hostile PNG and Radiance .hdr files: each loads or is a clear error naming the file, in
+// bounded time. Regression tests for fuzz/fuzz_image's findings.
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "softpbr/golden/image.h"
+
+namespace golden = softpbr::golden;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_hostile_image";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+void write(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+const std::string kHeader = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+
+// One new-style RLE scanline of width 8: the marker, then per component a run of 8.
+std::string rle_scanline() {
+  std::string s = {2, 2, 0, 8};
+  for (int k = 0; k < 4; ++k) s += {static_cast<char>(128 + 8), static_cast<char>(k == 3 ? 129 : 100)};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("an .hdr file cut inside a run-length encoded scanline is an error, not an endless loop") {
+  // fuzz_image's finding (timeout, stb_image 2.27 looping on zero counts read past the end):
+  // a 8x3 RLE file whose data stops in the middle of the second scanline's runs.
+  const std::string finding = kHeader + "-Y 3 +X 8\n" +
+                              std::string("\x02\x02\x00\x08\x88\x64\x88\x32\x88\x19\x88\x80"
+                                          "\x02\x02\x00\x08\x08\x88\x64\x05\x00\x00\x88\x2e\x32\x88\x19\x88\x80",
+                                          31);
+  const fs::path path = scratch("finding-rle-truncated.hdr");
+  write(path, finding);
+  try {
+    golden::load_hdr(path);
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).rfind(path.string() + ": truncated", 0) == 0);
+  }
+}
+
+TEST_CASE("an .hdr file that ends on its resolution line is an error, not an image read from nothing") {
+  // fuzz_image's finding (timeout): no newline after "-Y 16384 +X 1638", so no pixel data;
+  // stb_image parsed the size and decoded 16384 x 1638 pixels of zeros from past the end.
+  const std::string finding = kHeader + "-Y 16384 +X 1638" +
+                              std::string("\xcc\xf5\xfd\xfd\xbf\xff\x43\x45\xbc\xbc\x02\x02\x38\xbc\xbc\xff", 16);
+  const fs::path path = scratch("finding-no-data.hdr");
+  write(path, finding);
+  try {
+    golden::load_hdr(path);
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).rfind(path.string() + ": truncated", 0) == 0);
+  }
+}
+
+TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") {
+  struct Case {
+    const char* name;
+    std::string file;
+    int width, height;
+  };
+  const Case cases[] = {
+      {"rle", kHeader + "-Y 2 +X 8\n" + rle_scanline() + rle_scanline(), 8, 2},
+      {"flat", kHeader + "-Y 1 +X 2\n" + std::string("\x80\x40\x20\x81\x01\x02\x03\x82", 8), 2, 1},
+      // A scanline without the RLE marker switches the decoder to flat pixels.
+      {"rle-then-flat", kHeader + "-Y 1 +X 8\n" + std::string(8 * 4, '\x81'), 8, 1},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    const fs::path path = scratch(std::string("prefix-") + c.name + ".hdr");
+    for (std::size_t n = kHeader.size(); n < c.file.size(); ++n) {  // from the resolution line on
+      CAPTURE(n);
+      write(path, c.file.substr(0, n));
+      CHECK_THROWS_AS(golden::load_hdr(path), std::runtime_error);
+    }
+    write(path, c.file);
+    const golden::ImageF image = golden::load_hdr(path);
+    CHECK(image.width == c.width);
+    CHECK(image.height == c.height);
+  }
+}
+
+TEST_CASE("only PNG and .hdr files reach stb_image: other formats are refused by their first bytes") {
+  // fuzz_image's finding (timeout): 24 bytes of run-length encoded grey TGA claiming
+  // 3340 x 3854 pixels, which stb_image decoded from zeros read past the end.
+  const std::string tga("\x01\x00\x0b\x00\x00\x31\x00\xb0\x42\x7e\x60\x0b\x0c\x0d\x0e\x0f\x10\x11\xf8\xeb\x15"
+                        "\xc3\x16\x82",
+                        24);
+  struct Case {
+    const char* name;
+    std::string bytes;
+  };
+  const Case cases[] = {
+      {"finding.tga", tga},
+      {"huge.pgm", "P5 16384 16384 255\n"},
+      // fuzz_image's finding (UBSan: signed overflow in stb's PNM header parser, which
+      // stbi_info tried on any file before the signature checks).
+      {"overflow.ppm", std::string("P696666666666b\0bb", 17)},
+      {"huge.bmp", std::string("BM\x00\x00\x00\x00\x00\x00\x00\x00\x36\x00\x00\x00\x28\x00\x00\x00"
+                               "\x00\x40\x00\x00\x00\x40\x00\x00\x01\x00\x18\x00",
+                               30)},
+  };
+  for (const Case& c : cases)
+    for (const bool hdr : {false, true}) {
+      CAPTURE(c.name);
+      CAPTURE(hdr);
+      const fs::path path = scratch(c.name);
+      write(path, c.bytes);
+      try {
+        if (hdr) golden::load_hdr(path);
+        else golden::load_png(path);
+        FAIL("no exception");
+      } catch (const std::runtime_error& e) {
+        CHECK(std::string(e.what()).rfind(path.string() + ": not a readable image (no ", 0) == 0);
+      }
+    }
+}
+
+TEST_CASE("a PNG chunk claiming more bytes than the file has is refused before stb allocates them") {
+  // fuzz_image's finding (malloc of 2 GiB): a 9x1 1-bit PNG whose second IDAT chunk
+  // claims 0x5f80000b bytes in an 84-byte file.
+  const std::string finding(
+      "\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x00\x09\x00\x00\x00\x01\x01\x00\x00\x00\x00\x24\xb9"
+      "\xb9\xd0\x00\x00\x00\x0bIDATx\x9c\x63\x24\xb9\xb9\xd0\x00\x00\x00\x00\x60\xe0\x00\x02\x5f\x80\x00"
+      "\x0bIDAT\xae\x42\x60\x82\x63\x24\xb9\xb9\xd0\x00\x00\x00\x0bIL:\x00\x00\xe7",
+      83);
+  const fs::path path = scratch("finding-idat-claim.png");
+  write(path, finding);
+  try {
+    golden::load_png(path);
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).rfind(path.string() + ": cannot decode (truncated: chunk 'IDAT'", 0) == 0);
+  }
+}
+
+TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused before decoding") {
+  // A PNG header (IHDR) claiming 100000 x 100000 pixels, and an .hdr resolution line
+  // claiming 100000 x 100000; neither has the data.
+  const std::string png_ihdr("\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00"
+                             "\x00\x00\x00\x00\x00\x00\x00\x00IEND\xae\x42\x60\x82",
+                             45);
+  write(scratch("huge.png"), png_ihdr);
+  CHECK_THROWS_AS(golden::load_png(scratch("huge.png")), std::runtime_error);
+  write(scratch("huge.hdr"), kHeader + "-Y 100000 +X 100000\n");
+  try {
+    golden::load_hdr(scratch("huge.hdr"));
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()).find("100000x100000") != std::string::npos);
+  }
+}

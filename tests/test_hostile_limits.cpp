@@ -1,0 +1,157 @@
+// Limits: absurd sizes and counts are a clear error (or a bounded result), never an
+// out-of-memory kill or a hang (issue 8). Each case is decided before any large
+// allocation or any read of the claimed data.
+#include <doctest/doctest.h>
+
+#include <sys/mman.h>
+
+#include <climits>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/obj.h"
+#include "softpbr/pbr/scene.h"
+#include "softpbr/raster/raster.h"
+
+namespace raster = softpbr::raster;
+namespace pbr = softpbr::pbr;
+
+namespace {
+
+// `bytes` of address space that may not be touched (PROT_NONE): a span over it that the
+// renderer read from would crash the test, so a clean exception proves nothing was read.
+class Untouchable {
+ public:
+  explicit Untouchable(std::size_t bytes) : bytes_(bytes) {
+    void* p = ::mmap(nullptr, bytes, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    REQUIRE(p != MAP_FAILED);
+    data_ = p;
+  }
+  ~Untouchable() { ::munmap(data_, bytes_); }
+  Untouchable(const Untouchable&) = delete;
+  Untouchable& operator=(const Untouchable&) = delete;
+  template <class T>
+  std::span<const T> as(std::size_t count) const {
+    REQUIRE(count * sizeof(T) <= bytes_);
+    return {static_cast<const T*>(data_), count};
+  }
+
+ private:
+  std::size_t bytes_;
+  void* data_;
+};
+
+struct PositionShader {
+  using Vertex = glm::vec4;
+  struct Varyings {};
+  glm::vec4 vertex(const Vertex& in, Varyings&) const { return in; }
+  glm::vec4 fragment(const raster::Fragment<Varyings>&) const { return {1, 1, 1, 1}; }
+};
+
+std::filesystem::path scratch_dir() {
+  const auto dir = std::filesystem::path(SOFTPBR_BINARY_DIR) / "test_hostile_limits";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("targets outside 1x1 .. kMaxTargetSize are refused before allocating, naming the size") {
+  struct Case {
+    int width, height;
+    const char* shown;
+  };
+  const Case cases[] = {{100000, 100000, "100000x100000"},
+                        {raster::kMaxTargetSize + 1, 1, "16385x1"},
+                        {1, raster::kMaxTargetSize + 1, "1x16385"},
+                        {0, 1, "0x1"},
+                        {-1, -1, "-1x-1"},
+                        {INT_MAX, INT_MAX, "2147483647x2147483647"},
+                        {INT_MIN, 16, "-2147483648x16"}};
+  for (const Case& c : cases) {
+    CAPTURE(c.shown);
+    try {
+      raster::Target target(c.width, c.height);
+      FAIL("no exception");
+    } catch (const std::invalid_argument& e) {
+      CHECK(std::string(e.what()).find(c.shown) != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("tile sizes that are odd or outside [kMinTileSize, kMaxTileSize] are refused") {
+  for (const int tile : {0, -8, 7, 9, raster::kMinTileSize - 2, raster::kMaxTileSize + 2, INT_MAX, INT_MIN}) {
+    CAPTURE(tile);
+    CHECK_THROWS_AS(raster::Renderer({.threads = 1, .tile_size = tile}), std::invalid_argument);
+  }
+}
+
+TEST_CASE("a draw claiming 2^31 or more indices is refused without reading them, and the frame goes on") {
+  // 2^31 indices are 8 GiB; 3·2^30 + 3 are 12 GiB and one triangle past the 2^30 limit.
+  const std::size_t counts[] = {std::size_t{1} << 31, 3 * ((std::size_t{1} << 30) + 1)};
+  const Untouchable memory(counts[1] * sizeof(std::uint32_t));
+  const std::vector<glm::vec4> vertices(3, glm::vec4(0, 0, 0, 1));
+  raster::Renderer renderer({.threads = 2});
+  raster::Target target(8, 8);
+  renderer.begin_frame(target, raster::ClearValues{{0, 0, 0, 1}, 1.0f});
+  for (const std::size_t count : counts) {
+    CAPTURE(count);
+    CHECK_THROWS_AS(renderer.draw(PositionShader{}, std::span<const glm::vec4>(vertices),
+                                  memory.as<std::uint32_t>(count)),
+                    std::logic_error);  // invalid_argument (not whole triangles) or length_error
+  }
+  renderer.end_frame();
+  CHECK(target.color(3, 3) == glm::vec4(0, 0, 0, 1));
+}
+
+TEST_CASE("a non-indexed draw claiming 2^32 vertices is refused without reading them") {
+  const std::size_t count = std::size_t{1} << 32;  // 64 GiB of vec4
+  const Untouchable memory(count * sizeof(glm::vec4));
+  raster::Renderer renderer({.threads = 1});
+  raster::Target target(4, 4);
+  renderer.begin_frame(target);
+  CHECK_THROWS_AS(renderer.draw(PositionShader{}, memory.as<glm::vec4>(count)), std::length_error);
+  renderer.end_frame();
+}
+
+TEST_CASE("OBJ indices beyond 2^31 are a located error, not a huge allocation") {
+  const auto path = scratch_dir() / "huge_index.obj";
+  for (const char* index : {"2147483648", "4294967296", "-2147483649", "99999999999999999999999"}) {
+    CAPTURE(index);
+    std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 " << index << "\n";
+    try {
+      pbr::load_obj(path);
+      FAIL("no exception");
+    } catch (const pbr::LoadError& e) {
+      CHECK(std::string(e.what()).rfind(path.string() + ":4: ", 0) == 0);
+    }
+  }
+}
+
+TEST_CASE("a million lights through the API is a bounded render with finite pixels") {
+  // Cost is pixels × lights: a 2×2 target keeps it to 4·10⁶ light evaluations. (Scene
+  // files cap the light count; the API leaves that to the caller.)
+  pbr::GalleryOptions options;
+  options.rows = {"gold"};
+  options.columns = 1;
+  options.segments = 8;
+  pbr::Scene scene = pbr::make_gallery(options);
+  scene.camera.position = {0.0f, 0.0f, 1.0f};  // the one sphere fills the view
+  pbr::Light light;
+  light.position = {0.0f, 0.0f, 5.0f};
+  light.intensity = 1e-6f;
+  scene.lights.assign(1'000'000, light);
+  raster::Renderer renderer({.threads = 2});
+  raster::Target target(2, 2);
+  pbr::render(scene, renderer, target);
+  for (const glm::vec4& c : target.colors()) {
+    CHECK(std::isfinite(c.r));
+    CHECK(c.r > scene.ambient.r * 0.5f);  // lit by the lights, not only ambient
+  }
+}
