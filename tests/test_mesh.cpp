@@ -323,3 +323,24 @@ TEST_CASE("mesh: bounds of shapes and of an empty mesh") {
   CHECK(t.max.y == doctest::Approx(0.5f));
   CHECK(pbr::bounds(pbr::Mesh{}).empty());
 }
+
+TEST_CASE("mesh: fit_transform puts merged bounds, centred, into a cube of the given side") {
+  // A box from (1, -2, 3) to (5, 0, 4) (largest extent 4 along x) merged with a point.
+  const pbr::Bounds box{{1.0f, -2.0f, 3.0f}, {5.0f, 0.0f, 3.5f}};
+  const pbr::Bounds point{{2.0f, -1.0f, 4.0f}, {2.0f, -1.0f, 4.0f}};
+  const pbr::Bounds all = pbr::merge(box, point);
+  CHECK(all.min == glm::vec3(1.0f, -2.0f, 3.0f));
+  CHECK(all.max == glm::vec3(5.0f, 0.0f, 4.0f));
+  const pbr::Bounds empty = pbr::bounds(pbr::Mesh{});
+  CHECK(pbr::merge(empty, box).min == box.min);
+  CHECK(pbr::merge(box, empty).max == box.max);
+
+  const glm::mat4 fit = pbr::fit_transform(all, 2.0f);  // scale 2 / 4, centre (3, -1, 3.5)
+  const auto at = [&](glm::vec3 p) { return glm::vec3(fit * glm::vec4(p, 1.0f)); };
+  CHECK(at(all.min) == glm::vec3(-1.0f, -0.5f, -0.25f));
+  CHECK(at(all.max) == glm::vec3(1.0f, 0.5f, 0.25f));
+  CHECK(at(all.centre()) == glm::vec3(0.0f));
+  // Nothing to fit: the identity, never a division by zero.
+  CHECK(pbr::fit_transform(empty, 2.0f) == glm::mat4(1.0f));
+  CHECK(pbr::fit_transform(point, 2.0f) == glm::mat4(1.0f));
+}

@@ -11,22 +11,6 @@
 
 namespace softpbr::pbr {
 
-namespace {
-// Scale and offset that fit a mesh's bounding box, centred, into a cube of side `size`.
-glm::mat4 fit_transform(const Mesh& mesh, float size) {
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const MeshVertex& v : mesh.vertices) {
-    lo = glm::min(lo, v.position);
-    hi = glm::max(hi, v.position);
-  }
-  const glm::vec3 extent = hi - lo;
-  const float largest = std::max({extent.x, extent.y, extent.z});
-  if (!(largest > 0.0f)) return glm::mat4(1.0f);
-  const float s = size / largest;
-  return glm::scale(glm::mat4(1.0f), glm::vec3(s)) * glm::translate(glm::mat4(1.0f), -(lo + hi) * 0.5f);
-}
-}  // namespace
-
 Scene make_gallery(const GalleryOptions& o) {
   if (o.rows.empty() || o.columns < 1) throw std::invalid_argument("gallery: needs at least one row and one column");
   std::shared_ptr<const Mesh> mesh = o.mesh;
@@ -39,7 +23,7 @@ Scene make_gallery(const GalleryOptions& o) {
     turn[0][2] = -s;
     turn[2][0] = s;
     turn[2][2] = c;
-    fit = turn * fit_transform(*mesh, 0.8f);
+    fit = turn * fit_transform(bounds(*mesh), 0.8f);
   } else {
     mesh = std::make_shared<Mesh>(uv_sphere(0.4f, o.segments, std::max(2, o.segments / 2)));
   }

@@ -11,6 +11,7 @@
 #include <string>
 #include <unordered_map>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -495,6 +496,23 @@ Bounds bounds(const Mesh& mesh) {
     }
   }
   return b;
+}
+
+Bounds merge(const Bounds& a, const Bounds& b) {
+  Bounds m;
+  for (int k = 0; k < 3; ++k) {
+    m.min[k] = std::min(a.min[k], b.min[k]);
+    m.max[k] = std::max(a.max[k], b.max[k]);
+  }
+  return m;
+}
+
+glm::mat4 fit_transform(const Bounds& b, float size) {
+  const glm::vec3 extent = b.extent();
+  const float largest = std::max({extent.x, extent.y, extent.z});
+  if (!(largest > 0.0f)) return glm::mat4(1.0f);  // empty (−∞) or a single point (0)
+  const float s = size / largest;
+  return glm::scale(glm::mat4(1.0f), glm::vec3(s)) * glm::translate(glm::mat4(1.0f), -b.centre());
 }
 
 }  // namespace softpbr::pbr

@@ -56,20 +56,13 @@ struct LoadedMesh {
   bool has_fit = false;
 };
 
-// Scale and offset that fit the bounding box of `parts`, centred, into a cube of side
-// `size` — the same arithmetic as make_gallery's, so gallery_spot.json matches it bit for bit.
-glm::mat4 fit_transform(const std::vector<std::shared_ptr<const Mesh>>& parts, float size) {
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const auto& mesh : parts)
-    for (const MeshVertex& v : mesh->vertices) {
-      lo = glm::min(lo, v.position);
-      hi = glm::max(hi, v.position);
-    }
-  const glm::vec3 extent = hi - lo;
-  const float largest = std::max({extent.x, extent.y, extent.z});
-  if (!(largest > 0.0f)) return glm::mat4(1.0f);
-  const float s = size / largest;
-  return glm::scale(glm::mat4(1.0f), glm::vec3(s)) * glm::translate(glm::mat4(1.0f), -(lo + hi) * 0.5f);
+// pbr::fit_transform of the bounds of all `parts` (the function make_gallery uses too, so
+// gallery_spot.json matches it bit for bit).
+glm::mat4 fit_parts(const std::vector<std::shared_ptr<const Mesh>>& parts, float size) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  Bounds all{glm::vec3(inf), glm::vec3(-inf)};
+  for (const auto& mesh : parts) all = merge(all, bounds(*mesh));
+  return pbr::fit_transform(all, size);
 }
 
 class Loader {
@@ -213,7 +206,7 @@ LoadedMesh Loader::build_mesh(const Node& spec) {
     out.part_material.push_back(-1);
   }
   if (fit) {
-    out.fit = fit_transform(out.parts, *fit);
+    out.fit = fit_parts(out.parts, *fit);
     out.has_fit = true;
   }
   return out;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -84,5 +85,13 @@ struct Bounds {
 // The bounds of all vertices (referenced or not); for a mesh without vertices min = +∞ and
 // max = −∞, and empty() is true. Positions are expected finite (load_obj checks them).
 Bounds bounds(const Mesh& mesh);
+
+// The smallest bounds holding both (exact: only min and max).
+Bounds merge(const Bounds& a, const Bounds& b);
+
+// Uniform scale and offset that fit `b`, centred, into a cube of side `size`:
+// scale(size / largest extent) · translate(−centre). The identity for empty bounds or a
+// single point. make_gallery() and scene files' "fit" both use it, so they agree bit for bit.
+glm::mat4 fit_transform(const Bounds& b, float size);
 
 }  // namespace softpbr::pbr
