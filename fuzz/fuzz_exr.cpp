@@ -15,31 +15,17 @@
 #include <string>
 #include <string_view>
 
+#include "fuzz_support.h"
+
 #include "exr_io.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-[[noreturn]] void finding(const char* what) {
-  std::fprintf(stderr, "fuzz_exr: %s\n", what);
-  std::abort();
-}
+[[noreturn]] void finding(const char* what) { softpbr::fuzz::finding("fuzz_exr", what); }
 
-// The private temporary folder, removed when the fuzzer exits.
-struct Folder {
-  fs::path path = fs::temp_directory_path() / ("softpbr-fuzz-exr-" + std::to_string(::getpid()));
-  Folder() { fs::create_directories(path); }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-const fs::path& folder() {
-  static const Folder dir;
-  return dir.path;
-}
+const fs::path& folder() { return softpbr::fuzz::private_folder("exr"); }
 
 }  // namespace
 

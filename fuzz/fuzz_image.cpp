@@ -20,6 +20,8 @@
 #include <string>
 #include <string_view>
 
+#include "fuzz_support.h"
+
 #include "softpbr/golden/image.h"
 
 namespace fs = std::filesystem;
@@ -28,25 +30,9 @@ namespace raster = softpbr::raster;
 
 namespace {
 
-[[noreturn]] void finding(const char* what) {
-  std::fprintf(stderr, "fuzz_image: %s\n", what);
-  std::abort();
-}
+[[noreturn]] void finding(const char* what) { softpbr::fuzz::finding("fuzz_image", what); }
 
-// The private temporary folder, removed when the fuzzer exits.
-struct Folder {
-  fs::path path = fs::temp_directory_path() / ("softpbr-fuzz-image-" + std::to_string(::getpid()));
-  Folder() { fs::create_directories(path); }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-const fs::path& folder() {
-  static const Folder dir;
-  return dir.path;
-}
+const fs::path& folder() { return softpbr::fuzz::private_folder("image"); }
 
 void check_size(int width, int height, std::size_t values, std::size_t per_pixel) {
   if (width < 1 || height < 1 || width > raster::kMaxTargetSize || height > raster::kMaxTargetSize)

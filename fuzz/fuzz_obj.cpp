@@ -18,6 +18,8 @@
 #include <string>
 #include <string_view>
 
+#include "fuzz_support.h"
+
 #include "softpbr/pbr/obj.h"
 
 namespace fs = std::filesystem;
@@ -27,25 +29,9 @@ namespace {
 
 constexpr std::string_view kMtlSeparator = "\n%%MTL%%\n";
 
-[[noreturn]] void finding(const char* what) {
-  std::fprintf(stderr, "fuzz_obj: %s\n", what);
-  std::abort();
-}
+[[noreturn]] void finding(const char* what) { softpbr::fuzz::finding("fuzz_obj", what); }
 
-// The private temporary folder, removed when the fuzzer exits.
-struct Folder {
-  fs::path path = fs::temp_directory_path() / ("softpbr-fuzz-obj-" + std::to_string(::getpid()));
-  Folder() { fs::create_directories(path); }
-  ~Folder() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
-
-const fs::path& folder() {
-  static const Folder dir;
-  return dir.path;
-}
+const fs::path& folder() { return softpbr::fuzz::private_folder("obj"); }
 
 void write(const fs::path& path, std::string_view bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
