@@ -37,7 +37,10 @@ struct TileGrid {
   TileRect rect(std::size_t tile) const;
 };
 
-struct TriangleChunk {
+// Aligned to a cache line: workers assemble neighbouring chunks at the same time, and the
+// vectors' end pointers of two chunks on one line made every push_back a coherence miss
+// (false sharing: 3.6x the binning CPU time with 2 threads on the 1080p gallery).
+struct alignas(64) TriangleChunk {
   std::vector<Triangle> triangles;
   std::vector<float> clip_varyings;    // varyings of vertices made by clipping
   std::vector<std::uint32_t> offsets;  // per tile: its triangles are list[offsets[t], offsets[t+1])
