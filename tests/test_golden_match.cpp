@@ -8,7 +8,7 @@
 #include <doctest/doctest.h>
 
 #include "golden_helpers.h"
-#include "softpbr/golden/doctest.h"
+#include "softpbr/golden/doctest_checks.h"
 #include "softpbr/golden/golden.h"
 #include "softpbr/raster/target.h"
 

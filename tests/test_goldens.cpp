@@ -2,7 +2,7 @@
 //
 // Each scene's golden is tests/goldens/NAME.hash (64-bit FNV-1a of the float RGBA buffer,
 // raster::hash_colors) with NAME.png beside it, checked with CHECK_RENDER_MATCHES
-// (softpbr/golden/doctest.h). On failure the actual, diff and side-by-side images are in
+// (softpbr/golden/doctest_checks.h). On failure the actual, diff and side-by-side images are in
 // build/golden-output/goldens/. To accept an intended change, look at the new images, then
 // run:  SOFTPBR_UPDATE_GOLDENS=1 ./scripts/test -R golden
 #include <cstdint>
@@ -13,7 +13,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "softpbr/golden/doctest.h"
+#include "softpbr/golden/doctest_checks.h"
 
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/obj.h"

@@ -1,7 +1,7 @@
 // A user's render tests: each renders a small scene and checks it against a golden PNG
 // shipped in goldens/, exactly (softpbr renders the same bits on every build).
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
-#include <softpbr/golden/doctest.h>
+#include <softpbr/golden/doctest_checks.h>
 
 #include <glm/glm.hpp>
 #include <softpbr/pbr/gallery.h>

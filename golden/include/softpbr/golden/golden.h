@@ -1,7 +1,7 @@
 // softpbr/golden/golden.h — checking an image against a golden file: exact by default,
 // with optional tolerances; on failure the actual, diff and side-by-side images are
 // written for looking; in update mode goldens are rewritten instead. The doctest macros
-// in softpbr/golden/doctest.h are thin wrappers around match_golden and match_render.
+// in softpbr/golden/doctest_checks.h are thin wrappers around match_golden and match_render.
 //
 // Golden formats, by extension:
 //   .png — 8-bit. A float image or Target is first encoded with to_srgb8 (exact sRGB,

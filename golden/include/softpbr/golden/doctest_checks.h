@@ -1,4 +1,4 @@
-// softpbr/golden/doctest.h — golden-image checks for doctest test suites.
+// softpbr/golden/doctest_checks.h — golden-image checks for doctest test suites.
 //
 //   CHECK_IMAGE_MATCHES(image, "goldens/name.png");                 // exact
 //   CHECK_IMAGE_MATCHES_WITHIN(image, "goldens/name.png",
