@@ -35,6 +35,20 @@ std::string rle_scanline() {
   return s;
 }
 
+// Loading `path` with `load` (golden::load_png or golden::load_hdr) throws a
+// std::runtime_error whose message starts with "<path>: <what>".
+template <class Load>
+void check_refused(Load load, const fs::path& path, const std::string& what) {
+  try {
+    load(path);
+    FAIL("no exception");
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    CAPTURE(message);
+    CHECK(message.rfind(path.string() + ": " + what, 0) == 0);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("an .hdr file cut inside a run-length encoded scanline is an error, not an endless loop") {
@@ -46,12 +60,7 @@ TEST_CASE("an .hdr file cut inside a run-length encoded scanline is an error, no
                                           31);
   const fs::path path = scratch("finding-rle-truncated.hdr");
   write(path, finding);
-  try {
-    golden::load_hdr(path);
-    FAIL("no exception");
-  } catch (const std::runtime_error& e) {
-    CHECK(std::string(e.what()).rfind(path.string() + ": truncated", 0) == 0);
-  }
+  check_refused(golden::load_hdr, path, "truncated");
 }
 
 TEST_CASE("an .hdr file that ends on its resolution line is an error, not an image read from nothing") {
@@ -61,12 +70,7 @@ TEST_CASE("an .hdr file that ends on its resolution line is an error, not an ima
                               std::string("\xcc\xf5\xfd\xfd\xbf\xff\x43\x45\xbc\xbc\x02\x02\x38\xbc\xbc\xff", 16);
   const fs::path path = scratch("finding-no-data.hdr");
   write(path, finding);
-  try {
-    golden::load_hdr(path);
-    FAIL("no exception");
-  } catch (const std::runtime_error& e) {
-    CHECK(std::string(e.what()).rfind(path.string() + ": truncated", 0) == 0);
-  }
+  check_refused(golden::load_hdr, path, "truncated");
 }
 
 TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") {
@@ -122,13 +126,8 @@ TEST_CASE("only PNG and .hdr files reach stb_image: other formats are refused by
       CAPTURE(hdr);
       const fs::path path = scratch(c.name);
       write(path, c.bytes);
-      try {
-        if (hdr) golden::load_hdr(path);
-        else golden::load_png(path);
-        FAIL("no exception");
-      } catch (const std::runtime_error& e) {
-        CHECK(std::string(e.what()).rfind(path.string() + ": not a readable image (no ", 0) == 0);
-      }
+      if (hdr) check_refused(golden::load_hdr, path, "not a readable image (no ");
+      else check_refused(golden::load_png, path, "not a readable image (no ");
     }
 }
 
@@ -142,12 +141,7 @@ TEST_CASE("a PNG chunk claiming more bytes than the file has is refused before s
       83);
   const fs::path path = scratch("finding-idat-claim.png");
   write(path, finding);
-  try {
-    golden::load_png(path);
-    FAIL("no exception");
-  } catch (const std::runtime_error& e) {
-    CHECK(std::string(e.what()).rfind(path.string() + ": cannot decode (truncated: chunk 'IDAT'", 0) == 0);
-  }
+  check_refused(golden::load_png, path, "cannot decode (truncated: chunk 'IDAT'");
 }
 
 TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused before decoding") {
