@@ -3,7 +3,38 @@
 
 #include <algorithm>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 namespace softpbr::raster {
+
+namespace {
+// Tells the core this is a spin loop (frees the pipeline for the sibling hyperthread and
+// saves power); no effect on what is computed.
+inline void cpu_relax() {
+#if defined(__SSE2__)
+  _mm_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield" ::: "memory");
+#else
+  std::this_thread::yield();
+#endif
+}
+
+// Spins until done() or kSpin has passed; returns done().
+template <class Done>
+bool spin_until(Done done) {
+  const auto deadline = std::chrono::steady_clock::now() + ThreadPool::kSpin;
+  for (;;) {
+    for (int i = 0; i < 64; ++i) {
+      if (done()) return true;
+      cpu_relax();
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return done();
+  }
+}
+}  // namespace
 
 ThreadPool::ThreadPool(unsigned threads) {
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
@@ -14,7 +45,7 @@ ThreadPool::ThreadPool(unsigned threads) {
 ThreadPool::~ThreadPool() {
   {
     std::lock_guard lock(mutex_);
-    stop_ = true;
+    stop_.store(true, std::memory_order_release);
   }
   wake_.notify_all();
   for (std::thread& t : workers_) t.join();
@@ -26,32 +57,40 @@ void ThreadPool::parallel_for(std::size_t count, const std::function<void(std::s
     for (std::size_t i = 0; i < count; ++i) fn(i);
     return;
   }
+  // No worker is on a job here (the last call waited for all of them), so these plain
+  // writes race with nothing; the generation increment publishes them.
+  job_ = &fn;
+  count_ = count;
+  next_.store(0, std::memory_order_relaxed);
+  active_.store(static_cast<unsigned>(workers_.size()), std::memory_order_relaxed);
   {
+    // Under the lock, so a worker deciding to sleep either sees the new generation in its
+    // wait predicate or is already waiting when notify_all() runs.
     std::lock_guard lock(mutex_);
-    job_ = &fn;
-    count_ = count;
-    next_.store(0, std::memory_order_relaxed);
-    active_ = static_cast<unsigned>(workers_.size());
-    error_ = nullptr;
-    ++generation_;
+    generation_.fetch_add(1, std::memory_order_release);
   }
-  wake_.notify_all();
+  wake_.notify_all();  // no system call when every worker is spinning
   run_indices();
+  auto finished = [this] { return active_.load(std::memory_order_acquire) == 0; };
+  if (!spin_until(finished)) {
+    std::unique_lock lock(mutex_);
+    done_.wait(lock, finished);
+  }
   std::exception_ptr error;
   {
-    std::unique_lock lock(mutex_);
-    done_.wait(lock, [this] { return active_ == 0; });
-    job_ = nullptr;
+    std::lock_guard lock(mutex_);
     error = error_;
     error_ = nullptr;
   }
+  job_ = nullptr;
   if (error) std::rethrow_exception(error);
 }
 
 void ThreadPool::run_indices() {
+  const std::size_t count = count_;
   for (;;) {
     const std::size_t i = next_.fetch_add(1, std::memory_order_relaxed);
-    if (i >= count_) return;
+    if (i >= count) return;
     try {
       (*job_)(i);
     } catch (...) {
@@ -64,16 +103,20 @@ void ThreadPool::run_indices() {
 void ThreadPool::worker_loop() {
   std::uint64_t seen = 0;
   for (;;) {
-    {
+    auto ready = [&] {
+      return stop_.load(std::memory_order_acquire) || generation_.load(std::memory_order_acquire) != seen;
+    };
+    if (!spin_until(ready)) {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
-      if (stop_) return;
-      seen = generation_;
+      wake_.wait(lock, ready);
     }
+    if (stop_.load(std::memory_order_acquire)) return;
+    seen = generation_.load(std::memory_order_acquire);
     run_indices();
-    {
+    if (active_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      // Under the lock, so the caller is either before its predicate check or waiting.
       std::lock_guard lock(mutex_);
-      if (--active_ == 0) done_.notify_one();
+      done_.notify_one();
     }
   }
 }

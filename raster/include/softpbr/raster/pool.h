@@ -4,9 +4,18 @@
 // hands out indices 0..count−1 through an atomic counter, so which thread runs which index
 // depends on scheduling — callers must make every index's work independent of that (one
 // writer per tile). With one thread everything runs inline on the caller.
+//
+// A frame runs many short parallel_for() calls (the vertex stage and assembly of every
+// draw), so waking a sleeping thread for each would cost more than the work: a futex wake
+// takes tens of microseconds to reach a thread on a virtual machine. Workers therefore
+// spin for a short while (kSpin) after a job, watching for the next one, before they
+// sleep on a condition variable; the caller spins as long for the workers to finish.
+// Spinning is bounded in time, so an idle pool sleeps and an oversubscribed machine
+// loses at most kSpin per wait.
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +29,9 @@ namespace softpbr::raster {
 
 class ThreadPool {
  public:
+  // How long a thread spins for the next job (or for the others to finish) before sleeping.
+  static constexpr std::chrono::microseconds kSpin{100};
+
   // threads == 0 means all hardware threads.
   explicit ThreadPool(unsigned threads = 0);
   ~ThreadPool();
@@ -38,16 +50,19 @@ class ThreadPool {
   void run_indices();
 
   std::vector<std::thread> workers_;
-  std::mutex mutex_;
+  std::mutex mutex_;  // guards sleeping (with the condition variables) and error_
   std::condition_variable wake_;
   std::condition_variable done_;
-  std::uint64_t generation_ = 0;
-  unsigned active_ = 0;
-  bool stop_ = false;
+  // A new job is published by incrementing generation_ (release) after job_ and count_
+  // are written; workers read them after seeing the increment (acquire).
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<unsigned> active_{0};  // workers still on the current job
+  std::atomic<bool> stop_{false};
   const std::function<void(std::size_t)>* job_ = nullptr;
   std::size_t count_ = 0;
-  std::atomic<std::size_t> next_{0};
-  std::exception_ptr error_;
+  // On a cache line of its own: every index handed out writes it.
+  alignas(64) std::atomic<std::size_t> next_{0};
+  alignas(64) std::exception_ptr error_;
 };
 
 }  // namespace softpbr::raster
