@@ -2,6 +2,7 @@
 #include "softpbr/raster/renderer.h"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -16,13 +17,13 @@ int checked_tile_size(int tile) {
 }
 // Clears a tile. A tile no triangle touches is written with streaming stores (simd.h):
 // nothing will read it soon, so it need not be fetched into the cache first.
-void clear_tile(Target& target, const TileRect& r, const ClearValues& clear, bool streaming) {
-  glm::vec4* colors = target.colors().data();
-  float* depths = target.depths().data();
+void clear_tile(const TargetPixels& target, const TileRect& r, const ClearValues& clear, bool streaming) {
+  glm::vec4* colors = target.colors;
+  float* depths = target.depths;
   const float color[4] = {clear.color.r, clear.color.g, clear.color.b, clear.color.a};
   const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
   for (int y = r.y0; y < r.y1; ++y) {
-    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width());
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width);
     if (streaming) {
       simd::stream_fill4(reinterpret_cast<float*>(colors + row + r.x0), color, n);
     } else {
@@ -37,6 +38,10 @@ int checked_lanes(int lanes, simd::Isa isa) {
   if (lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16)
     throw std::invalid_argument("Renderer: lanes " + std::to_string(lanes) + " must be 0, 1, 4, 8 or 16");
   return lanes;
+}
+// Whether the two are the same bits (a tile cleared to one holds the other's pixels).
+bool same_bits(const glm::vec4& color_a, float depth_a, const glm::vec4& color_b, float depth_b) {
+  return std::memcmp(&color_a, &color_b, sizeof color_a) == 0 && std::memcmp(&depth_a, &depth_b, sizeof depth_a) == 0;
 }
 }  // namespace
 
@@ -58,6 +63,10 @@ void Renderer::begin_frame(Target& target) {
   pending_bytes_ = 0;
   cleared_ = false;
   touched_.assign(grid_.count(), 0);
+  // The frame may write any pixel: the target knows nothing until end_frame() says again.
+  known_clear_ = std::move(target.cleared_);
+  target.cleared_ = {};
+  if (known_clear_.tile_size != tile_size_ || known_clear_.tiles.size() != grid_.count()) known_clear_.tiles.clear();
 }
 
 void Renderer::begin_frame(Target& target, const ClearValues& clear) {
@@ -83,19 +92,39 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   Target& target = *target_;
   target_ = nullptr;
   rasterize_pending(target, after_tile ? &after_tile : nullptr);
+  // Tell the target which tiles hold only clear values now: the untouched ones, if this
+  // frame cleared (to its values), else those that did before and stayed untouched.
+  Target::ClearedTiles& known = known_clear_;
+  if (clear_) {
+    known.tile_size = tile_size_;
+    known.color = clear_->color;
+    known.depth = clear_->depth;
+    known.tiles.resize(grid_.count());
+    for (std::size_t t = 0; t < grid_.count(); ++t) known.tiles[t] = touched_[t] == 0;
+  } else {
+    for (std::size_t t = 0; t < known.tiles.size(); ++t) known.tiles[t] = known.tiles[t] && touched_[t] == 0;
+  }
+  target.cleared_ = std::move(known);
+  known_clear_ = {};
   clear_.reset();
 }
 
 void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile) {
   const bool clear_now = clear_ && !cleared_;
+  // Tiles that hold the clear values already (the target's last frame cleared to the same
+  // bits and left them untouched) are not cleared again: the same pixels, no writes.
+  const bool reuse = clear_now && !known_clear_.tiles.empty() &&
+                     same_bits(known_clear_.color, known_clear_.depth, clear_->color, clear_->depth);
+  const TargetPixels pixels{target.color_.data(), target.depth_.data(), target.width(), target.height()};
   if (!draws_.empty() || clear_now || after_tile) {
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
       bool touched = false;
       for (const auto& draw : draws_) touched = touched || draw->geometry.touches(tile);
-      if (clear_now) clear_tile(target, rect, *clear_, !touched);
+      if (clear_now && !(reuse && known_clear_.tiles[tile] != 0 && !touched))
+        clear_tile(pixels, rect, *clear_, !touched);
       if (touched) {
-        for (const auto& draw : draws_) draw->raster(tile, rect, target, lanes_, isa_);
+        for (const auto& draw : draws_) draw->raster(tile, rect, pixels, lanes_, isa_);
         touched_[tile] = 1;  // one writer per tile
       }
       if (after_tile) (*after_tile)(rect, clear_.has_value() && touched_[tile] == 0);

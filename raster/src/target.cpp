@@ -23,8 +23,14 @@ void Target::clear(glm::vec4 color, float depth) {
   clear_color(color);
   clear_depth(depth);
 }
-void Target::clear_color(glm::vec4 color) { std::fill(color_.begin(), color_.end(), color); }
-void Target::clear_depth(float depth) { std::fill(depth_.begin(), depth_.end(), depth); }
+void Target::clear_color(glm::vec4 color) {
+  forget_cleared_tiles();
+  std::fill(color_.begin(), color_.end(), color);
+}
+void Target::clear_depth(float depth) {
+  forget_cleared_tiles();
+  std::fill(depth_.begin(), depth_.end(), depth);
+}
 
 Image8 resolve_srgb8(const Target& target) {
   Image8 image;

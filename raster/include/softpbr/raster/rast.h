@@ -117,7 +117,7 @@ using PacketFor = PacketBuffer<(W > 0 ? W : 1), kVaryingCount<typename S::Varyin
 // still shade full packets. `packet` carries the lanes waiting from earlier triangles.
 template <int W, Shader S>
 void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
-                     const Triangle& t, const TileRect& tile, Target& target, PacketFor<W, S>& packet) {
+                     const Triangle& t, const TileRect& tile, const TargetPixels& target, PacketFor<W, S>& packet) {
   using V = typename S::Varyings;
   constexpr int kN = kVaryingCount<V>;
   constexpr std::int64_t kStep = kSubpixelScale;  // one pixel in fixed point
@@ -144,9 +144,9 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   }
 
   const DrawState& state = geometry.state;
-  const int width = target.width();
-  glm::vec4* colors = target.colors().data();
-  float* depths = target.depths().data();
+  const int width = target.width;
+  glm::vec4* colors = target.colors;
+  float* depths = target.depths;
   if constexpr (W > 0) {
     if (packet.front_facing != t.front_facing) {
       flush_packet<W>(shader, packet, state, colors);
@@ -267,12 +267,12 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
 // W lanes at a time (W = 0: scalar fragment(), one pixel at a time).
 template <int W, Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
-                 Target& target) {
+                 const TargetPixels& target) {
   detail::PacketFor<W, S> packet;
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
       detail::raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
-  if constexpr (W > 0) detail::flush_packet<W>(shader, packet, geometry.state, target.colors().data());
+  if constexpr (W > 0) detail::flush_packet<W>(shader, packet, geometry.state, target.colors);
 }
 
 #if SOFTPBR_SIMD_DISPATCH
@@ -280,12 +280,12 @@ void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile
 // simd::cpu_isa() allows.
 template <int W, Shader S>
 SOFTPBR_TARGET_AVX2 void raster_tile_avx2(const S& shader, const DrawGeometry& geometry, std::size_t tile,
-                                          const TileRect& rect, Target& target) {
+                                          const TileRect& rect, const TargetPixels& target) {
   raster_tile<W>(shader, geometry, tile, rect, target);
 }
 template <int W, Shader S>
 SOFTPBR_TARGET_AVX512 void raster_tile_avx512(const S& shader, const DrawGeometry& geometry, std::size_t tile,
-                                              const TileRect& rect, Target& target) {
+                                              const TileRect& rect, const TargetPixels& target) {
   raster_tile<W>(shader, geometry, tile, rect, target);
 }
 #endif
@@ -295,7 +295,7 @@ SOFTPBR_TARGET_AVX512 void raster_tile_avx512(const S& shader, const DrawGeometr
 // the CPU must have), 8 lanes run the AVX2 kernel and 16 lanes the AVX-512 one.
 template <Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
-                 Target& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {
+                 const TargetPixels& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {
   if constexpr (PacketShaderFor<S, float> && PacketShaderFor<S, simd::Vec<4>>) {
     switch (lanes == 0 ? simd::kNativeWidth : lanes) {
       case 1: return raster_tile<1>(shader, geometry, tile, rect, target);

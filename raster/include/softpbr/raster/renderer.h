@@ -75,7 +75,8 @@ class Renderer {
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
   // if a frame is already open. The first form draws over the target's contents; the
   // second clears it (each tile just before it is rasterized, in parallel: cheaper than
-  // Target::clear()).
+  // Target::clear()). A tile that the target's last frame left holding only the same clear
+  // values (bit for bit), untouched since (see Target), is not written again.
   void begin_frame(Target& target);
   void begin_frame(Target& target, const ClearValues& clear);
 
@@ -123,13 +124,15 @@ class Renderer {
   struct DrawCall {
     virtual ~DrawCall() = default;
     // One virtual call per draw and tile; the shader inlines inside.
-    virtual void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes, simd::Isa isa) const = 0;
+    virtual void raster(std::size_t tile, const TileRect& rect, const TargetPixels& target, int lanes,
+                        simd::Isa isa) const = 0;
     DrawGeometry geometry;
   };
   template <Shader S>
   struct TypedDrawCall final : DrawCall {
     explicit TypedDrawCall(const S& s) : shader(s) {}
-    void raster(std::size_t tile, const TileRect& rect, Target& target, int lanes, simd::Isa isa) const override {
+    void raster(std::size_t tile, const TileRect& rect, const TargetPixels& target, int lanes,
+                simd::Isa isa) const override {
       raster_tile(shader, this->geometry, tile, rect, target, lanes, isa);
     }
     S shader;
@@ -154,6 +157,9 @@ class Renderer {
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
   bool cleared_ = false;                // the frame's clear is done (by an earlier pass)
   std::vector<std::uint8_t> touched_;   // per tile: a triangle was rasterized into it
+  // The target's cleared tiles as the frame found them (Target::ClearedTiles), taken out
+  // of the target while the frame runs and given back, updated, by end_frame().
+  Target::ClearedTiles known_clear_;
 };
 
 }  // namespace softpbr::raster

@@ -18,6 +18,8 @@ namespace softpbr::raster {
 // (see setup.h) and a full target under 16384² × 20 bytes ≈ 5 GiB.
 inline constexpr int kMaxTargetSize = 16384;
 
+class Renderer;
+
 class Target {
  public:
   // Throws std::invalid_argument unless 1 <= width, height <= kMaxTargetSize.
@@ -31,16 +33,34 @@ class Target {
   void clear_depth(float depth);
 
   // Direct access to the pixels: index y * width() + x.
-  std::span<glm::vec4> colors() { return color_; }
+  //
+  // A target remembers which of its tiles a renderer's last frame left holding only the
+  // frame's clear values; the next frame that clears to the same values leaves those
+  // tiles alone instead of writing the same bytes again (GPUs call this a fast clear).
+  // The non-const accessors and clear*() forget it, so a span or reference they return
+  // may be written freely until the next frame begins on this target (as an iterator,
+  // it is not to be written through after that). The const accessors forget nothing.
+  std::span<glm::vec4> colors() { forget_cleared_tiles(); return color_; }
   std::span<const glm::vec4> colors() const { return color_; }
-  std::span<float> depths() { return depth_; }
+  std::span<float> depths() { forget_cleared_tiles(); return depth_; }
   std::span<const float> depths() const { return depth_; }
-  glm::vec4& color(int x, int y) { return color_[index(x, y)]; }
+  glm::vec4& color(int x, int y) { forget_cleared_tiles(); return color_[index(x, y)]; }
   const glm::vec4& color(int x, int y) const { return color_[index(x, y)]; }
-  float& depth(int x, int y) { return depth_[index(x, y)]; }
+  float& depth(int x, int y) { forget_cleared_tiles(); return depth_[index(x, y)]; }
   float depth(int x, int y) const { return depth_[index(x, y)]; }
 
  private:
+  friend class Renderer;
+  // What the last frame left: for tiles of tile_size pixels (the renderer's grid),
+  // tiles[t] != 0 when every pixel of tile t holds exactly `color` and `depth`.
+  struct ClearedTiles {
+    int tile_size = 0;
+    glm::vec4 color{0.0f};
+    float depth = 0.0f;
+    std::vector<std::uint8_t> tiles;  // empty: nothing known
+  };
+  void forget_cleared_tiles() { cleared_.tiles.clear(); }
+
   std::size_t index(int x, int y) const {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
   }
@@ -48,6 +68,16 @@ class Target {
   int height_;
   std::vector<glm::vec4> color_;
   std::vector<float> depth_;
+  ClearedTiles cleared_;
+};
+
+// The pixels of a target as the tile kernels write them (rast.h): the renderer hands
+// them out while a frame owns the target.
+struct TargetPixels {
+  glm::vec4* colors;
+  float* depths;
+  int width;
+  int height;
 };
 
 // An 8-bit RGBA image, row-major, row 0 at the top.
