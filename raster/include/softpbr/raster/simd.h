@@ -183,6 +183,51 @@ inline Vec<N> sqrt(Vec<N> x) {
 #endif
 }
 
+// Splits N records of four floats (e.g. RGBA pixels, p[4i] … p[4i + 3]) into four lane
+// vectors: x[i] = p[4i], y[i] = p[4i + 1], … (a transpose in registers: filling lanes one
+// float at a time and reading them back as a vector stalls on store forwarding). Bits
+// are moved, not computed on.
+template <int N>
+inline void load_deinterleave4(const float* p, Vec<N>& x, Vec<N>& y, Vec<N>& z, Vec<N>& w) {
+  using V16 = typename detail::Native<16>::f;
+  V16 q[N / 4];
+  std::memcpy(q, p, sizeof q);
+  if constexpr (N == 4) {
+    x = Vec<N>(__builtin_shufflevector(q[0], q[0], 0, 4, 8, 12));
+    y = Vec<N>(__builtin_shufflevector(q[0], q[0], 1, 5, 9, 13));
+    z = Vec<N>(__builtin_shufflevector(q[0], q[0], 2, 6, 10, 14));
+    w = Vec<N>(__builtin_shufflevector(q[0], q[0], 3, 7, 11, 15));
+  } else if constexpr (N == 8) {
+    x = Vec<N>(__builtin_shufflevector(q[0], q[1], 0, 4, 8, 12, 16, 20, 24, 28));
+    y = Vec<N>(__builtin_shufflevector(q[0], q[1], 1, 5, 9, 13, 17, 21, 25, 29));
+    z = Vec<N>(__builtin_shufflevector(q[0], q[1], 2, 6, 10, 14, 18, 22, 26, 30));
+    w = Vec<N>(__builtin_shufflevector(q[0], q[1], 3, 7, 11, 15, 19, 23, 27, 31));
+  } else {
+    Vec<8> lo[4], hi[4];
+    load_deinterleave4<8>(p, lo[0], lo[1], lo[2], lo[3]);
+    load_deinterleave4<8>(p + 32, hi[0], hi[1], hi[2], hi[3]);
+    Vec<N>* out[4] = {&x, &y, &z, &w};
+    for (int c = 0; c < 4; ++c)
+      *out[c] = Vec<N>(__builtin_shufflevector(lo[c].v, hi[c].v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+  }
+}
+
+// Whether kBytes bytes at a and b are the same (kBytes a multiple of 16): 16-byte
+// vectors XORed and ORed together, no call (memcmp of a fixed size often is one).
+template <std::size_t kBytes>
+inline bool same_bytes(const void* a, const void* b) {
+  static_assert(kBytes % 16 == 0, "whole 16-byte blocks");
+  typedef std::uint64_t u64x2 __attribute__((vector_size(16)));
+  u64x2 diff{};
+  for (std::size_t i = 0; i < kBytes; i += 16) {
+    u64x2 x, y;
+    std::memcpy(&x, static_cast<const char*>(a) + i, 16);
+    std::memcpy(&y, static_cast<const char*>(b) + i, 16);
+    diff |= x ^ y;
+  }
+  return (diff[0] | diff[1]) == 0;
+}
+
 template <class F>
 struct LaneCount {
   static constexpr int value = 1;
