@@ -119,16 +119,14 @@ ToneMapper::ToneMapper(const OutputSettings& s)
     while (below < thresholds_.size() && thresholds_[below] < start) ++below;
     first_[k] = static_cast<std::uint8_t>(below);
   }
-  // Steps a key below 1 needs: the thresholds ≤ its largest value (all 16 low bits set)
-  // that its table entry does not count. The lanes kernels encode v ≥ 1 as 255, which is
-  // the count only while no threshold exceeds 1 (true of every curve: (k + 0.5)/255 < 1
-  // raised to a positive power); otherwise they binary-search every value.
+  // Steps a key below 1 needs: the thresholds ≤ its largest value that its table entry
+  // does not count. No float lies between a key's largest value and the next key's start,
+  // so those are the thresholds < the next key's start: first_[k + 1] − first_[k]. The
+  // lanes kernels encode v ≥ 1 as 255, which is the count only while no threshold exceeds
+  // 1 (true of every curve: (k + 0.5)/255 < 1 raised to a positive power); otherwise they
+  // binary-search every value.
   int most = 0;
-  for (std::uint32_t k = 0; k < kLastKey; ++k) {
-    const float last = std::bit_cast<float>((k << 16) | 0xffffu);
-    const auto upto = std::upper_bound(thresholds_.begin(), thresholds_.end(), last) - thresholds_.begin();
-    most = std::max(most, static_cast<int>(upto) - first_[k]);
-  }
+  for (std::uint32_t k = 0; k < kLastKey; ++k) most = std::max(most, first_[k + 1] - first_[k]);
   steps_ = most <= kMaxSteps && thresholds_.back() <= 1.0f ? most : -1;
   std::copy(thresholds_.begin(), thresholds_.end(), padded_.begin());
   std::fill(padded_.begin() + 255, padded_.end(), std::numeric_limits<float>::infinity());

@@ -55,9 +55,9 @@ raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSetti
 // encode() runs on lanes of pixels (simd::Vec<N>: the same IEEE operations per lane as the
 // scalar code), compiled for AVX2 or AVX-512 when the CPU has it (runtime dispatch, simd.h):
 // the tone map operator for N pixels at once, then the codes branch-free — the table, then
-// exactly as many steps as the curve's most crowded table entry needs (1 or 2 for sRGB and
-// common gammas), or, for a curve that would need more than kMaxSteps (gamma below ~0.15),
-// a branch-free binary search. The plain per-pixel code stays as EncodeKernel::Scalar, the
+// exactly as many steps as the curve's most crowded table entry needs (1 for sRGB and
+// gammas 1 to 10, 2 for 0.5), or, for a curve that would need more than kMaxSteps (gamma
+// below ~0.25), a branch-free binary search. The plain per-pixel code stays as EncodeKernel::Scalar, the
 // reference the others are tested against byte for byte.
 enum class EncodeKernel : std::uint8_t {
   Scalar,  // per pixel and channel (the reference)
