@@ -184,8 +184,12 @@ TEST_CASE("the code of a value is the number of thresholds at or below it (0 for
       if (mapper.encode(v) != want) ++mismatches;
     }
     CHECK(mismatches == 0);
-    // Steps after the table: a few for sRGB and the usual gammas, a binary search for 0.05.
-    if (gamma == 0.0f || gamma == 2.2f) CHECK((mapper.code_steps() >= 1 && mapper.code_steps() <= 2));
+    // The kernel each curve takes (tonemap.h), so that the test above covers all three:
+    // packed table (≤ 1 step) for sRGB and the usual gammas, steps for 0.5 and 20, binary
+    // search for 0.05.
+    if (gamma == 0.0f || (gamma >= 1.0f && gamma <= 10.0f)) CHECK(mapper.code_steps() == 1);
+    if (gamma == 0.5f) CHECK(mapper.code_steps() == 2);
+    if (gamma == 20.0f) CHECK(mapper.code_steps() == 3);
     if (gamma == 0.05f) CHECK(mapper.code_steps() == -1);
   }
 }

@@ -130,6 +130,18 @@ ToneMapper::ToneMapper(const OutputSettings& s)
   steps_ = most <= kMaxSteps && thresholds_.back() <= 1.0f ? most : -1;
   std::copy(thresholds_.begin(), thresholds_.end(), padded_.begin());
   std::fill(padded_.begin() + 255, padded_.end(), std::numeric_limits<float>::infinity());
+  if (steps_ == 0 || steps_ == 1) {
+    // A threshold inside key k shares its top 16 bits, so v ≥ it compares as their low 16
+    // bits; 0x10000 is above every value's. The last key (1.0f and, clamped, everything
+    // above or NaN) is only looked up by values whose code the kernels override.
+    packed_base_ = table_key(thresholds_[0]);
+    packed_.resize(kLastKey - packed_base_ + 1);
+    for (std::uint32_t k = packed_base_; k <= kLastKey; ++k) {
+      const bool holds = k < kLastKey && first_[k + 1] > first_[k];
+      const std::uint32_t low = holds ? std::bit_cast<std::uint32_t>(thresholds_[first_[k]]) & 0xffffu : 0x10000u;
+      packed_[k - packed_base_] = static_cast<std::uint32_t>(first_[k]) << 17 | low;
+    }
+  }
 }
 
 namespace {
@@ -179,7 +191,12 @@ struct Curve {
   const std::uint8_t* first;  // ToneMapper::first_
   float t0;                   // t[0]: below it (and NaN) the code is 0
   int steps;                  // ToneMapper::steps_ (−1: binary search)
+  const std::uint32_t* packed;  // ToneMapper::packed_ (null when empty)
+  std::uint32_t packed_base;
 };
+
+// kSteps of the kernels for a curve with a packed table (ToneMapper::packed_).
+constexpr int kPacked = -2;
 
 struct Job {
   const raster::Target* target;
@@ -258,6 +275,23 @@ inline unsigned code_of(const float* t, const std::uint8_t* first, float t0, int
   return v >= t0 ? k : 0u;  // NaN fails the comparison
 }
 
+// The codes of N values through the packed table, all in lanes: code_of for curves with at
+// most one threshold per key.
+template <int N>
+inline simd::UintLanes<N> packed_codes(simd::Vec<N> v, const Curve& c) {
+  using U = simd::UintLanes<N>;
+  using V = simd::Vec<N>;
+  const U bits = simd::bits_of(v) & 0x7fffffffu;  // −0 (t[0] = 0) looks up key 0 as +0
+  U key = bits >> 16;
+  const U lowest = U{} + c.packed_base, highest = U{} + kLastKey;
+  key = key < lowest ? lowest : key;  // below t[0]: overridden with 0 below
+  key = key > highest ? highest : key;
+  const U entry = simd::gather<N>(c.packed, key - lowest);
+  U code = (entry >> 17) - (U)((bits & 0xffffu) >= (entry & 0x1ffffu));  // a true comparison is −1
+  code = (v < V(1.0f)).m ? code : U{} + 255u;
+  return (v >= V(c.t0)).m ? code : U{};
+}
+
 // N pixels from `px` to 4N bytes at `out`.
 template <int N, ToneMap kOp, int kSteps>
 inline void encode_lanes(const glm::vec4* px, float scale, const Curve& curve, std::uint8_t* out) {
@@ -272,6 +306,13 @@ inline void encode_lanes(const glm::vec4* px, float scale, const Curve& curve, s
   // from 1: the same as truncating min(max(0, a), 1)·255 + 0.5 (0.5 → 0, 255.5 → 255; max
   // with 0 first turns NaN into 0), which every lane can convert.
   a = simd::min(simd::max(V(0.0f), a), V(1.0f)) * V(255.0f) + V(0.5f);
+  if constexpr (kSteps == kPacked && std::endian::native == std::endian::little) {
+    // Each pixel's four codes as one 32-bit lane, bytes r, g, b, a in memory order.
+    const simd::UintLanes<N> rgba = packed_codes(r, curve) | packed_codes(g, curve) << 8 |
+                                    packed_codes(b, curve) << 16 | simd::truncate_to_uint(a) << 24;
+    std::memcpy(out, &rgba, 4 * N);
+    return;
+  }
   alignas(64) float ch[4][N];
   r.store(ch[0]);
   g.store(ch[1]);
@@ -340,6 +381,7 @@ inline void encode_with_lanes(ToneMap op, const Job& job) {
 }
 template <int N>
 inline void encode_with_lanes(ToneMap op, const Job& job) {
+  if (job.curve.packed) return encode_with_lanes<N, kPacked>(op, job);
   switch (job.curve.steps) {
     case -1: return encode_with_lanes<N, -1>(op, job);
     case 1: return encode_with_lanes<N, 1>(op, job);  // sRGB, gamma 2.2 (see the tests)
@@ -395,7 +437,7 @@ void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, in
 
 void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
                         EncodeKernel kernel) const {
-  const Job job{&target, x0, y0, x1, y1, scale_, {padded_.data(), first_.data(), thresholds_[0], steps_}, &image};
+  const Job job{&target, x0, y0, x1, y1, scale_, {padded_.data(), first_.data(), thresholds_[0], steps_, packed_.empty() ? nullptr : packed_.data(), packed_base_}, &image};
   switch (kernel) {
 #if SOFTPBR_SIMD_DISPATCH
     case EncodeKernel::Avx512: return encode_avx512(settings_.tone_map, job);

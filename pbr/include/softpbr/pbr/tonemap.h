@@ -54,10 +54,12 @@ raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSetti
 //
 // encode() runs on lanes of pixels (simd::Vec<N>: the same IEEE operations per lane as the
 // scalar code), compiled for AVX2 or AVX-512 when the CPU has it (runtime dispatch, simd.h):
-// the tone map operator for N pixels at once, then the codes branch-free — the table, then
-// exactly as many steps as the curve's most crowded table entry needs (1 for sRGB and
-// gammas 1 to 10, 2 for 0.5), or, for a curve that would need more than kMaxSteps (gamma
-// below ~0.25), a branch-free binary search. The plain per-pixel code stays as EncodeKernel::Scalar, the
+// the tone map operator for N pixels at once, then the codes branch-free. A curve with at
+// most one threshold per table entry (sRGB, gammas from ~1 to ~17) has a packed table
+// (code and the threshold's low bits per entry): one lookup and an integer comparison per
+// value, in lanes. Others take the table, then exactly as many steps as the curve's most
+// crowded entry needs (2 for gamma 0.5), or, for a curve that would need more than
+// kMaxSteps (gamma below ~0.25), a branch-free binary search. The plain per-pixel code stays as EncodeKernel::Scalar, the
 // reference the others are tested against byte for byte.
 enum class EncodeKernel : std::uint8_t {
   Scalar,  // per pixel and channel (the reference)
@@ -104,6 +106,12 @@ class ToneMapper {
   // inside the array (+Inf ≤ v only for v = +Inf, whose code the kernels set to 255 anyway).
   std::array<float, 255 + kMaxSteps> padded_;
   int steps_;
+  // For curves with at most one threshold per key (steps_ ≤ 1: sRGB, gammas from ~1 up
+  // to ~17): per key from packed_base_ (t[0]'s) to that of 1.0f, the code at the key's
+  // start << 17 | the low 16 bits of the threshold in the key (0x10000 when none), so a
+  // value's code is one lookup and an integer comparison of its low bits. Empty otherwise.
+  std::vector<std::uint32_t> packed_;
+  std::uint32_t packed_base_ = 0;
 };
 
 // Writes the linear colour (× 2^exposure, no tone map) as a Radiance RGBE .hdr file

@@ -35,16 +35,19 @@ template <>
 struct Native<4> {
   typedef float f __attribute__((vector_size(16)));
   typedef std::int32_t i __attribute__((vector_size(16)));
+  typedef std::uint32_t u __attribute__((vector_size(16)));
 };
 template <>
 struct Native<8> {
   typedef float f __attribute__((vector_size(32)));
   typedef std::int32_t i __attribute__((vector_size(32)));
+  typedef std::uint32_t u __attribute__((vector_size(32)));
 };
 template <>
 struct Native<16> {
   typedef float f __attribute__((vector_size(64)));
   typedef std::int32_t i __attribute__((vector_size(64)));
+  typedef std::uint32_t u __attribute__((vector_size(64)));
 };
 }  // namespace detail
 
@@ -210,6 +213,30 @@ inline void load_deinterleave4(const float* p, Vec<N>& x, Vec<N>& y, Vec<N>& z, 
     for (int c = 0; c < 4; ++c)
       *out[c] = Vec<N>(__builtin_shufflevector(lo[c].v, hi[c].v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
   }
+}
+
+// --- 32-bit unsigned integer lanes, for work on a float's bits (e.g. table lookups). ---
+// Plain GCC/Clang vectors (& | ^ << >> + − and comparisons per lane, comparisons giving a
+// signed all-ones/zero mask usable with `mask ? a : b`).
+template <int N>
+using UintLanes = typename detail::Native<N>::u;
+// The bits of each lane (a reinterpretation, not a conversion).
+template <int N>
+inline UintLanes<N> bits_of(Vec<N> x) {
+  return (UintLanes<N>)x.v;
+}
+// Each lane truncated toward zero to an integer (the lanes must be in [0, 2^31)).
+template <int N>
+inline UintLanes<N> truncate_to_uint(Vec<N> x) {
+  return (UintLanes<N>)__builtin_convertvector(x.v, typename detail::Native<N>::i);
+}
+// table[index[i]] for every lane: a plain loop, which compilers may turn into a gather
+// instruction where the target has one (no intrinsic: the same code on every target).
+template <int N>
+inline UintLanes<N> gather(const std::uint32_t* table, UintLanes<N> index) {
+  UintLanes<N> r;
+  for (int i = 0; i < N; ++i) r[i] = table[index[i]];
+  return r;
 }
 
 // Whether kBytes bytes at a and b are the same (kBytes a multiple of 16): 16-byte
