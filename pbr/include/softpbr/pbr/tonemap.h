@@ -51,14 +51,44 @@ raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSetti
 // value looks its 8-bit code up through a table indexed by the float's top 16 bits, then
 // steps over the few thresholds left: the same code as a binary search over the 255
 // thresholds, in a few operations.
+//
+// encode() runs on lanes of pixels (simd::Vec<N>: the same IEEE operations per lane as the
+// scalar code), compiled for AVX2 or AVX-512 when the CPU has it (runtime dispatch, simd.h):
+// the tone map operator for N pixels at once, then the codes branch-free. A curve with at
+// most one threshold per table entry (sRGB, gammas from ~1 to ~17) has a packed table
+// (code and the threshold's low bits per entry): one lookup and an integer comparison per
+// value, in lanes. Others take the table, then exactly as many steps as the curve's most
+// crowded entry needs (2 for gamma 0.5), or, for a curve that would need more than
+// kMaxSteps (gamma below ~0.25), a branch-free binary search. The plain per-pixel code stays as EncodeKernel::Scalar, the
+// reference the others are tested against byte for byte.
+enum class EncodeKernel : std::uint8_t {
+  Scalar,  // per pixel and channel (the reference)
+  Lanes4,  // 4 lanes in the build's own instruction set (SSE2 on x86-64, NEON on AArch64)
+  Avx2,    // 8 lanes compiled for AVX2
+  Avx512   // 16 lanes compiled for AVX-512
+};
+
 class ToneMapper {
  public:
   // Throws std::invalid_argument as tone_map_to_rgba8.
   explicit ToneMapper(const OutputSettings& settings);
 
   // Tone maps and encodes pixels [x0, x1) × [y0, y1) of `target` into `image` (of the
-  // target's size; rgba holds width × height × 4 bytes).
+  // target's size; rgba holds width × height × 4 bytes), with the widest kernel this CPU
+  // runs.
   void encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image) const;
+  // The same with a given kernel (tests and benchmarks); it must be supported().
+  void encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
+              EncodeKernel kernel) const;
+  // Whether this CPU (and build) runs `kernel`.
+  static bool supported(EncodeKernel kernel);
+  // The widest supported kernel: what encode() without a kernel uses.
+  static EncodeKernel widest_kernel();
+
+  // Steps after the table lookup that the lanes kernels take for this curve (the most any
+  // table entry needs), or −1 when that is above kMaxSteps and they binary-search instead.
+  int code_steps() const { return steps_; }
+  static constexpr int kMaxSteps = 4;  // 4 steps + table ≈ the cost of the 8-step search
 
   // The same for a piece whose every pixel is `color` (e.g. a tile holding only the clear
   // colour): the bytes encode() would write, computed once.
@@ -72,6 +102,16 @@ class ToneMapper {
   float scale_;
   std::array<float, 255> thresholds_;
   std::vector<std::uint8_t> first_;  // per top-16-bit key k of v in [0, 1): #thresholds < float(k << 16)
+  // The thresholds followed by kMaxSteps × +Inf, so that steps from any table entry stay
+  // inside the array (+Inf ≤ v only for v = +Inf, whose code the kernels set to 255 anyway).
+  std::array<float, 255 + kMaxSteps> padded_;
+  int steps_;
+  // For curves with at most one threshold per key (steps_ ≤ 1: sRGB, gammas from ~1 up
+  // to ~17): per key from packed_base_ (t[0]'s) to that of 1.0f, the code at the key's
+  // start << 17 | the low 16 bits of the threshold in the key (0x10000 when none), so a
+  // value's code is one lookup and an integer comparison of its low bits. Empty otherwise.
+  std::vector<std::uint32_t> packed_;
+  std::uint32_t packed_base_ = 0;
 };
 
 // Writes the linear colour (× 2^exposure, no tone map) as a Radiance RGBE .hdr file

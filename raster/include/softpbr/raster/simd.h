@@ -35,16 +35,19 @@ template <>
 struct Native<4> {
   typedef float f __attribute__((vector_size(16)));
   typedef std::int32_t i __attribute__((vector_size(16)));
+  typedef std::uint32_t u __attribute__((vector_size(16)));
 };
 template <>
 struct Native<8> {
   typedef float f __attribute__((vector_size(32)));
   typedef std::int32_t i __attribute__((vector_size(32)));
+  typedef std::uint32_t u __attribute__((vector_size(32)));
 };
 template <>
 struct Native<16> {
   typedef float f __attribute__((vector_size(64)));
   typedef std::int32_t i __attribute__((vector_size(64)));
+  typedef std::uint32_t u __attribute__((vector_size(64)));
 };
 }  // namespace detail
 
@@ -181,6 +184,75 @@ inline Vec<N> sqrt(Vec<N> x) {
   for (int i = 0; i < N; ++i) out.v[i] = std::sqrt(x.v[i]);
   return out;
 #endif
+}
+
+// Splits N records of four floats (e.g. RGBA pixels, p[4i] … p[4i + 3]) into four lane
+// vectors: x[i] = p[4i], y[i] = p[4i + 1], … (a transpose in registers: filling lanes one
+// float at a time and reading them back as a vector stalls on store forwarding). Bits
+// are moved, not computed on.
+template <int N>
+inline void load_deinterleave4(const float* p, Vec<N>& x, Vec<N>& y, Vec<N>& z, Vec<N>& w) {
+  using V16 = typename detail::Native<16>::f;
+  V16 q[N / 4];
+  std::memcpy(q, p, sizeof q);
+  if constexpr (N == 4) {
+    x = Vec<N>(__builtin_shufflevector(q[0], q[0], 0, 4, 8, 12));
+    y = Vec<N>(__builtin_shufflevector(q[0], q[0], 1, 5, 9, 13));
+    z = Vec<N>(__builtin_shufflevector(q[0], q[0], 2, 6, 10, 14));
+    w = Vec<N>(__builtin_shufflevector(q[0], q[0], 3, 7, 11, 15));
+  } else if constexpr (N == 8) {
+    x = Vec<N>(__builtin_shufflevector(q[0], q[1], 0, 4, 8, 12, 16, 20, 24, 28));
+    y = Vec<N>(__builtin_shufflevector(q[0], q[1], 1, 5, 9, 13, 17, 21, 25, 29));
+    z = Vec<N>(__builtin_shufflevector(q[0], q[1], 2, 6, 10, 14, 18, 22, 26, 30));
+    w = Vec<N>(__builtin_shufflevector(q[0], q[1], 3, 7, 11, 15, 19, 23, 27, 31));
+  } else {
+    Vec<8> lo[4], hi[4];
+    load_deinterleave4<8>(p, lo[0], lo[1], lo[2], lo[3]);
+    load_deinterleave4<8>(p + 32, hi[0], hi[1], hi[2], hi[3]);
+    Vec<N>* out[4] = {&x, &y, &z, &w};
+    for (int c = 0; c < 4; ++c)
+      *out[c] = Vec<N>(__builtin_shufflevector(lo[c].v, hi[c].v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+  }
+}
+
+// --- 32-bit unsigned integer lanes, for work on a float's bits (e.g. table lookups). ---
+// Plain GCC/Clang vectors (& | ^ << >> + − and comparisons per lane, comparisons giving a
+// signed all-ones/zero mask usable with `mask ? a : b`).
+template <int N>
+using UintLanes = typename detail::Native<N>::u;
+// The bits of each lane (a reinterpretation, not a conversion).
+template <int N>
+inline UintLanes<N> bits_of(Vec<N> x) {
+  return (UintLanes<N>)x.v;
+}
+// Each lane truncated toward zero to an integer (the lanes must be in [0, 2^31)).
+template <int N>
+inline UintLanes<N> truncate_to_uint(Vec<N> x) {
+  return (UintLanes<N>)__builtin_convertvector(x.v, typename detail::Native<N>::i);
+}
+// table[index[i]] for every lane: a plain loop, which compilers may turn into a gather
+// instruction where the target has one (no intrinsic: the same code on every target).
+template <int N>
+inline UintLanes<N> gather(const std::uint32_t* table, UintLanes<N> index) {
+  UintLanes<N> r;
+  for (int i = 0; i < N; ++i) r[i] = table[index[i]];
+  return r;
+}
+
+// Whether kBytes bytes at a and b are the same (kBytes a multiple of 16): 16-byte
+// vectors XORed and ORed together, no call (memcmp of a fixed size often is one).
+template <std::size_t kBytes>
+inline bool same_bytes(const void* a, const void* b) {
+  static_assert(kBytes % 16 == 0, "whole 16-byte blocks");
+  typedef std::uint64_t u64x2 __attribute__((vector_size(16)));
+  u64x2 diff{};
+  for (std::size_t i = 0; i < kBytes; i += 16) {
+    u64x2 x, y;
+    std::memcpy(&x, static_cast<const char*>(a) + i, 16);
+    std::memcpy(&y, static_cast<const char*>(b) + i, 16);
+    diff |= x ^ y;
+  }
+  return (diff[0] | diff[1]) == 0;
 }
 
 template <class F>
