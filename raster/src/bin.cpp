@@ -7,6 +7,7 @@
 #include <string>
 
 #include "softpbr/raster/clip.h"
+#include "softpbr/raster/simd.h"
 
 namespace softpbr::raster {
 
@@ -25,10 +26,9 @@ TileRect TileGrid::rect(std::size_t t) const {
 }
 
 void DrawGeometry::recycle() {
-  vertices.position.clear();
-  vertices.values.clear();
-  vertices.outcode.clear();
-  vertices.screen.clear();
+  // The vertex arrays keep their size: the next draw's vertex stage resizes them and
+  // writes every element it keeps, and a resize to the same size or smaller skips the
+  // value-initialisation (zeroing) that clear() then resize() paid on every draw.
   for (TriangleChunk& c : chunks) {
     c.triangles.clear();
     c.clip_varyings.clear();
@@ -46,6 +46,31 @@ std::size_t DrawGeometry::bytes() const {
   return n;
 }
 
+namespace {
+
+// The largest of n indices (0 for none), without a branch per index: the loop vectorizes,
+// with unsigned max instructions from AVX2 on (dispatched at run time, simd.h).
+inline std::uint32_t largest_of(const std::uint32_t* indices, std::size_t n) {
+  std::uint32_t largest = 0;
+  for (std::size_t i = 0; i < n; ++i) largest = std::max(largest, indices[i]);
+  return largest;
+}
+std::uint32_t largest_baseline(const std::uint32_t* indices, std::size_t n) { return largest_of(indices, n); }
+#if SOFTPBR_SIMD_DISPATCH
+SOFTPBR_TARGET_AVX2 std::uint32_t largest_avx2(const std::uint32_t* indices, std::size_t n) {
+  return largest_of(indices, n);
+}
+#endif
+
+std::uint32_t largest_index(std::span<const std::uint32_t> indices) {
+#if SOFTPBR_SIMD_DISPATCH
+  if (simd::cpu_isa() != simd::Isa::Baseline) return largest_avx2(indices.data(), indices.size());
+#endif
+  return largest_baseline(indices.data(), indices.size());
+}
+
+}  // namespace
+
 void validate_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("draw: " + std::to_string(indices.size()) +
@@ -54,9 +79,7 @@ void validate_indices(std::span<const std::uint32_t> indices, std::size_t vertex
     throw std::length_error("draw: more than 2^30 triangles in one draw");
   // The largest index, without a branch per index (the loop vectorizes); only a draw
   // with a bad index looks for the first one, for the message.
-  std::uint32_t largest = 0;
-  for (const std::uint32_t index : indices) largest = std::max(largest, index);
-  if (indices.empty() || largest < vertex_count) return;
+  if (indices.empty() || largest_index(indices) < vertex_count) return;
   for (std::size_t i = 0; i < indices.size(); ++i)
     if (indices[i] >= vertex_count)
       throw std::out_of_range("draw: index " + std::to_string(indices[i]) + " at position " + std::to_string(i) +
