@@ -210,7 +210,8 @@ TEST_CASE("project_vertices gives classify() and project() bits for every vertex
     // Ranges of every length mod 4 and at every offset, so the padded tail runs too.
     const std::pair<std::size_t, std::size_t> ranges[] = {{0, positions.size()}, {1, 8}, {3, 5}, {7, 1030}, {2, 2}};
     for (const simd::Isa isa : runnable_isas()) {
-      for (const auto& [first, last] : ranges) {
+      for (const auto& range : ranges) {
+        const std::size_t first = range.first, last = range.second;  // (CAPTURE takes no structured binding)
         CAPTURE(vp.width);
         CAPTURE(static_cast<int>(isa));
         CAPTURE(first);

@@ -1,7 +1,6 @@
 // Per-vertex classification and viewport transform (see vertex.h).
 #include "softpbr/raster/vertex.h"
 
-
 #include "softpbr/raster/clip.h"
 
 namespace softpbr::raster {

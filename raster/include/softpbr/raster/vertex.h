@@ -39,8 +39,8 @@ struct TransformedVertices {
 // Classifies and projects vertices [first, last) of `vertices` for `viewport`: the outcode
 // is clip.h's classify(), the screen vertex setup.h's project() for a vertex that needs
 // neither clipping nor culling as non-finite, else zero. Many vertices at once, in the
-// widest instruction set `isa` allows (simd.h; the first form: this CPU's); the same bits
-// whatever the instruction set.
+// instruction set `isa` (simd.h; at most simd::cpu_isa(), which the first form uses); the
+// same bits whatever the instruction set.
 void project_vertices(TransformedVertices& vertices, std::size_t first, std::size_t last, Viewport viewport);
 void project_vertices(TransformedVertices& vertices, std::size_t first, std::size_t last, Viewport viewport,
                       simd::Isa isa);
