@@ -2,10 +2,12 @@
 #include "softpbr/raster/bin.h"
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 #include <string>
 
 #include "softpbr/raster/clip.h"
+#include "softpbr/raster/simd.h"
 
 namespace softpbr::raster {
 
@@ -24,10 +26,9 @@ TileRect TileGrid::rect(std::size_t t) const {
 }
 
 void DrawGeometry::recycle() {
-  vertices.position.clear();
-  vertices.values.clear();
-  vertices.outcode.clear();
-  vertices.screen.clear();
+  // The vertex arrays keep their size: the next draw's vertex stage resizes them and
+  // writes every element it keeps, and a resize to the same size or smaller skips the
+  // value-initialisation (zeroing) that clear() then resize() paid on every draw.
   for (TriangleChunk& c : chunks) {
     c.triangles.clear();
     c.clip_varyings.clear();
@@ -45,12 +46,40 @@ std::size_t DrawGeometry::bytes() const {
   return n;
 }
 
+namespace {
+
+// The largest of n indices (0 for none), without a branch per index: the loop vectorizes,
+// with unsigned max instructions from AVX2 on (dispatched at run time, simd.h).
+inline std::uint32_t largest_of(const std::uint32_t* indices, std::size_t n) {
+  std::uint32_t largest = 0;
+  for (std::size_t i = 0; i < n; ++i) largest = std::max(largest, indices[i]);
+  return largest;
+}
+std::uint32_t largest_baseline(const std::uint32_t* indices, std::size_t n) { return largest_of(indices, n); }
+#if SOFTPBR_SIMD_DISPATCH
+SOFTPBR_TARGET_AVX2 std::uint32_t largest_avx2(const std::uint32_t* indices, std::size_t n) {
+  return largest_of(indices, n);
+}
+#endif
+
+std::uint32_t largest_index(std::span<const std::uint32_t> indices) {
+#if SOFTPBR_SIMD_DISPATCH
+  if (simd::cpu_isa() != simd::Isa::Baseline) return largest_avx2(indices.data(), indices.size());
+#endif
+  return largest_baseline(indices.data(), indices.size());
+}
+
+}  // namespace
+
 void validate_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("draw: " + std::to_string(indices.size()) +
                                 " indices is not a whole number of triangles");
   if (indices.size() / 3 > std::numeric_limits<std::uint32_t>::max() / 4)
     throw std::length_error("draw: more than 2^30 triangles in one draw");
+  // The largest index, without a branch per index (the loop vectorizes); only a draw
+  // with a bad index looks for the first one, for the message.
+  if (indices.empty() || largest_index(indices) < vertex_count) return;
   for (std::size_t i = 0; i < indices.size(); ++i)
     if (indices[i] >= vertex_count)
       throw std::out_of_range("draw: index " + std::to_string(indices[i]) + " at position " + std::to_string(i) +
@@ -64,27 +93,63 @@ namespace {
 constexpr std::size_t kTrianglesPerChunk = 1024;
 constexpr std::size_t kMaxOffsetEntries = std::size_t{1} << 23;
 
+// Tile column or row of a pixel coordinate (≥ 0): a shift for the usual power-of-two
+// tile sizes, a division otherwise.
+struct TileIndexer {
+  int size;
+  int shift;  // log2(size), or −1 when size is not a power of two
+
+  explicit TileIndexer(int tile_size)
+      : size(tile_size), shift(std::has_single_bit(static_cast<unsigned>(tile_size)) ? std::countr_zero(static_cast<unsigned>(tile_size)) : -1) {}
+  int operator()(int pixel) const { return shift >= 0 ? pixel >> shift : pixel / size; }
+};
+
+// Marks a triangle binned to more than one tile in TriangleChunk::scratch.
+constexpr std::uint32_t kSeveralTiles = 0xffffffffu;
+
 void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t> indices, std::size_t first,
                     std::size_t last, const TileGrid& grid, TriangleChunk& chunk) {
   const TransformedVertices& verts = geometry.vertices;
   const int nvar = verts.varyings;
   const Viewport viewport{grid.width, grid.height};
-  // (triangle, tile) pairs, interleaved, in submission order.
-  std::vector<std::uint32_t>& pairs = chunk.scratch;
-  pairs.clear();
+  const FaceFilter faces(geometry.state);
+  const bool clockwise_front = geometry.state.front_face == FrontFace::Clockwise;
+  const TileIndexer tile_of(grid.tile_size);
+  const std::size_t tiles = grid.count();
+  // Binning is a counting sort by tile, stable so each tile keeps submission order:
+  // offsets[t + 1] counts tile t's triangles while they are set up; scratch holds each
+  // triangle's tile (the common case: its bounding box lies in one tile) or
+  // kSeveralTiles, whose tiles the scatter below reads again from its bounding box.
+  chunk.offsets.assign(tiles + 1, 0);
+  std::uint32_t* const count = chunk.offsets.data() + 1;
+  std::vector<std::uint32_t>& single_tile = chunk.scratch;
+  single_tile.resize(last - first);  // grows when clipping makes more triangles
+  std::size_t entries = 0;
 
+  // Counts triangle t (the last one in `chunk`) for its tiles.
+  auto bin = [&](const Triangle& t) {
+    const int tx0 = tile_of(t.min_x), tx1 = tile_of(t.max_x);
+    const int ty0 = tile_of(t.min_y), ty1 = tile_of(t.max_y);
+    const std::size_t i = chunk.triangles.size() - 1;
+    if (i >= single_tile.size()) single_tile.resize(std::max<std::size_t>(2 * single_tile.size(), 64));
+    if (tx0 == tx1 && ty0 == ty1) {
+      const auto tile = static_cast<std::uint32_t>(ty0 * grid.columns + tx0);
+      single_tile[i] = tile;
+      ++count[tile];
+      ++entries;
+      return;
+    }
+    single_tile[i] = kSeveralTiles;
+    for (int ty = ty0; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) ++count[ty * grid.columns + tx];
+    entries += static_cast<std::size_t>(ty1 - ty0 + 1) * static_cast<std::size_t>(tx1 - tx0 + 1);
+  };
+  // The general path, for vertices that were clipped or projected here.
   auto add = [&](const ScreenVertex screen[3], const std::uint32_t ids[3]) {
     Triangle t;
     if (!setup_triangle(screen, ids, viewport, geometry.state, t)) return;
-    const auto index = static_cast<std::uint32_t>(chunk.triangles.size());
     chunk.triangles.push_back(t);
-    const int tx0 = t.min_x / grid.tile_size, tx1 = t.max_x / grid.tile_size;
-    const int ty0 = t.min_y / grid.tile_size, ty1 = t.max_y / grid.tile_size;
-    for (int ty = ty0; ty <= ty1; ++ty)
-      for (int tx = tx0; tx <= tx1; ++tx) {
-        pairs.push_back(index);
-        pairs.push_back(static_cast<std::uint32_t>(ty * grid.columns + tx));
-      }
+    bin(t);
   };
 
   ClipVertex polygon[kMaxClipVertices];
@@ -93,9 +158,21 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
     const std::uint16_t oc[3] = {verts.outcode[ids[0]], verts.outcode[ids[1]], verts.outcode[ids[2]]};
     const std::uint16_t any = oc[0] | oc[1] | oc[2];
     if ((oc[0] & oc[1] & oc[2] & kOutsideFrustum) != 0 || (any & kNotFinite) != 0) continue;  // culled
-    if ((any & kNeedsClipping) == 0) {  // the common case: no plane to clip against
-      const ScreenVertex screen[3] = {verts.screen[ids[0]], verts.screen[ids[1]], verts.screen[ids[2]]};
-      add(screen, ids);
+    if ((any & kNeedsClipping) == 0) {
+      // The common case: no plane to clip against, the vertices projected by the vertex
+      // stage. setup_triangle() inline, culling on the area first (half of a closed
+      // mesh faces away).
+      const ScreenVertex& v0 = verts.screen[ids[0]];
+      const ScreenVertex& v1 = verts.screen[ids[1]];
+      const ScreenVertex& v2 = verts.screen[ids[2]];
+      const std::int64_t area = screen_area(v0, v1, v2);
+      if (!faces.keeps(area)) continue;
+      Triangle t;
+      if (!setup_kept_triangle(v0, v1, v2, ids[0], ids[1], ids[2], area, clockwise_front == (area > 0), viewport,
+                               t))
+        continue;
+      chunk.triangles.push_back(t);
+      bin(t);
       continue;
     }
     const glm::vec4 clip[3] = {verts.position[ids[0]], verts.position[ids[1]], verts.position[ids[2]]};
@@ -130,17 +207,25 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
     }
   }
 
-  // Counting sort of the pairs by tile, stable, so each tile keeps submission order.
-  // offsets[t + 1] first counts tile t's pairs, then becomes its end after the prefix sum;
-  // the scatter then moves each tile's start up to where the next tile starts, and a
-  // final shift restores the starts.
-  const std::size_t tiles = grid.count();
-  chunk.offsets.assign(tiles + 1, 0);
-  const std::size_t n = pairs.size() / 2;
-  for (std::size_t i = 0; i < n; ++i) ++chunk.offsets[pairs[2 * i + 1] + 1];
+  // The prefix sum makes offsets[t + 1] tile t's end; the scatter moves each tile's start
+  // up to where the next tile starts, and a final shift restores the starts.
   for (std::size_t t = 0; t < tiles; ++t) chunk.offsets[t + 1] += chunk.offsets[t];
-  chunk.list.resize(n);
-  for (std::size_t i = 0; i < n; ++i) chunk.list[chunk.offsets[pairs[2 * i + 1]]++] = pairs[2 * i];
+  chunk.list.resize(entries);
+  std::uint32_t* const list = chunk.list.data();
+  std::uint32_t* const start = chunk.offsets.data();
+  const auto n = static_cast<std::uint32_t>(chunk.triangles.size());
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t tile = single_tile[i];
+    if (tile != kSeveralTiles) {
+      list[start[tile]++] = i;
+      continue;
+    }
+    const Triangle& t = chunk.triangles[i];
+    const int tx0 = tile_of(t.min_x), tx1 = tile_of(t.max_x);
+    const int ty0 = tile_of(t.min_y), ty1 = tile_of(t.max_y);
+    for (int ty = ty0; ty <= ty1; ++ty)
+      for (int tx = tx0; tx <= tx1; ++tx) list[start[ty * grid.columns + tx]++] = i;
+  }
   for (std::size_t t = tiles; t > 0; --t) chunk.offsets[t] = chunk.offsets[t - 1];
   chunk.offsets[0] = 0;
 }

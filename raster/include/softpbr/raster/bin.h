@@ -59,7 +59,8 @@ struct DrawGeometry {
   TransformedVertices vertices;
   std::vector<TriangleChunk> chunks;
 
-  // Empties everything but keeps the memory for the next draw.
+  // Empties the triangles and bins but keeps the memory for the next draw; the vertex
+  // arrays keep their stale contents until the next vertex stage overwrites them.
   void recycle();
 
   // Bytes held (capacity) by the vertices, triangles and bins.

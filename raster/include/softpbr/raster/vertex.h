@@ -18,6 +18,7 @@
 #include "softpbr/raster/pool.h"
 #include "softpbr/raster/setup.h"
 #include "softpbr/raster/shader.h"
+#include "softpbr/raster/simd.h"
 
 namespace softpbr::raster {
 
@@ -35,8 +36,14 @@ struct TransformedVertices {
   const float* varyings_of(std::size_t i) const { return values.data() + i * static_cast<std::size_t>(varyings); }
 };
 
-// Classifies and projects vertices [first, last) of `vertices` for `viewport`.
+// Classifies and projects vertices [first, last) of `vertices` for `viewport`: the outcode
+// is clip.h's classify(), the screen vertex setup.h's project() for a vertex that needs
+// neither clipping nor culling as non-finite, else zero. Many vertices at once, in the
+// instruction set `isa` (simd.h; at most simd::cpu_isa(), which the first form uses); the
+// same bits whatever the instruction set.
 void project_vertices(TransformedVertices& vertices, std::size_t first, std::size_t last, Viewport viewport);
+void project_vertices(TransformedVertices& vertices, std::size_t first, std::size_t last, Viewport viewport,
+                      simd::Isa isa);
 
 template <class V>
 inline std::array<float, kVaryingCount<V>> varyings_to_floats(const V& v) {
