@@ -57,7 +57,7 @@ TEST_CASE("an .hdr file cut inside a run-length encoded scanline is an error, no
   const std::string finding = kHeader + "-Y 3 +X 8\n" +
                               std::string("\x02\x02\x00\x08\x88\x64\x88\x32\x88\x19\x88\x80"
                                           "\x02\x02\x00\x08\x08\x88\x64\x05\x00\x00\x88\x2e\x32\x88\x19\x88\x80",
-                                          31);
+                                          30);  // the 29 bytes and the literal's terminating NUL
   const fs::path path = scratch("finding-rle-truncated.hdr");
   write(path, finding);
   check_refused(golden::load_hdr, path, "truncated");
