@@ -117,6 +117,25 @@ golden::ImageF load_exr(const std::filesystem::path& path) {
                              std::to_string(dw.max_x) + ", " + std::to_string(dw.max_y) + ") is not 1 to " +
                              std::to_string(raster::kMaxTargetSize) + " pixels on each side");
 
+  // Compression: none, RLE, ZIP and ZIPS only. tinyexr 1.0.1's PIZ decoder (Debian 12)
+  // trusts the chunk: its bitmap range, Huffman length and table are read without bounds
+  // checks (heap over-reads found by fuzz_exr, fuzz/findings/exr-piz-*), so a damaged PIZ
+  // file could crash the command or read other memory. PXR24, B44 and DWA tinyexr does not
+  // decode at all.
+  switch (header.compression_type) {
+    case TINYEXR_COMPRESSIONTYPE_NONE:
+    case TINYEXR_COMPRESSIONTYPE_RLE:
+    case TINYEXR_COMPRESSIONTYPE_ZIPS:
+    case TINYEXR_COMPRESSIONTYPE_ZIP:
+      break;
+    case TINYEXR_COMPRESSIONTYPE_PIZ:
+      throw std::runtime_error(where + "PIZ-compressed OpenEXR files are not supported (the decoder is not safe "
+                                       "against damaged files); save it with ZIP, RLE or no compression");
+    default:
+      throw std::runtime_error(where + "OpenEXR compression " + std::to_string(header.compression_type) +
+                               " is not supported (expected none, RLE, ZIPS or ZIP)");
+  }
+
   // R, G, B and optional A, full resolution, HALF or FLOAT (HALF decoded as FLOAT); a
   // single channel (e.g. Y) is read as grey.
   int index[4] = {-1, -1, -1, -1};

@@ -15,7 +15,9 @@ namespace softpbr::cli {
 void write_exr(const std::filesystem::path& path, const raster::Target& target, float exposure);
 
 // Reads an OpenEXR file's R, G, B(, A) channels as linear float RGBA (alpha 1 when
-// absent). Throws std::runtime_error naming the path.
+// absent): single-part scan-line files, half or float, uncompressed, RLE, ZIPS or ZIP
+// (PIZ is refused: tinyexr's PIZ decoder is unsafe on damaged files). Throws
+// std::runtime_error naming the path.
 golden::ImageF load_exr(const std::filesystem::path& path);
 
 }  // namespace softpbr::cli

@@ -259,6 +259,10 @@ diff)
     || fail "data window overflow: $(cat err.txt)"
   check 2 a.exr "$hostile/bad-pixel-data.exr"
   grep -q "bad-pixel-data.exr: not a readable OpenEXR file" err.txt || fail "bad pixel data: $(cat err.txt)"
+  # A damaged PIZ chunk made tinyexr read past the file (ASan heap overflow): PIZ is refused.
+  check 2 a.exr "$hostile/piz-bitmap-overread.exr"
+  grep -q "piz-bitmap-overread.exr: PIZ-compressed OpenEXR files are not supported" err.txt \
+    || fail "PIZ file: $(cat err.txt)"
   check 1 a.png small.png
   grep -q "different sizes, 160x90 and 80x45" out.txt || fail "size mismatch not described"
   check 2 a.png missing.png
