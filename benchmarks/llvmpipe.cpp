@@ -61,12 +61,6 @@ vec3 normalize_or(vec3 v, vec3 fallback) {
   float len2 = dot(v, v);
   return (len2 > 0.0 && len2 < 1.0 / 0.0) ? v / sqrt(len2) : fallback;
 }
-float D_GGX(float NoH, float alpha) {
-  float a2 = alpha * alpha;
-  float d = NoH * NoH * (a2 - 1.0) + 1.0;
-  return a2 / (kPi * d * d);
-}
-float G_SchlickGGX(float NoX, float k) { return NoX / (NoX * (1.0 - k) + k); }
 vec3 F_Schlick(vec3 f0, float VoH) {
   float m = 1.0 - VoH;
   float m2 = m * m;
@@ -74,15 +68,19 @@ vec3 F_Schlick(vec3 f0, float VoH) {
   return f0 + (vec3(1.0) - f0) * m5;
 }
 vec3 brdf(vec3 n, vec3 l, vec3 v) {
-  vec3 h = normalize_or(l + v, n);
+  vec3 lv = l + v;
+  float lv2 = dot(lv, lv);
+  bool has_h = lv2 > 0.0 && lv2 < 1.0 / 0.0;
+  float lv_len = sqrt(has_h ? lv2 : 1.0);
   float NoL = clamp(dot(n, l), 0.0, 1.0);
   float NoV = clamp(dot(n, v), kMinNoV, 1.0);
-  float NoH = clamp(dot(n, h), 0.0, 1.0);
-  float VoH = clamp(dot(v, h), 0.0, 1.0);
-  float D = D_GGX(NoH, u_alpha);
-  float G = G_SchlickGGX(NoV, u_k) * G_SchlickGGX(NoL, u_k);
+  float NoH = clamp(has_h ? dot(n, lv) / lv_len : dot(n, n), 0.0, 1.0);
+  float VoH = clamp(has_h ? dot(v, lv) / lv_len : dot(v, n), 0.0, 1.0);
+  float a2 = u_alpha * u_alpha;
+  float d = NoH * NoH * (a2 - 1.0) + 1.0;
+  float g_v = NoV * (1.0 - u_k) + u_k, g_l = NoL * (1.0 - u_k) + u_k;
   vec3 F = F_Schlick(u_f0, VoH);
-  vec3 specular = F * (D * G / (4.0 * NoV * max(NoL, kMinNoV)));
+  vec3 specular = F * ((a2 * NoL) / (4.0 * kPi * d * d * g_v * g_l * max(NoL, kMinNoV)));
   vec3 kD = max(vec3(1.0) - F, vec3(0.0)) * (1.0 - u_metallic);
   return kD * u_albedo * (1.0 / kPi) + specular;
 }
@@ -93,9 +91,10 @@ void main() {
   for (int i = 0; i < u_light_count; ++i) {
     vec3 d = u_light_position[i] - v_world;
     float dist2 = max(dot(d, d), 1e-8);
-    vec3 l = d / sqrt(dist2);
+    float inv_dist = 1.0 / sqrt(dist2);
+    vec3 l = d * inv_dist;
     float NoL = dot(n, l);
-    if (NoL > 0.0) lo += brdf(n, l, v) * (u_light_radiance[i] / dist2) * NoL;
+    if (NoL > 0.0) lo += brdf(n, l, v) * (u_light_radiance[i] * (inv_dist * inv_dist)) * NoL;
   }
   vec3 c = u_ambient * u_albedo * u_ao + lo + u_emissive;
   c = c / (vec3(1.0) + c);  // Reinhard

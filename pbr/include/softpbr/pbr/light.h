@@ -68,8 +68,9 @@ inline LightSampleLanes<F> sample_light(const PreparedLight& p, const simd::Vec3
   const V3 d = V3(F(l.position.x), F(l.position.y), F(l.position.z)) - position;
   const F dist2 = simd::max(simd::dot(d, d), F(1e-8f));
   const F dist = simd::sqrt(dist2);
-  const V3 to_light = d / dist;
-  F falloff = F(1.0f) / dist2;
+  const F inv_dist = F(1.0f) / dist;
+  const V3 to_light = d * inv_dist;
+  F falloff = inv_dist * inv_dist;
   if (l.range > 0.0f) {
     // KHR_lights_punctual's window: clamp(1 − (d/range)⁴, 0, 1) / d².
     const F q = dist2 / F(l.range * l.range);

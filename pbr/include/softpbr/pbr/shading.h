@@ -93,15 +93,28 @@ inline Vec3L<F> F_Schlick(const glm::vec3& f0, F VoH) {
 // The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v.
 template <class F>
 inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
-  const Vec3L<F> h = normalize_or(l + v, n);
+  // h = (l + v) / |l + v| is only read through n·h and v·h: each is the dot with l + v
+  // divided by its length (more exact than normalizing h first, and two divisions, not
+  // three). When l + v vanishes (l = −v) h falls back to n, as normalize_or would.
+  const Vec3L<F> lv = l + v;
+  const F one(1.0f), inf(std::numeric_limits<float>::infinity());
+  const F lv2 = simd::dot(lv, lv);
+  const F positive = simd::select(lv2 > F(0.0f), lv2, inf);
+  const auto has_h = positive < inf;
+  const F lv_len = simd::sqrt(simd::select(has_h, positive, one));
   const F NoL = simd::clamp(simd::dot(n, l), F(0.0f), F(1.0f));
   const F NoV = simd::clamp(simd::dot(n, v), F(kMinNoV), F(1.0f));
-  const F NoH = simd::clamp(simd::dot(n, h), F(0.0f), F(1.0f));
-  const F VoH = simd::clamp(simd::dot(v, h), F(0.0f), F(1.0f));
-  const F D = D_GGX(NoH, F(m.alpha));
-  const F G = G_Smith(NoV, NoL, F(m.k));
+  const F NoH = simd::clamp(simd::select(has_h, simd::dot(n, lv) / lv_len, simd::dot(n, n)), F(0.0f), F(1.0f));
+  const F VoH = simd::clamp(simd::select(has_h, simd::dot(v, lv) / lv_len, simd::dot(v, n)), F(0.0f), F(1.0f));
+  // D · G / (4 (n·l)(n·v)) in one division: with D = α² / (π d²) and
+  // G = (n·v / g_v)(n·l / g_l), g_x = x (1 − k) + k, n·v cancels (it is ≥ kMinNoV > 0).
+  const F alpha(m.alpha), k(m.k);
+  const F a2 = alpha * alpha;
+  const F d = NoH * NoH * (a2 - one) + one;
+  const F g_v = NoV * (one - k) + k, g_l = NoL * (one - k) + k;
   const Vec3L<F> Fr = F_Schlick<F>(m.f0, VoH);
-  const Vec3L<F> specular = Fr * (D * G / (F(4.0f) * NoV * simd::max(NoL, F(kMinNoV))));
+  const Vec3L<F> specular =
+      Fr * ((a2 * NoL) / (F(4.0f * kPi) * d * d * g_v * g_l * simd::max(NoL, F(kMinNoV))));
   // Fr exceeds 1 when a base colour above 1 (accepted, see prepare_material) lifts F0 over
   // 1: the diffuse weight stops at 0 instead of going negative (the same bits for Fr ≤ 1).
   const Vec3L<F> one_minus_F = Vec3L<F>(F(1.0f)) - Fr;
