@@ -144,6 +144,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   }
 
   const DrawState& state = geometry.state;
+  // Copied out of the state: the kernel's stores (depths, packet lanes) would otherwise
+  // make the compiler reload them for every lane.
+  const DepthTest depth_test = state.depth_test;
+  const bool depth_write = state.depth_write;
   const int width = target.width;
   glm::vec4* colors = target.colors;
   float* depths = target.depths;
@@ -196,8 +200,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       for (int j = 0; j < 4; ++j) {
         if (!(mask & (1u << j))) continue;
         const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-        if (!depth_passes(state.depth_test, z[j], depths[idx])) mask &= ~(1u << j);
-        else if (state.depth_write) depths[idx] = z[j];
+        if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
+        else if (depth_write) depths[idx] = z[j];
       }
       if (mask == 0) continue;
 
