@@ -102,9 +102,15 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
   } else {
     c.r.store(out[0]), c.g.store(out[1]), c.b.store(out[2]), c.a.store(out[3]);
   }
-  for (int lane = 0; lane < b.count; ++lane) {
-    const std::size_t idx = b.index[lane];
-    colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
+  // The blend mode decided once per packet: replacing does not read the target.
+  if (state.blend == Blend::Replace) {
+    for (int lane = 0; lane < b.count; ++lane)
+      colors[b.index[lane]] = glm::vec4(out[0][lane], out[1][lane], out[2][lane], out[3][lane]);
+  } else {
+    for (int lane = 0; lane < b.count; ++lane) {
+      const std::size_t idx = b.index[lane];
+      colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
+    }
   }
   b.count = 0;
 }
@@ -158,35 +164,45 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
     }
   }
 
+  // The edge functions of a quad's four lanes as one vector of 64-bit integers per edge,
+  // the lane-0 value plus these steps (built in an array of scalars, they were stored one
+  // by one and reloaded as a vector, which stalls on store forwarding).
+  typedef std::int64_t I64x4 __attribute__((vector_size(32)));
+  using V4 = simd::Vec<4>;
+  const auto lane_step = [&](int i) {
+    const std::int64_t a = t.a[i], b = t.b[i];
+    return I64x4{0, a * kStep, b * kStep, (a + b) * kStep};
+  };
+  // Named, not an array: GCC keeps them in registers (an array of three went to the
+  // stack and back for every quad).
+  const I64x4 step0 = lane_step(0), step1 = lane_step(1), step2 = lane_step(2);
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
+    // Lanes 2 and 3 (the quad's lower row) exist only inside the tile.
+    const unsigned rows = qy + 1 < tile.y1 ? 0xFu : 0x3u;
+    const std::int64_t row0 = t.b[0] * sy + t.c[0], row1 = t.b[1] * sy + t.c[1], row2 = t.b[2] * sy + t.c[2];
     for (int qx = x0; qx <= x1; qx += 2) {
       const std::int64_t sx = qx * kStep + kHalf;
       // Lanes: 0 = (qx, qy), 1 = (qx+1, qy), 2 = (qx, qy+1), 3 = (qx+1, qy+1).
       const int lane_x[4] = {qx, qx + 1, qx, qx + 1};
       const int lane_y[4] = {qy, qy, qy + 1, qy + 1};
-      std::int64_t e[3][4];
-      for (int i = 0; i < 3; ++i) {
-        e[i][0] = t.a[i] * sx + t.b[i] * sy + t.c[i];
-        e[i][1] = e[i][0] + t.a[i] * kStep;
-        e[i][2] = e[i][0] + t.b[i] * kStep;
-        e[i][3] = e[i][1] + t.b[i] * kStep;
-      }
-      unsigned mask = 0;
-      for (int j = 0; j < 4; ++j) {
-        const bool inside = (e[0][j] | e[1][j] | e[2][j]) >= 0;  // all three non-negative
-        if (inside && lane_x[j] < tile.x1 && lane_y[j] < tile.y1) mask |= 1u << j;
-      }
+      const I64x4 e0 = (I64x4{} + (t.a[0] * sx + row0)) + step0;
+      const I64x4 e1 = (I64x4{} + (t.a[1] * sx + row1)) + step1;
+      const I64x4 e2 = (I64x4{} + (t.a[2] * sx + row2)) + step2;
+      // A lane is inside when all three edge values are non-negative: the sign bit of
+      // their OR is clear.
+      const I64x4 negative = (e0 | e1 | e2) >> 63;  // −1 where some edge is < 0
+      unsigned mask = ~static_cast<unsigned>((negative[0] & 1) | (negative[1] & 2) | (negative[2] & 4) |
+                                             (negative[3] & 8)) &
+                      rows & (qx + 1 < tile.x1 ? 0xFu : 0x5u);
       if (mask == 0) continue;
 
       // Unbiased edge values as floats: the screen-space barycentric weights × 2·area.
       // From here the four lanes run as one simd::Vec<4>, each lane the same IEEE
       // operations in the same order as one pixel would take alone.
-      using V4 = simd::Vec<4>;
-      alignas(16) float wf[3][4];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 4; ++j) wf[i][j] = static_cast<float>(e[i][j] + t.bias[i]);
-      const V4 w0 = V4::load(wf[0]), w1 = V4::load(wf[1]), w2 = V4::load(wf[2]);
+      const V4 w0(__builtin_convertvector(e0 + static_cast<std::int64_t>(t.bias[0]), V4::native));
+      const V4 w1(__builtin_convertvector(e1 + static_cast<std::int64_t>(t.bias[1]), V4::native));
+      const V4 w2(__builtin_convertvector(e2 + static_cast<std::int64_t>(t.bias[2]), V4::native));
 
       // Early depth test (shaders cannot change depth, nor discard): a passing pixel's
       // depth is written now, so later triangles test against it even while its colour
