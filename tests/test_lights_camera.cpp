@@ -329,7 +329,15 @@ TEST_CASE("validate(camera) throws for a camera that cannot make an image, namin
       {"position", [](pbr::Camera& c) { c.position.x = kNaN; }},
       {"target", [](pbr::Camera& c) { c.target.z = kInf; }},
       {"up", [](pbr::Camera& c) { c.up.y = kNaN; }},
+      // Finite, but too far apart or too long for the float view matrix.
+      {"position", [](pbr::Camera& c) { c.position.z = 1e30f; }},
+      {"position", [](pbr::Camera& c) { c.target.x = -3e19f; }},
+      {"up", [](pbr::Camera& c) { c.up = {0.0f, 1e30f, 0.0f}; }},
   };
+  // Far, but within range: a camera 1e18 away from its target is valid.
+  pbr::Camera far_away;
+  far_away.position.z = 1e18f;
+  CHECK_NOTHROW(pbr::validate(far_away));
   CHECK_NOTHROW(pbr::validate(pbr::Camera{}));
   for (const Bad& b : cases) {
     pbr::Camera c;

@@ -45,8 +45,13 @@ void validate(const Camera& c) {
   require(finite3(c.up), "up", "must be finite");
   const glm::vec3 dir = c.target - c.position;
   require(glm::dot(dir, dir) > 0.0f, "target", "must differ from position");
-  const glm::vec3 side = glm::cross(dir, c.up);
-  require(glm::dot(side, side) > 1e-12f * glm::dot(dir, dir) * glm::dot(c.up, c.up), "up",
+  // The view matrix normalizes the view direction and up in float: their squared lengths
+  // must not overflow (a camera 1e30 away was reported as "up parallel to the view").
+  require(std::isfinite(glm::dot(dir, dir)), "position",
+          "must be less than 1e19 from the target (the view matrix squares the distance in float)");
+  require(std::isfinite(glm::dot(c.up, c.up)), "up", "must be shorter than 1e19 (its length is squared in float)");
+  const glm::dvec3 d(dir), u(c.up), side = glm::cross(d, u);
+  require(glm::dot(side, side) > 1e-12 * glm::dot(d, d) * glm::dot(u, u), "up",
           "must not be zero or parallel to the view direction");
   require(c.fovy > 0.0f && c.fovy < 3.14159f, "fovy", "must be in (0, pi) radians");
   require(c.near > 0.0f && std::isfinite(c.near), "near", "must be > 0");

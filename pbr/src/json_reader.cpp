@@ -114,7 +114,17 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
     return push(false);
   }
   bool end_array() override { return pop(); }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+  // Syntax errors are left to the DOM parse that follows (its message has the line and
+  // column); a number beyond double's range (406: "1e400") has neither there, so it is
+  // reported here with its pointer.
+  bool parse_error(std::size_t, const std::string& token, const nlohmann::detail::exception& e) override {
+    if (e.id == 406) {
+      value();
+      found = Problem{pointer(), "the number " + (token.size() > 40 ? token.substr(0, 40) + "..." : token) +
+                                     " is out of range (beyond +-1.8e308)"};
+    }
+    return false;
+  }
 
  private:
   struct Frame {

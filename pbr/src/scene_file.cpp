@@ -281,7 +281,7 @@ Camera Loader::camera(const Node& spec) {
     r_.object(spec, {"target", "distance", "yaw", "pitch", "fov", "near", "far"});
     OrbitCamera o;
     if (auto t = r_.member(spec, "target")) o.target = r_.vec3(*t);
-    o.distance = r_.number_f(r_.required(spec, "distance"), 0, 1e30, true);
+    o.distance = r_.number_f(r_.required(spec, "distance"), 0, 1e18, true);  // validate(): < 1e19
     if (auto y = r_.member(spec, "yaw")) o.yaw = static_cast<float>(dmath::radians(r_.number(*y, -360, 360)));
     if (auto p = r_.member(spec, "pitch")) o.pitch = static_cast<float>(dmath::radians(r_.number(*p, -89, 89)));
     c = o.camera();
