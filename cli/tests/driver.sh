@@ -108,7 +108,7 @@ errors)
 "width": 32|"width": -5|3|bad.json: /render/width: expected an integer in [1, 16384], got -5
 "width": 32|"width": "32"|3|bad.json: /render/width: expected an integer in [1, 16384], got "32"
 "width": 32|"width": 32.5|3|bad.json: /render/width: expected an integer in [1, 16384], got 32.5
-"height": 24|"height": 1e400|3|bad.json: invalid JSON: number overflow parsing '1e400'
+"height": 24|"height": 1e400|3|bad.json: /render/height: the number 1e400 is out of range (beyond +-1.8e308)
 "preset": "gold"|"preset": "gld"|3|bad.json: /objects/0/material/preset: expected one of gold, copper, silver, aluminium, iron, titanium, chromium, nickel, platinum, plastic_red, plastic_green, plastic_blue, rubber, white_paint, got "gld"
 "type": "cube"|"type": "cone"|3|bad.json: /objects/0/mesh/type: expected one of uv_sphere, icosphere, cube, plane, torus, got "cone"
 "type": "cube"|"file": "models/nope.obj"|3|bad.json: /objects/0/mesh/file: models/nope.obj: cannot open: no such file
