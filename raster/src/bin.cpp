@@ -113,7 +113,6 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
   const int nvar = verts.varyings;
   const Viewport viewport{grid.width, grid.height};
   const FaceFilter faces(geometry.state);
-  const bool clockwise_front = geometry.state.front_face == FrontFace::Clockwise;
   const TileIndexer tile_of(grid.tile_size);
   const std::size_t tiles = grid.count();
   // Binning is a counting sort by tile, stable so each tile keeps submission order:
@@ -168,7 +167,7 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
       const std::int64_t area = screen_area(v0, v1, v2);
       if (!faces.keeps(area)) continue;
       Triangle t;
-      if (!setup_kept_triangle(v0, v1, v2, ids[0], ids[1], ids[2], area, clockwise_front == (area > 0), viewport,
+      if (!setup_kept_triangle(v0, v1, v2, ids[0], ids[1], ids[2], area, faces.front(area), viewport,
                                t))
         continue;
       chunk.triangles.push_back(t);

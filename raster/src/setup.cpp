@@ -40,10 +40,9 @@ ScreenVertex project(const glm::vec4& p, Viewport vp) {
 bool setup_triangle(const ScreenVertex v[3], const std::uint32_t ids[3], Viewport viewport,
                     const DrawState& state, Triangle& out) {
   const std::int64_t area = screen_area(v[0], v[1], v[2]);
-  if (!FaceFilter(state).keeps(area)) return false;
-  // On screen (y down) a positive orientation is clockwise.
-  const bool front = (state.front_face == FrontFace::Clockwise) == (area > 0);
-  return setup_kept_triangle(v[0], v[1], v[2], ids[0], ids[1], ids[2], area, front, viewport, out);
+  const FaceFilter faces(state);
+  if (!faces.keeps(area)) return false;
+  return setup_kept_triangle(v[0], v[1], v[2], ids[0], ids[1], ids[2], area, faces.front(area), viewport, out);
 }
 
 }  // namespace softpbr::raster

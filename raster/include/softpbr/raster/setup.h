@@ -76,18 +76,20 @@ inline std::int64_t screen_area(const ScreenVertex& v0, const ScreenVertex& v1, 
 
 // Which orientations a draw keeps: face culling as a pair of flags, decided once a draw.
 struct FaceFilter {
+  bool clockwise_front;  // a clockwise triangle faces the viewer
   bool keep_clockwise;
   bool keep_counter_clockwise;
 
   explicit FaceFilter(const DrawState& state) {
-    const bool clockwise_front = state.front_face == FrontFace::Clockwise;
-    // A clockwise triangle is front facing iff the front face is clockwise.
+    clockwise_front = state.front_face == FrontFace::Clockwise;
     keep_clockwise = !((state.cull == Cull::Back && !clockwise_front) || (state.cull == Cull::Front && clockwise_front));
     keep_counter_clockwise =
         !((state.cull == Cull::Back && clockwise_front) || (state.cull == Cull::Front && !clockwise_front));
   }
   // Whether a triangle of twice the signed area `area` is drawn (zero area never is).
   bool keeps(std::int64_t area) const { return area > 0 ? keep_clockwise : area < 0 && keep_counter_clockwise; }
+  // Whether a triangle of non-zero signed area `area` faces the viewer.
+  bool front(std::int64_t area) const { return clockwise_front == (area > 0); }
 };
 
 // The rest of setup_triangle() for a triangle of non-zero `area` (screen_area()) that
