@@ -15,7 +15,7 @@
 
 #include <tinyexr.h>
 
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace softpbr::cli {
 

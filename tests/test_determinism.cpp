@@ -13,7 +13,7 @@
 #include "raster_helpers.h"
 #include "softpbr/pbr/camera.h"
 #include "softpbr/pbr/mesh.h"
-#include "softpbr/raster/simd.h"
+#include "softpbr/simd/simd.h"
 
 namespace {
 

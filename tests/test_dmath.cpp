@@ -4,7 +4,7 @@
 #include <doctest/doctest.h>
 
 #include "softpbr/raster/color.h"
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace dm = softpbr::dmath;
 

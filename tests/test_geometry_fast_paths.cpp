@@ -21,12 +21,12 @@
 #include <doctest/doctest.h>
 #include <glm/glm.hpp>
 
-#include "softpbr/raster/bin.h"
-#include "softpbr/raster/clip.h"
+#include "softpbr/raster/detail/bin.h"
+#include "softpbr/raster/detail/clip.h"
 #include "softpbr/raster/pool.h"
-#include "softpbr/raster/setup.h"
-#include "softpbr/raster/simd.h"
-#include "softpbr/raster/vertex.h"
+#include "softpbr/raster/detail/setup.h"
+#include "softpbr/simd/simd.h"
+#include "softpbr/raster/detail/vertex.h"
 
 namespace raster = softpbr::raster;
 namespace simd = softpbr::simd;

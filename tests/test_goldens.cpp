@@ -19,7 +19,7 @@
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;

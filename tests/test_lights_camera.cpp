@@ -14,7 +14,7 @@
 
 #include "softpbr/pbr/camera.h"
 #include "softpbr/pbr/light.h"
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace pbr = softpbr::pbr;
 namespace dm = softpbr::dmath;

@@ -12,7 +12,7 @@
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene_file.h"
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;

@@ -15,7 +15,7 @@
 #include <doctest/doctest.h>
 
 #include "raster_helpers.h"
-#include "softpbr/raster/simd.h"
+#include "softpbr/simd/simd.h"
 
 namespace {
 

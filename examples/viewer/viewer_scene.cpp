@@ -10,7 +10,7 @@
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/tonemap.h"
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace viewer {
 

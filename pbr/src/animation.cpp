@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace softpbr::pbr {
 

@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace softpbr::pbr {
 

@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace softpbr::pbr {
 

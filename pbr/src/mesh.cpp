@@ -16,7 +16,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 
 namespace softpbr::pbr {
 

@@ -17,7 +17,7 @@
 
 #include "json_reader.h"
 #include "softpbr/pbr/obj.h"
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 #include "softpbr/raster/target.h"
 
 namespace softpbr::pbr {

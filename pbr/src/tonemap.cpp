@@ -12,8 +12,8 @@
 #include <stb_image_write.h>
 
 #include "softpbr/raster/color.h"
-#include "softpbr/raster/dmath.h"
-#include "softpbr/raster/simd.h"
+#include "softpbr/dmath/dmath.h"
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
 

@@ -1,13 +1,13 @@
 // Primitive assembly, clipping, setup and binning (see bin.h).
-#include "softpbr/raster/bin.h"
+#include "softpbr/raster/detail/bin.h"
 
 #include <algorithm>
 #include <bit>
 #include <stdexcept>
 #include <string>
 
-#include "softpbr/raster/clip.h"
-#include "softpbr/raster/simd.h"
+#include "softpbr/raster/detail/clip.h"
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::raster {
 

@@ -1,5 +1,5 @@
 // Culling and clipping in homogeneous clip space (see clip.h).
-#include "softpbr/raster/clip.h"
+#include "softpbr/raster/detail/clip.h"
 
 #include <cmath>
 #include <cstring>

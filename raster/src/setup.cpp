@@ -1,5 +1,5 @@
 // Triangle setup in fixed point (see setup.h).
-#include "softpbr/raster/setup.h"
+#include "softpbr/raster/detail/setup.h"
 
 #include <algorithm>
 

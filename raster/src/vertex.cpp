@@ -1,7 +1,7 @@
 // Per-vertex classification and viewport transform (see vertex.h).
-#include "softpbr/raster/vertex.h"
+#include "softpbr/raster/detail/vertex.h"
 
-#include "softpbr/raster/clip.h"
+#include "softpbr/raster/detail/clip.h"
 
 namespace softpbr::raster {
 

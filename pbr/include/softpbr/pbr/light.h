@@ -11,7 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "softpbr/raster/simd.h"
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
 

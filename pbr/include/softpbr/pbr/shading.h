@@ -29,7 +29,7 @@
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/raster/shader.h"
-#include "softpbr/raster/simd.h"
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
 

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "softpbr/raster/color.h"
-#include "softpbr/raster/dmath.h"
+#include "softpbr/dmath/dmath.h"
 #include "softpbr/raster/renderer.h"
 #include "softpbr/raster/shader.h"
 #include "softpbr/raster/target.h"

@@ -22,12 +22,12 @@
 #include <stdexcept>
 #include <vector>
 
-#include "softpbr/raster/bin.h"
+#include "softpbr/raster/detail/bin.h"
 #include "softpbr/raster/pool.h"
-#include "softpbr/raster/rast.h"
+#include "softpbr/raster/detail/rast.h"
 #include "softpbr/raster/shader.h"
 #include "softpbr/raster/target.h"
-#include "softpbr/raster/vertex.h"
+#include "softpbr/raster/detail/vertex.h"
 
 namespace softpbr::raster {
 

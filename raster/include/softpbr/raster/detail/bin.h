@@ -1,4 +1,7 @@
-// softpbr/raster/bin.h — primitive assembly and binning into screen tiles.
+// softpbr/raster/detail/bin.h — primitive assembly and binning into screen tiles.
+//
+// Internal to softpbr::raster (included by renderer.h for its templates): not API, may
+// change at any time. The API is renderer.h, shader.h, target.h, color.h, pool.h.
 //
 // Triangles are assembled from the index buffer in fixed-size chunks, in parallel: each
 // chunk clips, sets up and bins its triangles into a list per tile (compressed rows: one
@@ -12,9 +15,9 @@
 #include <vector>
 
 #include "softpbr/raster/pool.h"
-#include "softpbr/raster/setup.h"
+#include "softpbr/raster/detail/setup.h"
 #include "softpbr/raster/shader.h"
-#include "softpbr/raster/vertex.h"
+#include "softpbr/raster/detail/vertex.h"
 
 namespace softpbr::raster {
 

@@ -1,4 +1,4 @@
-// softpbr/raster/simd.h — the lane types that packet shaders are written against.
+// softpbr/simd/simd.h — the lane types that packet shaders are written against.
 //
 // A packet shader is written once against a lane type F: `float` (one pixel) or
 // simd::Vec<N> (N pixels, N = 4, 8 or 16, each lane an independent pixel). Every

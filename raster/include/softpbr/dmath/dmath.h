@@ -1,4 +1,4 @@
-// softpbr/raster/dmath.h — deterministic elementary functions.
+// softpbr/dmath/dmath.h — deterministic elementary functions.
 //
 // Every function here is built from IEEE-754 basic operations (+, −, ×, ÷, sqrt) in a
 // fixed order, so it returns the same bits on every compiler, libm and CPU (DESIGN.md §3).

@@ -1,4 +1,7 @@
-// softpbr/raster/clip.h — culling and clipping in homogeneous clip space.
+// softpbr/raster/detail/clip.h — culling and clipping in homogeneous clip space.
+//
+// Internal to softpbr::raster (included by renderer.h for its templates): not API, may
+// change at any time. The API is renderer.h, shader.h, target.h, color.h, pool.h.
 //
 // Triangles entirely outside one frustum plane are culled. The rest are clipped only
 // against the planes that matter for correctness: near (z ≥ −w, GL convention), far
@@ -14,7 +17,7 @@
 
 #include <glm/vec4.hpp>
 
-#include "softpbr/raster/setup.h"
+#include "softpbr/raster/detail/setup.h"
 #include "softpbr/raster/shader.h"
 
 namespace softpbr::raster {

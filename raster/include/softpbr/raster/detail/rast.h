@@ -1,4 +1,7 @@
-// softpbr/raster/rast.h — the tile kernel: coverage, depth, interpolation and shading.
+// softpbr/raster/detail/rast.h — the tile kernel: coverage, depth, interpolation and shading.
+//
+// Internal to softpbr::raster (included by renderer.h for its templates): not API, may
+// change at any time. The API is renderer.h, shader.h, target.h, color.h, pool.h.
 //
 // One thread owns a tile at a time; inside it the triangles of a draw run in submission
 // order. Each triangle is walked in 2×2 quads aligned to even pixel coordinates (tiles
@@ -14,11 +17,11 @@
 
 #include <glm/vec4.hpp>
 
-#include "softpbr/raster/bin.h"
+#include "softpbr/raster/detail/bin.h"
 #include "softpbr/raster/shader.h"
-#include "softpbr/raster/simd.h"
+#include "softpbr/simd/simd.h"
 #include "softpbr/raster/target.h"
-#include "softpbr/raster/vertex.h"
+#include "softpbr/raster/detail/vertex.h"
 
 namespace softpbr::raster {
 

@@ -1,4 +1,7 @@
-// softpbr/raster/vertex.h — the vertex stage: the shader's vertex() over a vertex buffer.
+// softpbr/raster/detail/vertex.h — the vertex stage: the shader's vertex() over a vertex buffer.
+//
+// Internal to softpbr::raster (included by renderer.h for its templates): not API, may
+// change at any time. The API is renderer.h, shader.h, target.h, color.h, pool.h.
 //
 // Every vertex is transformed exactly once into the post-transform buffer (clip-space
 // position + varyings), in parallel chunks; indexed triangles then share the results.
@@ -16,9 +19,9 @@
 #include <glm/vec4.hpp>
 
 #include "softpbr/raster/pool.h"
-#include "softpbr/raster/setup.h"
+#include "softpbr/raster/detail/setup.h"
 #include "softpbr/raster/shader.h"
-#include "softpbr/raster/simd.h"
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::raster {
 

@@ -1,4 +1,7 @@
-// softpbr/raster/setup.h — triangle setup in fixed point.
+// softpbr/raster/detail/setup.h — triangle setup in fixed point.
+//
+// Internal to softpbr::raster (included by renderer.h for its templates): not API, may
+// change at any time. The API is renderer.h, shader.h, target.h, color.h, pool.h.
 //
 // Vertices are snapped to 1/256 pixel. Edge functions are exact 64-bit integers, so a
 // pixel on an edge shared by two triangles is covered by exactly one of them (the
