@@ -12,7 +12,9 @@
 #include <stb_image_write.h>
 
 #include "softpbr/raster/color.h"
+#include "softpbr/check.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/simd/dispatch.h"
 #include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
@@ -275,133 +277,37 @@ inline unsigned code_of(const float* t, const std::uint8_t* first, float t0, int
   return v >= t0 ? k : 0u;  // NaN fails the comparison
 }
 
-// The codes of N values through the packed table, all in lanes: code_of for curves with at
-// most one threshold per key.
-template <int N>
-inline simd::UintLanes<N> packed_codes(simd::Vec<N> v, const Curve& c) {
-  using U = simd::UintLanes<N>;
-  using V = simd::Vec<N>;
-  const U bits = simd::bits_of(v) & 0x7fffffffu;  // −0 (t[0] = 0) looks up key 0 as +0
-  U key = bits >> 16;
-  const U lowest = U{} + c.packed_base, highest = U{} + kLastKey;
-  key = key < lowest ? lowest : key;  // below t[0]: overridden with 0 below
-  key = key > highest ? highest : key;
-  const U entry = simd::gather<N>(c.packed, key - lowest);
-  U code = (entry >> 17) - (U)((bits & 0xffffu) >= (entry & 0x1ffffu));  // a true comparison is −1
-  code = (v < V(1.0f)).m ? code : U{} + 255u;
-  return (v >= V(c.t0)).m ? code : U{};
-}
+}  // namespace
+}  // namespace softpbr::pbr
 
-// N pixels from `px` to 4N bytes at `out`.
-template <int N, ToneMap kOp, int kSteps>
-inline void encode_lanes(const glm::vec4* px, float scale, const Curve& curve, std::uint8_t* out) {
-  using V = simd::Vec<N>;
-  V r, g, b, a;
-  simd::load_deinterleave4<N>(&px[0].r, r, g, b, a);
-  r *= V(scale);
-  g *= V(scale);
-  b *= V(scale);
-  tone_map_lanes<kOp>(r, g, b);
-  // raster::unorm8(a) = a·255 + 0.5 truncated for 0 < a < 1, 0 at or below 0 (and NaN), 255
-  // from 1: the same as truncating min(max(0, a), 1)·255 + 0.5 (0.5 → 0, 255.5 → 255; max
-  // with 0 first turns NaN into 0), which every lane can convert.
-  a = simd::min(simd::max(V(0.0f), a), V(1.0f)) * V(255.0f) + V(0.5f);
-  if constexpr (kSteps == kPacked && std::endian::native == std::endian::little) {
-    // Each pixel's four codes as one 32-bit lane, bytes r, g, b, a in memory order.
-    const simd::UintLanes<N> rgba = packed_codes(r, curve) | packed_codes(g, curve) << 8 |
-                                    packed_codes(b, curve) << 16 | simd::truncate_to_uint(a) << 24;
-    std::memcpy(out, &rgba, 4 * N);
-    return;
-  }
-  alignas(64) float ch[4][N];
-  r.store(ch[0]);
-  g.store(ch[1]);
-  b.store(ch[2]);
-  a.store(ch[3]);
-  // The curve in locals: the byte stores below may alias anything to the compiler.
-  const float* t = curve.t;
-  const std::uint8_t* first = curve.first;
-  const float t0 = curve.t0;
-  const int steps = curve.steps;
-  alignas(64) std::uint8_t bytes[4 * N];
-  for (int i = 0; i < N; ++i) {
-    bytes[4 * i + 0] = static_cast<std::uint8_t>(code_of<kSteps>(t, first, t0, steps, ch[0][i]));
-    bytes[4 * i + 1] = static_cast<std::uint8_t>(code_of<kSteps>(t, first, t0, steps, ch[1][i]));
-    bytes[4 * i + 2] = static_cast<std::uint8_t>(code_of<kSteps>(t, first, t0, steps, ch[2][i]));
-    bytes[4 * i + 3] = static_cast<std::uint8_t>(static_cast<int>(ch[3][i]));
-  }
-  std::memcpy(out, bytes, sizeof bytes);
-}
+// {baseline, avx2, avx512}::encode_with_lanes<N>() in softpbr::pbr's unnamed namespace.
+#define SOFTPBR_TARGET_FILE "tonemap-inl.h"
+#include "softpbr/simd/foreach_target.h"
 
-template <int N, ToneMap kOp, int kSteps>
-inline void encode_rect_lanes(const Job& job) {
-  const std::size_t width = static_cast<std::size_t>(job.target->width());
-  const glm::vec4* colors = job.target->colors().data();
-  const int n = job.x1 - job.x0;
-  const int whole = n / N * N;
-  // Runs of one colour (the background) are common: a set of N pixels all equal, bit for
-  // bit, to the last such set reuses its bytes (no byte changes).
-  glm::vec4 run[N];
-  std::uint8_t run_bytes[4 * N];
-  bool have_run = false;
-  for (int y = job.y0; y < job.y1; ++y) {
-    const std::size_t start = static_cast<std::size_t>(y) * width + static_cast<std::size_t>(job.x0);
-    const glm::vec4* in = colors + start;
-    std::uint8_t* out = job.image->rgba.data() + start * 4;
-    for (int x = 0; x < whole; x += N) {
-      if (have_run && simd::same_bytes<sizeof run>(in + x, run)) {
-        std::memcpy(out + 4 * x, run_bytes, sizeof run_bytes);
-        continue;
-      }
-      encode_lanes<N, kOp, kSteps>(in + x, job.scale, job.curve, out + 4 * x);
-      if (simd::same_bytes<sizeof(glm::vec4) * (N - 1)>(in + x, in + x + 1)) {  // all N the same
-        std::copy(in + x, in + x + N, run);
-        std::memcpy(run_bytes, out + 4 * x, sizeof run_bytes);
-        have_run = true;
-      }
-    }
-    if (whole < n) {  // the last n − whole pixels, padded with zeros to a full set of lanes
-      glm::vec4 rest[N] = {};
-      std::uint8_t bytes[4 * N];
-      std::copy(in + whole, in + n, rest);
-      encode_lanes<N, kOp, kSteps>(rest, job.scale, job.curve, bytes);
-      std::memcpy(out + 4 * whole, bytes, static_cast<std::size_t>(n - whole) * 4);
-    }
+namespace softpbr::pbr {
+namespace {
+// The lanes kernels: EncodeKernel names an instruction set and its lane count.
+simd::Isa kernel_isa(EncodeKernel kernel) {
+  switch (kernel) {
+    case EncodeKernel::Avx512: return simd::Isa::Avx512;
+    case EncodeKernel::Avx2: return simd::Isa::Avx2;
+    default: return simd::Isa::Baseline;
   }
 }
-
-template <int N, int kSteps>
-inline void encode_with_lanes(ToneMap op, const Job& job) {
-  switch (op) {
-    case ToneMap::None: return encode_rect_lanes<N, ToneMap::None, kSteps>(job);
-    case ToneMap::Reinhard: return encode_rect_lanes<N, ToneMap::Reinhard, kSteps>(job);
-    case ToneMap::Aces: return encode_rect_lanes<N, ToneMap::Aces, kSteps>(job);
-    default: return encode_rect_lanes<N, ToneMap::Neutral, kSteps>(job);
+void encode_lanes(EncodeKernel kernel, ToneMap op, const Job& job) {
+  const simd::Isa isa = kernel_isa(kernel);
+  switch (kernel) {
+    case EncodeKernel::Avx512: return SOFTPBR_DISPATCH(isa, encode_with_lanes<16>)(op, job);
+    case EncodeKernel::Avx2: return SOFTPBR_DISPATCH(isa, encode_with_lanes<8>)(op, job);
+    default: return SOFTPBR_DISPATCH(isa, encode_with_lanes<4>)(op, job);
   }
 }
-template <int N>
-inline void encode_with_lanes(ToneMap op, const Job& job) {
-  if (job.curve.packed) return encode_with_lanes<N, kPacked>(op, job);
-  switch (job.curve.steps) {
-    case -1: return encode_with_lanes<N, -1>(op, job);
-    case 1: return encode_with_lanes<N, 1>(op, job);  // sRGB, gamma 2.2 (see the tests)
-    case 2: return encode_with_lanes<N, 2>(op, job);  // gamma 1
-    default: return encode_with_lanes<N, 0>(op, job);
-  }
-}
-
-void encode_lanes4(ToneMap op, const Job& job) { encode_with_lanes<4>(op, job); }
-#if SOFTPBR_SIMD_DISPATCH
-SOFTPBR_TARGET_AVX2 void encode_avx2(ToneMap op, const Job& job) { encode_with_lanes<8>(op, job); }
-SOFTPBR_TARGET_AVX512 void encode_avx512(ToneMap op, const Job& job) { encode_with_lanes<16>(op, job); }
-#endif
 }  // namespace
 
 bool ToneMapper::supported(EncodeKernel kernel) {
   switch (kernel) {
-    case EncodeKernel::Avx512: return SOFTPBR_SIMD_DISPATCH && simd::cpu_isa() == simd::Isa::Avx512;
-    case EncodeKernel::Avx2: return SOFTPBR_SIMD_DISPATCH && simd::cpu_isa() != simd::Isa::Baseline;
-    default: return true;
+    case EncodeKernel::Scalar: return true;
+    default: return simd::supported(kernel_isa(kernel));
   }
 }
 
@@ -438,14 +344,7 @@ void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, in
 void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
                         EncodeKernel kernel) const {
   const Job job{&target, x0, y0, x1, y1, scale_, {padded_.data(), first_.data(), thresholds_[0], steps_, packed_.empty() ? nullptr : packed_.data(), packed_base_}, &image};
-  switch (kernel) {
-#if SOFTPBR_SIMD_DISPATCH
-    case EncodeKernel::Avx512: return encode_avx512(settings_.tone_map, job);
-    case EncodeKernel::Avx2: return encode_avx2(settings_.tone_map, job);
-#endif
-    case EncodeKernel::Scalar: break;
-    default: return encode_lanes4(settings_.tone_map, job);
-  }
+  if (kernel != EncodeKernel::Scalar) return encode_lanes(kernel, settings_.tone_map, job);
   const auto run = [&]<ToneMap kOp>() {
     encode_rect<kOp>(target, x0, y0, x1, y1, scale_, thresholds_, first_.data(), image);
   };

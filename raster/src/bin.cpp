@@ -6,8 +6,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "softpbr/check.h"
 #include "softpbr/raster/detail/clip.h"
-#include "softpbr/simd/simd.h"
+#include "softpbr/simd/dispatch.h"
+
+// detail::{baseline, avx2, avx512}::largest_of().
+#define SOFTPBR_TARGET_FILE "bin-inl.h"
+#include "softpbr/simd/foreach_target.h"
 
 namespace softpbr::raster {
 
@@ -46,30 +51,13 @@ std::size_t DrawGeometry::bytes() const {
   return n;
 }
 
+namespace detail {
 namespace {
-
-// The largest of n indices (0 for none), without a branch per index: the loop vectorizes,
-// with unsigned max instructions from AVX2 on (dispatched at run time, simd.h).
-inline std::uint32_t largest_of(const std::uint32_t* indices, std::size_t n) {
-  std::uint32_t largest = 0;
-  for (std::size_t i = 0; i < n; ++i) largest = std::max(largest, indices[i]);
-  return largest;
-}
-std::uint32_t largest_baseline(const std::uint32_t* indices, std::size_t n) { return largest_of(indices, n); }
-#if SOFTPBR_SIMD_DISPATCH
-SOFTPBR_TARGET_AVX2 std::uint32_t largest_avx2(const std::uint32_t* indices, std::size_t n) {
-  return largest_of(indices, n);
-}
-#endif
-
 std::uint32_t largest_index(std::span<const std::uint32_t> indices) {
-#if SOFTPBR_SIMD_DISPATCH
-  if (simd::cpu_isa() != simd::Isa::Baseline) return largest_avx2(indices.data(), indices.size());
-#endif
-  return largest_baseline(indices.data(), indices.size());
+  return SOFTPBR_DISPATCH(simd::cpu_isa(), largest_of)(indices.data(), indices.size());
 }
-
 }  // namespace
+}  // namespace detail
 
 void validate_indices(std::span<const std::uint32_t> indices, std::size_t vertex_count) {
   if (indices.size() % 3 != 0)
@@ -79,7 +67,7 @@ void validate_indices(std::span<const std::uint32_t> indices, std::size_t vertex
     throw std::length_error("draw: more than 2^30 triangles in one draw");
   // The largest index, without a branch per index (the loop vectorizes); only a draw
   // with a bad index looks for the first one, for the message.
-  if (indices.empty() || largest_index(indices) < vertex_count) return;
+  if (indices.empty() || detail::largest_index(indices) < vertex_count) return;
   for (std::size_t i = 0; i < indices.size(); ++i)
     if (indices[i] >= vertex_count)
       throw std::out_of_range("draw: index " + std::to_string(indices[i]) + " at position " + std::to_string(i) +
@@ -225,6 +213,7 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
     for (int ty = ty0; ty <= ty1; ++ty)
       for (int tx = tx0; tx <= tx1; ++tx) list[start[ty * grid.columns + tx]++] = i;
   }
+  SOFTPBR_DCHECK(chunk.offsets[tiles] == entries);  // every tile's list filled to its end
   for (std::size_t t = tiles; t > 0; --t) chunk.offsets[t] = chunk.offsets[t - 1];
   chunk.offsets[0] = 0;
 }

@@ -79,13 +79,13 @@ ClipPlanes clip_planes(Viewport viewport) {
 std::uint16_t classify(const glm::vec4& p, Viewport viewport) {
   if (!finite(p)) return kNotFinite;
   std::uint16_t code = 0;
-  if (p.x > p.w) code |= 0x01;
-  if (p.x < -p.w) code |= 0x02;
-  if (p.y > p.w) code |= 0x04;
-  if (p.y < -p.w) code |= 0x08;
-  if (p.z > p.w) code |= 0x10;
-  if (p.z < -p.w) code |= 0x20;
-  if (p.w < kMinClipW) code |= 0x40;
+  if (p.x > p.w) code |= kRightOfFrustum;
+  if (p.x < -p.w) code |= kLeftOfFrustum;
+  if (p.y > p.w) code |= kBelowFrustum;
+  if (p.y < -p.w) code |= kAboveFrustum;
+  if (p.z > p.w) code |= kBeyondFar;
+  if (p.z < -p.w) code |= kBeforeNear;
+  if (p.w < kMinClipW) code |= kBehindEye;
   // Inside the frustum means inside the guard band too: only test the planes otherwise.
   if (code != 0) {
     const ClipPlanes cp = clip_planes(viewport);

@@ -3,25 +3,11 @@
 
 #include <algorithm>
 
-#if defined(__SSE2__)
-#include <immintrin.h>
-#endif
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::raster {
 
 namespace {
-// Tells the core this is a spin loop (frees the pipeline for the sibling hyperthread and
-// saves power); no effect on what is computed.
-inline void cpu_relax() {
-#if defined(__SSE2__)
-  _mm_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield" ::: "memory");
-#else
-  std::this_thread::yield();
-#endif
-}
-
 // Spins until done() or kSpin has passed; returns done().
 template <class Done>
 bool spin_until(Done done) {
@@ -29,7 +15,7 @@ bool spin_until(Done done) {
   for (;;) {
     for (int i = 0; i < 64; ++i) {
       if (done()) return true;
-      cpu_relax();
+      simd::spin_pause();
     }
     if (std::chrono::steady_clock::now() >= deadline) return done();
   }

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "softpbr/check.h"
+
 namespace softpbr::raster {
 
 namespace {
@@ -64,8 +66,7 @@ void Renderer::begin_frame(Target& target) {
   cleared_ = false;
   touched_.assign(grid_.count(), 0);
   // The frame may write any pixel: the target knows nothing until end_frame() says again.
-  known_clear_ = std::move(target.cleared_);
-  target.cleared_ = {};
+  known_clear_ = detail::FrameAccess::take_cleared_tiles(target);
   if (known_clear_.tile_size != tile_size_ || known_clear_.tiles.size() != grid_.count()) known_clear_.tiles.clear();
 }
 
@@ -94,7 +95,7 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   rasterize_pending(target, after_tile ? &after_tile : nullptr);
   // Tell the target which tiles hold only clear values now: the untouched ones, if this
   // frame cleared (to its values), else those that did before and stayed untouched.
-  Target::ClearedTiles& known = known_clear_;
+  detail::ClearedTiles& known = known_clear_;
   if (clear_) {
     known.tile_size = tile_size_;
     known.color = clear_->color;
@@ -104,7 +105,7 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   } else {
     for (std::size_t t = 0; t < known.tiles.size(); ++t) known.tiles[t] = known.tiles[t] && touched_[t] == 0;
   }
-  target.cleared_ = std::move(known);
+  detail::FrameAccess::set_cleared_tiles(target, std::move(known));
   known_clear_ = {};
   clear_.reset();
 }
@@ -115,7 +116,7 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
   // bits and left them untouched) are not cleared again: the same pixels, no writes.
   const bool reuse = clear_now && !known_clear_.tiles.empty() &&
                      same_bits(known_clear_.color, known_clear_.depth, clear_->color, clear_->depth);
-  const TargetPixels pixels{target.color_.data(), target.depth_.data(), target.width(), target.height()};
+  const TargetPixels pixels = detail::FrameAccess::pixels(target);
   if (!draws_.empty() || clear_now || after_tile) {
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
       const TileRect rect = grid_.rect(tile);
@@ -124,6 +125,7 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
       if (clear_now && !(reuse && known_clear_.tiles[tile] != 0 && !touched))
         clear_tile(pixels, rect, *clear_, !touched);
       if (touched) {
+        SOFTPBR_DCHECK(tile < touched_.size());
         for (const auto& draw : draws_) draw->raster(tile, rect, pixels, lanes_, isa_);
         touched_[tile] = 1;  // one writer per tile
       }

@@ -157,9 +157,9 @@ class Renderer {
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
   bool cleared_ = false;                // the frame's clear is done (by an earlier pass)
   std::vector<std::uint8_t> touched_;   // per tile: a triangle was rasterized into it
-  // The target's cleared tiles as the frame found them (Target::ClearedTiles), taken out
+  // The target's cleared tiles as the frame found them (detail::ClearedTiles), taken out
   // of the target while the frame runs and given back, updated, by end_frame().
-  Target::ClearedTiles known_clear_;
+  detail::ClearedTiles known_clear_;
 };
 
 }  // namespace softpbr::raster

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -18,7 +19,27 @@ namespace softpbr::raster {
 // (see setup.h) and a full target under 16384² × 20 bytes ≈ 5 GiB.
 inline constexpr int kMaxTargetSize = 16384;
 
-class Renderer;
+namespace detail {
+struct FrameAccess;
+// What a renderer's last frame left in a target: for tiles of tile_size pixels (the
+// renderer's grid), tiles[t] != 0 when every pixel of tile t holds exactly `color` and
+// `depth`.
+struct ClearedTiles {
+  int tile_size = 0;
+  glm::vec4 color{0.0f};
+  float depth = 0.0f;
+  std::vector<std::uint8_t> tiles;  // empty: nothing known
+};
+}  // namespace detail
+
+// The pixels of a target as the tile kernels write them: the renderer hands them out
+// while a frame owns the target.
+struct TargetPixels {
+  glm::vec4* colors;
+  float* depths;
+  int width;
+  int height;
+};
 
 class Target {
  public:
@@ -50,15 +71,7 @@ class Target {
   float depth(int x, int y) const { return depth_[index(x, y)]; }
 
  private:
-  friend class Renderer;
-  // What the last frame left: for tiles of tile_size pixels (the renderer's grid),
-  // tiles[t] != 0 when every pixel of tile t holds exactly `color` and `depth`.
-  struct ClearedTiles {
-    int tile_size = 0;
-    glm::vec4 color{0.0f};
-    float depth = 0.0f;
-    std::vector<std::uint8_t> tiles;  // empty: nothing known
-  };
+  friend struct detail::FrameAccess;
   void forget_cleared_tiles() { cleared_.tiles.clear(); }
 
   std::size_t index(int x, int y) const {
@@ -68,17 +81,24 @@ class Target {
   int height_;
   std::vector<glm::vec4> color_;
   std::vector<float> depth_;
-  ClearedTiles cleared_;
+  detail::ClearedTiles cleared_;
 };
 
-// The pixels of a target as the tile kernels write them (rast.h): the renderer hands
-// them out while a frame owns the target.
-struct TargetPixels {
-  glm::vec4* colors;
-  float* depths;
-  int width;
-  int height;
+namespace detail {
+// All a Renderer may do to a target beyond its public interface, while a frame runs: take
+// its record of cleared tiles when the frame begins and give back the new one when it
+// ends, and write its pixels without that record being forgotten (the renderer keeps the
+// record of what the frame writes itself).
+struct FrameAccess {
+  static ClearedTiles take_cleared_tiles(Target& t) {
+    ClearedTiles known = std::move(t.cleared_);
+    t.cleared_ = {};
+    return known;
+  }
+  static void set_cleared_tiles(Target& t, ClearedTiles known) { t.cleared_ = std::move(known); }
+  static TargetPixels pixels(Target& t) { return {t.color_.data(), t.depth_.data(), t.width_, t.height_}; }
 };
+}  // namespace detail
 
 // An 8-bit RGBA image, row-major, row 0 at the top.
 struct Image8 {

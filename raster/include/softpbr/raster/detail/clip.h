@@ -33,12 +33,22 @@ struct ClipVertex {
   float varyings[kMaxVaryings];
 };
 
-// Outcode bits of a clip-space vertex.
+// Outcode bits of a clip-space vertex: one per side of the view volume it lies beyond,
+// and two summaries.
 enum : std::uint16_t {
-  kOutsideFrustum = 0x7f,  // x > w, x < −w, y > w, y < −w, z > w, z < −w, w < kMinClipW
-  kNeedsClipping = 0x80,   // outside near, far, w ≥ kMinClipW or the guard band
-  kNotFinite = 0x100,      // a NaN or Inf coordinate
+  kRightOfFrustum = 0x01,   // x > w
+  kLeftOfFrustum = 0x02,    // x < −w
+  kBelowFrustum = 0x04,     // y > w
+  kAboveFrustum = 0x08,     // y < −w
+  kBeyondFar = 0x10,        // z > w
+  kBeforeNear = 0x20,       // z < −w
+  kBehindEye = 0x40,        // w < kMinClipW
+  kOutsideFrustum = 0x7f,   // any of the above
+  kNeedsClipping = 0x80,    // outside near, far, w ≥ kMinClipW or the guard band
+  kNotFinite = 0x100,       // a NaN or Inf coordinate
 };
+static_assert((kRightOfFrustum | kLeftOfFrustum | kBelowFrustum | kAboveFrustum | kBeyondFar | kBeforeNear |
+               kBehindEye) == kOutsideFrustum);
 
 // The outcode of one vertex for a target of this size; 0 means the vertex is inside the
 // view volume and a triangle of such vertices needs no clipping.

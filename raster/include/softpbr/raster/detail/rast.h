@@ -1,14 +1,11 @@
-// softpbr/raster/detail/rast.h — the tile kernel: coverage, depth, interpolation and shading.
+// softpbr/raster/detail/rast.h — the tile kernel for a shader, at a lane width, for an
+// instruction set.
 //
 // Internal to softpbr::raster (included by renderer.h for its templates): not API, may
 // change at any time. The API is renderer.h, shader.h, target.h, color.h, pool.h.
 //
-// One thread owns a tile at a time; inside it the triangles of a draw run in submission
-// order. Each triangle is walked in 2×2 quads aligned to even pixel coordinates (tiles
-// have even sizes, so a quad never straddles two tiles). Every value a pixel gets — edge
-// functions, depth, varyings, derivatives — is computed from the triangle's plane
-// equations at that pixel alone, never accumulated along a span, so it cannot depend on
-// where a tile or span starts.
+// The kernel itself is rast-inl.h, compiled per target; this file holds what every copy
+// shares and the one dispatch of a tile to the copy for the renderer's instruction set.
 #pragma once
 
 #include <algorithm>
@@ -17,29 +14,15 @@
 
 #include <glm/vec4.hpp>
 
+#include "softpbr/check.h"
 #include "softpbr/raster/detail/bin.h"
-#include "softpbr/raster/shader.h"
-#include "softpbr/simd/simd.h"
-#include "softpbr/raster/target.h"
 #include "softpbr/raster/detail/vertex.h"
+#include "softpbr/raster/shader.h"
+#include "softpbr/raster/target.h"
+#include "softpbr/simd/dispatch.h"
+#include "softpbr/simd/simd.h"
 
-namespace softpbr::raster {
-
-namespace detail {
-
-inline bool depth_passes(DepthTest test, float z, float stored) {
-  switch (test) {
-    case DepthTest::Less: return z < stored;
-    case DepthTest::LessEqual: return z <= stored;
-    default: return true;
-  }
-}
-
-inline glm::vec4 blend(Blend mode, glm::vec4 src, glm::vec4 dst) {
-  if (mode == Blend::Replace) return src;
-  const float k = 1.0f - src.a;  // premultiplied "over"
-  return {src.r + dst.r * k, src.g + dst.g * k, src.b + dst.b * k, src.a + dst.a * k};
-}
+namespace softpbr::raster::detail {
 
 // Lanes of covered pixels waiting for a packet shader, in structure-of-arrays form.
 template <int W, int kN>
@@ -56,287 +39,42 @@ struct PacketBuffer {
   bool front_facing = true;  // of every lane (a packet holds one facing)
 };
 
-// Shades the buffered lanes with fragment_packet<Vec<W>> (or <float> for W = 1), writes them.
-// Depth was written when the lanes passed the depth test (see raster_triangle); colour is
-// written here in lane order, so a pixel that two buffered triangles cover ends up blended
-// in submission order.
-template <int W, class S, int kN>
-void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, glm::vec4* colors) {
-  using V = typename S::Varyings;
-  using F = std::conditional_t<W == 1, float, simd::Vec<W>>;
-  if (b.count == 0) return;
-  if constexpr (W > 1) {
-    for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
-      for (int k = 0; k < kN; ++k) {
-        b.v[k][lane] = b.v[k][0];
-        if constexpr (kUsesDerivatives<S>) {
-          b.ddx[k][lane] = b.ddx[k][0];
-          b.ddy[k][lane] = b.ddy[k][0];
-        }
-      }
-      b.pos_x[lane] = b.pos_x[0];
-      b.pos_y[lane] = b.pos_y[0];
-      b.depth[lane] = b.depth[0];
-    }
-  }
-  auto load = [](const float* p) {
-    if constexpr (W == 1) return *p;
-    else return F::load(p);
-  };
-  FragmentPacket<F, V> p;
-  for (int k = 0; k < kN; ++k) {
-    p.v[k] = load(b.v[k]);
-    if constexpr (kUsesDerivatives<S>) {
-      p.ddx[k] = load(b.ddx[k]);
-      p.ddy[k] = load(b.ddy[k]);
-    } else {
-      p.ddx[k] = F(0.0f);
-      p.ddy[k] = F(0.0f);
-    }
-  }
-  p.pos_x = load(b.pos_x);
-  p.pos_y = load(b.pos_y);
-  p.depth = load(b.depth);
-  p.front_facing = b.front_facing;
-  const Color<F> c = shader.template fragment_packet<F>(p);
-  float out[4][W];
-  if constexpr (W == 1) {
-    out[0][0] = c.r, out[1][0] = c.g, out[2][0] = c.b, out[3][0] = c.a;
-  } else {
-    c.r.store(out[0]), c.g.store(out[1]), c.b.store(out[2]), c.a.store(out[3]);
-  }
-  // The blend mode decided once per packet: replacing does not read the target.
-  if (state.blend == Blend::Replace) {
-    for (int lane = 0; lane < b.count; ++lane)
-      colors[b.index[lane]] = glm::vec4(out[0][lane], out[1][lane], out[2][lane], out[3][lane]);
-  } else {
-    for (int lane = 0; lane < b.count; ++lane) {
-      const std::size_t idx = b.index[lane];
-      colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
-    }
-  }
-  b.count = 0;
-}
-
 template <int W, Shader S>
 using PacketFor = PacketBuffer<(W > 0 ? W : 1), kVaryingCount<typename S::Varyings>>;
 
-// W = 0: the shader's scalar fragment(); W ≥ 1: packets of W lanes through fragment_packet.
-// Packets fill across the triangles of a tile (one facing per packet): small triangles
-// still shade full packets. `packet` carries the lanes waiting from earlier triangles.
+}  // namespace softpbr::raster::detail
+
+// raster_tile<W, S>() in softpbr::raster::detail::{baseline, avx2, avx512}.
+#define SOFTPBR_TARGET_FILE "softpbr/raster/detail/rast-inl.h"
+#include "softpbr/simd/foreach_target.h"
+
+namespace softpbr::raster {
+
+namespace detail {
 template <int W, Shader S>
-void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
-                     const Triangle& t, const TileRect& tile, const TargetPixels& target, PacketFor<W, S>& packet) {
-  using V = typename S::Varyings;
-  constexpr int kN = kVaryingCount<V>;
-  constexpr std::int64_t kStep = kSubpixelScale;  // one pixel in fixed point
-  constexpr std::int64_t kHalf = kSubpixelScale / 2;
-
-  // Quads cover [x0, x1] × [y0, y1]; tile origins are even, so x0, y0 stay inside it.
-  const int x0 = std::max(t.min_x, tile.x0) & ~1;
-  const int y0 = std::max(t.min_y, tile.y0) & ~1;
-  const int x1 = std::min(t.max_x, tile.x1 - 1);
-  const int y1 = std::min(t.max_y, tile.y1 - 1);
-  if (x0 > x1 || y0 > y1) return;
-
-  // Varyings as v0 + λ1·(v1 − v0) + λ2·(v2 − v0), with perspective-correct λ.
-  float v0[kN > 0 ? kN : 1], d1[kN > 0 ? kN : 1], d2[kN > 0 ? kN : 1];
-  {
-    const float* p0 = geometry.varyings(chunk, t.vertex[0]);
-    const float* p1 = geometry.varyings(chunk, t.vertex[1]);
-    const float* p2 = geometry.varyings(chunk, t.vertex[2]);
-    for (int k = 0; k < kN; ++k) {
-      v0[k] = p0[k];
-      d1[k] = p1[k] - p0[k];
-      d2[k] = p2[k] - p0[k];
-    }
-  }
-
-  const DrawState& state = geometry.state;
-  // Copied out of the state: the kernel's stores (depths, packet lanes) would otherwise
-  // make the compiler reload them for every lane.
-  const DepthTest depth_test = state.depth_test;
-  const bool depth_write = state.depth_write;
-  const int width = target.width;
-  glm::vec4* colors = target.colors;
-  float* depths = target.depths;
-  if constexpr (W > 0) {
-    if (packet.front_facing != t.front_facing) {
-      flush_packet<W>(shader, packet, state, colors);
-      packet.front_facing = t.front_facing;
-    }
-  }
-
-  // The edge functions of a quad's four lanes as one vector of 64-bit integers per edge,
-  // the lane-0 value plus these steps (built in an array of scalars, they were stored one
-  // by one and reloaded as a vector, which stalls on store forwarding).
-  typedef std::int64_t I64x4 __attribute__((vector_size(32)));
-  using V4 = simd::Vec<4>;
-  const auto lane_step = [&](int i) {
-    const std::int64_t a = t.a[i], b = t.b[i];
-    return I64x4{0, a * kStep, b * kStep, (a + b) * kStep};
-  };
-  // Named, not an array: GCC keeps them in registers (an array of three went to the
-  // stack and back for every quad).
-  const I64x4 step0 = lane_step(0), step1 = lane_step(1), step2 = lane_step(2);
-  for (int qy = y0; qy <= y1; qy += 2) {
-    const std::int64_t sy = qy * kStep + kHalf;
-    // Lanes 2 and 3 (the quad's lower row) exist only inside the tile.
-    const unsigned rows = qy + 1 < tile.y1 ? 0xFu : 0x3u;
-    const std::int64_t row0 = t.b[0] * sy + t.c[0], row1 = t.b[1] * sy + t.c[1], row2 = t.b[2] * sy + t.c[2];
-    for (int qx = x0; qx <= x1; qx += 2) {
-      const std::int64_t sx = qx * kStep + kHalf;
-      // Lanes: 0 = (qx, qy), 1 = (qx+1, qy), 2 = (qx, qy+1), 3 = (qx+1, qy+1).
-      const int lane_x[4] = {qx, qx + 1, qx, qx + 1};
-      const int lane_y[4] = {qy, qy, qy + 1, qy + 1};
-      const I64x4 e0 = (I64x4{} + (t.a[0] * sx + row0)) + step0;
-      const I64x4 e1 = (I64x4{} + (t.a[1] * sx + row1)) + step1;
-      const I64x4 e2 = (I64x4{} + (t.a[2] * sx + row2)) + step2;
-      // A lane is inside when all three edge values are non-negative: the sign bit of
-      // their OR is clear.
-      const I64x4 negative = (e0 | e1 | e2) >> 63;  // −1 where some edge is < 0
-      unsigned mask = ~static_cast<unsigned>((negative[0] & 1) | (negative[1] & 2) | (negative[2] & 4) |
-                                             (negative[3] & 8)) &
-                      rows & (qx + 1 < tile.x1 ? 0xFu : 0x5u);
-      if (mask == 0) continue;
-
-      // Unbiased edge values as floats: the screen-space barycentric weights × 2·area.
-      // From here the four lanes run as one simd::Vec<4>, each lane the same IEEE
-      // operations in the same order as one pixel would take alone.
-      const V4 w0(__builtin_convertvector(e0 + static_cast<std::int64_t>(t.bias[0]), V4::native));
-      const V4 w1(__builtin_convertvector(e1 + static_cast<std::int64_t>(t.bias[1]), V4::native));
-      const V4 w2(__builtin_convertvector(e2 + static_cast<std::int64_t>(t.bias[2]), V4::native));
-
-      // Early depth test (shaders cannot change depth, nor discard): a passing pixel's
-      // depth is written now, so later triangles test against it even while its colour
-      // waits in a packet.
-      alignas(16) float z[4];
-      {
-        const V4 l1 = w1 * V4(t.inv_area);
-        const V4 l2 = w2 * V4(t.inv_area);
-        simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(z);
-      }
-      for (int j = 0; j < 4; ++j) {
-        if (!(mask & (1u << j))) continue;
-        const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-        if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
-        else if (depth_write) depths[idx] = z[j];
-      }
-      if (mask == 0) continue;
-
-      // Perspective-correct varyings at all four lanes (helper lanes feed derivatives):
-      // b1, b2 are the perspective-correct weights of vertices 1 and 2; beyond the
-      // horizon (s ≤ 0, helper lanes only) they are 0, i.e. the lane takes v0.
-      constexpr bool kDerivatives = kUsesDerivatives<S>;
-      alignas(16) float values[kN > 0 ? kN : 1][4];  // [varying][lane]
-      {
-        const V4 a0 = w0 * V4(t.inv_w[0]);
-        const V4 a1 = w1 * V4(t.inv_w[1]);
-        const V4 a2 = w2 * V4(t.inv_w[2]);
-        const V4 sum = a0 + a1 + a2;
-        const auto ahead = sum > V4(0.0f);
-        const V4 rs = V4(1.0f) / simd::select(ahead, sum, V4(1.0f));
-        const V4 b1 = simd::select(ahead, a1 * rs, V4(0.0f));
-        const V4 b2 = simd::select(ahead, a2 * rs, V4(0.0f));
-        for (int k = 0; k < kN; ++k) (V4(v0[k]) + b1 * V4(d1[k]) + b2 * V4(d2[k])).store(values[k]);
-      }
-      float ddx[kN > 0 ? kN : 1], ddy[kN > 0 ? kN : 1];
-      for (int k = 0; k < kN; ++k) {
-        ddx[k] = kDerivatives ? values[k][1] - values[k][0] : 0.0f;
-        ddy[k] = kDerivatives ? values[k][2] - values[k][0] : 0.0f;
-      }
-      if constexpr (W == 0) {
-        const V vddx = varyings_from_floats<V>(ddx);
-        const V vddy = varyings_from_floats<V>(ddy);
-        for (int j = 0; j < 4; ++j) {
-          if (!(mask & (1u << j))) continue;
-          float lane_values[kN > 0 ? kN : 1];
-          for (int k = 0; k < kN; ++k) lane_values[k] = values[k][j];
-          const Fragment<V> f{varyings_from_floats<V>(lane_values),
-                              vddx,
-                              vddy,
-                              {static_cast<float>(lane_x[j]) + 0.5f, static_cast<float>(lane_y[j]) + 0.5f},
-                              z[j],
-                              t.front_facing};
-          const glm::vec4 src = shader.fragment(f);
-          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          colors[idx] = blend(state.blend, src, colors[idx]);
-        }
-      } else {
-        for (int j = 0; j < 4; ++j) {
-          if (!(mask & (1u << j))) continue;
-          const int lane = packet.count++;
-          for (int k = 0; k < kN; ++k) {
-            packet.v[k][lane] = values[k][j];
-            if constexpr (kDerivatives) {
-              packet.ddx[k][lane] = ddx[k];
-              packet.ddy[k][lane] = ddy[k];
-            }
-          }
-          packet.pos_x[lane] = static_cast<float>(lane_x[j]) + 0.5f;
-          packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
-          packet.depth[lane] = z[j];
-          packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          if (packet.count == W) flush_packet<W>(shader, packet, state, colors);
-        }
-      }
-    }
-  }
+void dispatch_tile(simd::Isa isa, const S& shader, const DrawGeometry& geometry, std::size_t tile,
+                   const TileRect& rect, const TargetPixels& target) {
+  SOFTPBR_DISPATCH(isa, raster_tile<W, S>)(shader, geometry, tile, rect, target);
 }
-
 }  // namespace detail
 
-// Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`,
-// W lanes at a time (W = 0: scalar fragment(), one pixel at a time).
-template <int W, Shader S>
-void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
-                 const TargetPixels& target) {
-  detail::PacketFor<W, S> packet;
-  for (const TriangleChunk& chunk : geometry.chunks)
-    for (const std::uint32_t i : chunk.tile(tile))
-      detail::raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
-  if constexpr (W > 0) detail::flush_packet<W>(shader, packet, geometry.state, target.colors);
-}
-
-#if SOFTPBR_SIMD_DISPATCH
-// The same kernel source compiled for AVX2 and AVX-512 (simd.h): run only when
-// simd::cpu_isa() allows.
-template <int W, Shader S>
-SOFTPBR_TARGET_AVX2 void raster_tile_avx2(const S& shader, const DrawGeometry& geometry, std::size_t tile,
-                                          const TileRect& rect, const TargetPixels& target) {
-  raster_tile<W>(shader, geometry, tile, rect, target);
-}
-template <int W, Shader S>
-SOFTPBR_TARGET_AVX512 void raster_tile_avx512(const S& shader, const DrawGeometry& geometry, std::size_t tile,
-                                              const TileRect& rect, const TargetPixels& target) {
-  raster_tile<W>(shader, geometry, tile, rect, target);
-}
-#endif
-
-// The same, at the lane count `lanes` (0: the widest native one) when the shader has
-// fragment_packet(), else through its scalar fragment(). With isa above Baseline (which
-// the CPU must have), 8 lanes run the AVX2 kernel and 16 lanes the AVX-512 one.
+// Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`:
+// `lanes` pixels per fragment_packet() call (1, 4, 8 or 16; 0: the build's widest native
+// width) when the shader has one, else one pixel at a time through fragment(); with the
+// kernel compiled for `isa`, which the CPU must support. The same bits for every lane
+// count and instruction set.
 template <Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  const TargetPixels& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {
   if constexpr (PacketShaderFor<S, float> && PacketShaderFor<S, simd::Vec<4>>) {
     switch (lanes == 0 ? simd::kNativeWidth : lanes) {
-      case 1: return raster_tile<1>(shader, geometry, tile, rect, target);
-      case 4: return raster_tile<4>(shader, geometry, tile, rect, target);
-      case 8:
-#if SOFTPBR_SIMD_DISPATCH
-        if (isa != simd::Isa::Baseline) return raster_tile_avx2<8>(shader, geometry, tile, rect, target);
-#endif
-        return raster_tile<8>(shader, geometry, tile, rect, target);
-      default:
-#if SOFTPBR_SIMD_DISPATCH
-        if (isa == simd::Isa::Avx512) return raster_tile_avx512<16>(shader, geometry, tile, rect, target);
-#endif
-        return raster_tile<16>(shader, geometry, tile, rect, target);
+      case 1: return detail::dispatch_tile<1>(isa, shader, geometry, tile, rect, target);
+      case 4: return detail::dispatch_tile<4>(isa, shader, geometry, tile, rect, target);
+      case 8: return detail::dispatch_tile<8>(isa, shader, geometry, tile, rect, target);
+      default: return detail::dispatch_tile<16>(isa, shader, geometry, tile, rect, target);
     }
   } else {
-    (void)isa;
-    raster_tile<0>(shader, geometry, tile, rect, target);
+    detail::dispatch_tile<0>(isa, shader, geometry, tile, rect, target);
   }
 }
 

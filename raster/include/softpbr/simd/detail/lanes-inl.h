@@ -1,0 +1,210 @@
+// softpbr/simd/detail/lanes-inl.h — the lane types' operations, compiled per target.
+//
+// Included by softpbr/simd/simd.h through foreach_target.h once per target (no include
+// guard; no header included here): simd::Lanes<N, SOFTPBR_ISA> and its operations are
+// compiled for that target, so a kernel of that target inlines them as its own
+// instructions (a lane operation compiled for baseline x86-64 and inlined into an AVX-512
+// kernel came out split into narrower pieces, and compound compares into single lanes).
+// Every operation is the same IEEE-754 single-precision operation per lane on every
+// target and at every width (see simd.h).
+
+namespace softpbr::simd {
+
+template <int N>
+struct Lanes<N, SOFTPBR_ISA> {
+  static_assert(N == 4 || N == 8 || N == 16, "lane widths are 4, 8 and 16");
+  using native = typename detail::Native<N>::f;
+  using Mask = LaneMask<N, SOFTPBR_ISA>;
+  native v;
+
+  Lanes() = default;
+  Lanes(float x) : v(native{} + x) {}  // broadcast (implicit: uniforms mix with lanes)
+  explicit Lanes(native n) : v(n) {}
+
+  static Lanes load(const float* p) {
+    Lanes r;
+    __builtin_memcpy(&r.v, p, sizeof(native));
+    return r;
+  }
+  void store(float* p) const { __builtin_memcpy(p, &v, sizeof(native)); }
+  float operator[](int i) const { return v[i]; }
+
+  friend Lanes operator+(Lanes a, Lanes b) { return Lanes(a.v + b.v); }
+  friend Lanes operator-(Lanes a, Lanes b) { return Lanes(a.v - b.v); }
+  friend Lanes operator*(Lanes a, Lanes b) { return Lanes(a.v * b.v); }
+  friend Lanes operator/(Lanes a, Lanes b) { return Lanes(a.v / b.v); }
+  friend Lanes operator-(Lanes a) { return Lanes(-a.v); }
+  Lanes& operator+=(Lanes b) { v += b.v; return *this; }
+  Lanes& operator-=(Lanes b) { v -= b.v; return *this; }
+  Lanes& operator*=(Lanes b) { v *= b.v; return *this; }
+
+  friend Mask operator<(Lanes a, Lanes b) { return Mask(a.v < b.v); }
+  friend Mask operator<=(Lanes a, Lanes b) { return Mask(a.v <= b.v); }
+  friend Mask operator>(Lanes a, Lanes b) { return Mask(a.v > b.v); }
+  friend Mask operator>=(Lanes a, Lanes b) { return Mask(a.v >= b.v); }
+};
+
+template <int N>
+struct LaneMask<N, SOFTPBR_ISA> {
+  using native = typename detail::Native<N>::i;
+  native m;  // all ones (−1) where true
+  LaneMask() = default;
+  explicit LaneMask(native n) : m(n) {}
+  friend LaneMask operator&(LaneMask a, LaneMask b) { return LaneMask(a.m & b.m); }
+  friend LaneMask operator|(LaneMask a, LaneMask b) { return LaneMask(a.m | b.m); }
+  friend LaneMask operator!(LaneMask a) { return LaneMask(~a.m); }
+  bool operator[](int i) const { return m[i] != 0; }
+};
+
+// Lane-wise choice: a vector conditional (a blend at any register width; a mask lane is
+// all ones or all zeros).
+template <int N>
+inline Lanes<N, SOFTPBR_ISA> select(LaneMask<N, SOFTPBR_ISA> m, Lanes<N, SOFTPBR_ISA> a, Lanes<N, SOFTPBR_ISA> b) {
+  return Lanes<N, SOFTPBR_ISA>(m.m ? a.v : b.v);
+}
+
+// min/max as comparisons, std::min's rule (b < a ? b : a), as for float.
+template <int N>
+inline Lanes<N, SOFTPBR_ISA> min(Lanes<N, SOFTPBR_ISA> a, Lanes<N, SOFTPBR_ISA> b) {
+  return select(b < a, b, a);
+}
+template <int N>
+inline Lanes<N, SOFTPBR_ISA> max(Lanes<N, SOFTPBR_ISA> a, Lanes<N, SOFTPBR_ISA> b) {
+  return select(a < b, b, a);
+}
+
+template <int N>
+inline LaneMask<N, SOFTPBR_ISA> both(LaneMask<N, SOFTPBR_ISA> a, LaneMask<N, SOFTPBR_ISA> b) {
+  return a & b;
+}
+
+// Whether any lane is set: the mask feeds a blend and the lanes are summed as floats (a
+// mask moved into integer registers costs more than the blend on every target).
+template <int N>
+inline bool any(LaneMask<N, SOFTPBR_ISA> m) {
+  using L = Lanes<N, SOFTPBR_ISA>;
+  const L ones = select(m, L(1.0f), L(0.0f));
+  if constexpr (N == 4) {
+    return ones.v[0] + ones.v[1] + ones.v[2] + ones.v[3] > 0.0f;
+  } else {
+    typename detail::Native<8>::f eight;
+    if constexpr (N == 16) {
+      eight = __builtin_shufflevector(ones.v, ones.v, 0, 1, 2, 3, 4, 5, 6, 7) +
+              __builtin_shufflevector(ones.v, ones.v, 8, 9, 10, 11, 12, 13, 14, 15);
+    } else {
+      eight = ones.v;
+    }
+    const auto h = __builtin_shufflevector(eight, eight, 0, 1, 2, 3) + __builtin_shufflevector(eight, eight, 4, 5, 6, 7);
+    return h[0] + h[1] + h[2] + h[3] > 0.0f;
+  }
+}
+
+// Correctly rounded square root (IEEE-754 requires it of sqrtss/sqrtps alike).
+template <int N>
+inline Lanes<N, SOFTPBR_ISA> sqrt(Lanes<N, SOFTPBR_ISA> x) {
+  using L = Lanes<N, SOFTPBR_ISA>;
+#if SOFTPBR_TARGET_AVX512
+  if constexpr (N == 16) {
+    // The masked form with every lane selected: _mm512_sqrt_ps's undefined pass-through
+    // operand trips GCC 12's -Wmaybe-uninitialized.
+    const __m512 a = reinterpret_cast<__m512>(x.v);
+    return L(reinterpret_cast<typename L::native>(_mm512_mask_sqrt_ps(a, static_cast<__mmask16>(0xffff), a)));
+  }
+#endif
+#if SOFTPBR_TARGET_AVX
+  if constexpr (N == 8) return L(reinterpret_cast<typename L::native>(_mm256_sqrt_ps(reinterpret_cast<__m256>(x.v))));
+#endif
+#if defined(__SSE2__)
+  if constexpr (N == 4) {
+    return L(reinterpret_cast<typename L::native>(_mm_sqrt_ps(reinterpret_cast<__m128>(x.v))));
+  } else if constexpr (N == 8) {
+    // Narrower registers than the vector: halves, split and joined in registers.
+    using H = Lanes<4, SOFTPBR_ISA>;
+    const H lo = sqrt(H(__builtin_shufflevector(x.v, x.v, 0, 1, 2, 3)));
+    const H hi = sqrt(H(__builtin_shufflevector(x.v, x.v, 4, 5, 6, 7)));
+    return L(__builtin_shufflevector(lo.v, hi.v, 0, 1, 2, 3, 4, 5, 6, 7));
+  } else {
+    using H = Lanes<8, SOFTPBR_ISA>;
+    const H lo = sqrt(H(__builtin_shufflevector(x.v, x.v, 0, 1, 2, 3, 4, 5, 6, 7)));
+    const H hi = sqrt(H(__builtin_shufflevector(x.v, x.v, 8, 9, 10, 11, 12, 13, 14, 15)));
+    return L(__builtin_shufflevector(lo.v, hi.v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+  }
+#else
+  L out;
+  for (int i = 0; i < N; ++i) out.v[i] = __builtin_sqrtf(x.v[i]);
+  return out;
+#endif
+}
+
+// Splits N records of four floats (e.g. RGBA pixels, p[4i] … p[4i + 3]) into four lane
+// vectors: x[i] = p[4i], y[i] = p[4i + 1], … — a transpose in registers (lanes filled one
+// float at a time and read back as a vector stall on store forwarding). Bits are moved,
+// not computed on.
+template <int N>
+inline void load_deinterleave4(const float* p, Lanes<N, SOFTPBR_ISA>& x, Lanes<N, SOFTPBR_ISA>& y,
+                               Lanes<N, SOFTPBR_ISA>& z, Lanes<N, SOFTPBR_ISA>& w) {
+  using L = Lanes<N, SOFTPBR_ISA>;
+  using V16 = typename detail::Native<16>::f;
+  V16 q[N / 4];
+  __builtin_memcpy(q, p, sizeof q);
+  if constexpr (N == 4) {
+    x = L(__builtin_shufflevector(q[0], q[0], 0, 4, 8, 12));
+    y = L(__builtin_shufflevector(q[0], q[0], 1, 5, 9, 13));
+    z = L(__builtin_shufflevector(q[0], q[0], 2, 6, 10, 14));
+    w = L(__builtin_shufflevector(q[0], q[0], 3, 7, 11, 15));
+  } else if constexpr (N == 8) {
+    x = L(__builtin_shufflevector(q[0], q[1], 0, 4, 8, 12, 16, 20, 24, 28));
+    y = L(__builtin_shufflevector(q[0], q[1], 1, 5, 9, 13, 17, 21, 25, 29));
+    z = L(__builtin_shufflevector(q[0], q[1], 2, 6, 10, 14, 18, 22, 26, 30));
+    w = L(__builtin_shufflevector(q[0], q[1], 3, 7, 11, 15, 19, 23, 27, 31));
+  } else {
+    using H = Lanes<8, SOFTPBR_ISA>;
+    H lo[4], hi[4];
+    load_deinterleave4<8>(p, lo[0], lo[1], lo[2], lo[3]);
+    load_deinterleave4<8>(p + 32, hi[0], hi[1], hi[2], hi[3]);
+    L* out[4] = {&x, &y, &z, &w};
+    for (int c = 0; c < 4; ++c)
+      *out[c] = L(__builtin_shufflevector(lo[c].v, hi[c].v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+  }
+}
+
+// The bits of each lane (a reinterpretation, not a conversion).
+template <int N>
+inline UintLanes<N> bits_of(Lanes<N, SOFTPBR_ISA> x) {
+  return (UintLanes<N>)x.v;
+}
+// Each lane truncated toward zero to an integer (the lanes must be in [0, 2^31)).
+template <int N>
+inline UintLanes<N> truncate_to_uint(Lanes<N, SOFTPBR_ISA> x) {
+  return (UintLanes<N>)__builtin_convertvector(x.v, typename detail::Native<N>::i);
+}
+
+}  // namespace softpbr::simd
+
+// What a kernel of this target names its lanes by: simd::SOFTPBR_TARGET_NS::Vec<N>, and
+// the operations on plain vectors (simd::native_t) that take no lane type to overload on.
+namespace softpbr::simd::SOFTPBR_TARGET_NS {
+
+inline constexpr Isa kIsa = SOFTPBR_ISA;
+template <int N>
+using Vec = Lanes<N, SOFTPBR_ISA>;
+template <int N>
+using Mask = LaneMask<N, SOFTPBR_ISA>;
+
+// table[index[i]] for every lane: a plain loop, which compilers may turn into a gather
+// instruction where the target has one.
+template <int N>
+inline UintLanes<N> gather(const std::uint32_t* table, UintLanes<N> index) {
+  UintLanes<N> r;
+  for (int i = 0; i < N; ++i) r[i] = table[index[i]];
+  return r;
+}
+
+// mask ? a : b per lane on the bits, for plain vectors of any element type (a mask lane
+// is all ones or all zeros, as vector comparisons give).
+template <class V, class M>
+inline V bit_select(M mask, V a, V b) {
+  return (V)(((M)a & mask) | ((M)b & ~mask));
+}
+
+}  // namespace softpbr::simd::SOFTPBR_TARGET_NS

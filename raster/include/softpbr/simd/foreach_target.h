@@ -1,0 +1,97 @@
+// softpbr/simd/foreach_target.h — compiles one kernel source once per target.
+//
+//   #define SOFTPBR_TARGET_FILE "softpbr/raster/detail/rast-inl.h"
+//   #include "softpbr/simd/foreach_target.h"
+//
+// includes SOFTPBR_TARGET_FILE once for every target of softpbr/simd/isa.h (Baseline,
+// then Avx2 and Avx512 on x86-64), each time with every function it defines compiled for
+// that target (`#pragma GCC target` / `#pragma clang attribute`), and with
+//   SOFTPBR_TARGET_NS      the target's namespace name: baseline, avx2, avx512
+//   SOFTPBR_ISA            its simd::Isa value
+//   SOFTPBR_TARGET_AVX     1 when 256-bit vector instructions are available, else 0
+//   SOFTPBR_TARGET_AVX512  1 when AVX-512 F/DQ/VL/BW are available, else 0
+// The target file puts its definitions in a namespace named SOFTPBR_TARGET_NS (or in
+// specializations for SOFTPBR_ISA), so the copies do not collide, and includes no header
+// itself (a header included there would be compiled for one target only). Dispatch picks
+// a copy at run time (softpbr/simd/dispatch.h). This is the scheme of Highway's
+// foreach_target.h, without its per-target vector API: softpbr's lane types have fixed
+// widths (4, 8, 16 on every target), which its width-equivalence tests need.
+//
+// No include guard: it is meant to be included many times.
+#ifndef SOFTPBR_TARGET_FILE
+#error "define SOFTPBR_TARGET_FILE before including softpbr/simd/foreach_target.h"
+#endif
+
+#include "softpbr/simd/isa.h"
+
+// --- Baseline: the build's own flags. ---
+#define SOFTPBR_TARGET_NS baseline
+#define SOFTPBR_ISA ::softpbr::simd::Isa::Baseline
+#if defined(__AVX__)
+#define SOFTPBR_TARGET_AVX 1
+#else
+#define SOFTPBR_TARGET_AVX 0
+#endif
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+#define SOFTPBR_TARGET_AVX512 1
+#else
+#define SOFTPBR_TARGET_AVX512 0
+#endif
+#include SOFTPBR_TARGET_FILE
+#undef SOFTPBR_TARGET_NS
+#undef SOFTPBR_ISA
+#undef SOFTPBR_TARGET_AVX
+#undef SOFTPBR_TARGET_AVX512
+
+#if SOFTPBR_SIMD_X86_TARGETS
+// --- AVX2 (no FMA: -ffp-contract=off forbids contraction, and no target enables it). ---
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2,avx,popcnt"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx2,avx,popcnt")
+#endif
+#define SOFTPBR_TARGET_NS avx2
+#define SOFTPBR_ISA ::softpbr::simd::Isa::Avx2
+#define SOFTPBR_TARGET_AVX 1
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+#define SOFTPBR_TARGET_AVX512 1
+#else
+#define SOFTPBR_TARGET_AVX512 0
+#endif
+#include SOFTPBR_TARGET_FILE
+#undef SOFTPBR_TARGET_NS
+#undef SOFTPBR_ISA
+#undef SOFTPBR_TARGET_AVX
+#undef SOFTPBR_TARGET_AVX512
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+
+// --- AVX-512 F, DQ, VL, BW. ---
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt"))), \
+                             apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt")
+#endif
+#define SOFTPBR_TARGET_NS avx512
+#define SOFTPBR_ISA ::softpbr::simd::Isa::Avx512
+#define SOFTPBR_TARGET_AVX 1
+#define SOFTPBR_TARGET_AVX512 1
+#include SOFTPBR_TARGET_FILE
+#undef SOFTPBR_TARGET_NS
+#undef SOFTPBR_ISA
+#undef SOFTPBR_TARGET_AVX
+#undef SOFTPBR_TARGET_AVX512
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#endif  // SOFTPBR_SIMD_X86_TARGETS
+
+#undef SOFTPBR_TARGET_FILE

@@ -1,0 +1,60 @@
+// softpbr/simd/isa.h — the instruction sets kernels are compiled for, and which one runs.
+//
+// A kernel is one source compiled once per target (softpbr/simd/foreach_target.h) and
+// chosen once at run time (softpbr/simd/dispatch.h). The targets:
+//   Baseline — the build's own flags (x86-64 baseline is SSE2; on AArch64, NEON);
+//   Avx2     — x86-64 with AVX2 (and AVX, POPCNT), whatever the build targets;
+//   Avx512   — x86-64 with AVX-512 F, DQ, VL and BW.
+// No target enables FMA, and the project compiles with -ffp-contract=off, so every target
+// performs the same IEEE operations: the same bits (docs/design.md, "Determinism").
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// 1 where kernels are also compiled for AVX2 and AVX-512 (x86-64 with GCC or Clang).
+#define SOFTPBR_SIMD_X86_TARGETS 1
+#else
+#define SOFTPBR_SIMD_X86_TARGETS 0
+#endif
+
+namespace softpbr::simd {
+
+enum class Isa : std::uint8_t { Baseline, Avx2, Avx512 };
+
+// The widest instruction set of this CPU (and OS) that a dispatched kernel can use;
+// Baseline where no other target is compiled. Decided once, on first call.
+inline Isa cpu_isa() {
+#if SOFTPBR_SIMD_X86_TARGETS
+  static const Isa isa = [] {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw"))
+      return Isa::Avx512;
+    if (__builtin_cpu_supports("avx2")) return Isa::Avx2;
+    return Isa::Baseline;
+  }();
+  return isa;
+#else
+  return Isa::Baseline;
+#endif
+}
+
+// Whether a kernel compiled for `isa` may run here.
+inline bool supported(Isa isa) { return static_cast<int>(isa) <= static_cast<int>(cpu_isa()); }
+
+inline std::string_view isa_name(Isa isa) {
+  switch (isa) {
+    case Isa::Avx2: return "avx2";
+    case Isa::Avx512: return "avx512";
+    default: return "baseline";
+  }
+}
+
+}  // namespace softpbr::simd
+
+// Marks the entry point of a kernel compiled per target: every call inside it is inlined
+// (GCC and Clang's flatten), so code written outside the target region — a user's shader
+// template, glm — runs in the target's instruction set with its lane operations inlined.
+#define SOFTPBR_KERNEL __attribute__((flatten))
