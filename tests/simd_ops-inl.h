@@ -1,0 +1,38 @@
+// The lane operations of softpbr/simd on N lanes, as a kernel compiled once per target
+// (test_simd.cpp includes it through softpbr/simd/foreach_target.h; no include guard, no
+// header included here): what a new kernel looks like, with no dispatch of its own.
+
+namespace simd_test::SOFTPBR_TARGET_NS {
+
+namespace lanes = softpbr::simd::SOFTPBR_TARGET_NS;
+
+// For lanes a[0..N), b[0..N): out[k·N + i] = operation k of (a[i], b[i]), kOps operations.
+template <int N>
+SOFTPBR_KERNEL void lane_ops(const float* a_in, const float* b_in, float* out) {
+  namespace simd = softpbr::simd;
+  using V = lanes::Vec<N>;
+  const V a = V::load(a_in), b = V::load(b_in);
+  V r[kOps];
+  float x[4 * N];
+  r[0] = a + b;
+  r[1] = a - b;
+  r[2] = a * b;
+  r[3] = a / b;
+  r[4] = -a;
+  r[5] = simd::sqrt(a);
+  r[6] = simd::min(a, b);
+  r[7] = simd::max(a, b);
+  r[8] = simd::clamp(a, V(-1.0f), V(1.0f));
+  r[9] = simd::select(a < b, a, b);
+  r[10] = simd::select(simd::both(a <= b, b >= V(0.0f)), V(1.0f), V(0.0f));
+  r[11] = simd::select(!(a > b), a * V(2.0f), b);
+  r[12] = V(simd::any(a > b) ? 1.0f : 0.0f);
+  for (int i = 0; i < 4 * N; ++i) x[i] = a_in[i % N] + static_cast<float>(i);  // records of four floats
+  V c0, c1, c2, c3;
+  simd::load_deinterleave4<N>(x, c0, c1, c2, c3);
+  r[13] = c0 + c1 * V(2.0f) + c2 * V(4.0f) - c3;
+  r[14] = V(static_cast<float>(lanes::gather<N>(kTable, simd::bits_of(a) & 7u)[0]));
+  for (int k = 0; k < kOps; ++k) r[k].store(out + k * N);
+}
+
+}  // namespace simd_test::SOFTPBR_TARGET_NS

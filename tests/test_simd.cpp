@@ -1,0 +1,143 @@
+// softpbr/simd: every lane operation gives, on every compiled target (baseline, AVX2,
+// AVX-512 where the CPU has them) and at 4, 8 and 16 lanes, the bits the same operation
+// gives on one float; dispatch picks the copy asked for.
+#include <doctest/doctest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "softpbr/simd/dispatch.h"
+#include "softpbr/simd/simd.h"
+
+namespace simd = softpbr::simd;
+
+namespace simd_test {
+constexpr int kOps = 15;
+constexpr std::uint32_t kTable[8] = {3, 1, 4, 1, 5, 9, 2, 6};
+}  // namespace simd_test
+
+#define SOFTPBR_TARGET_FILE "simd_ops-inl.h"
+#include "softpbr/simd/foreach_target.h"
+
+namespace simd_test {
+namespace {
+
+// The operations of lane_ops on one lane, with floats.
+void scalar_ops(const float* a_in, const float* b_in, int lane, int n, float* out) {
+  const float a = a_in[lane], b = b_in[lane];
+  float r[kOps];
+  r[0] = a + b;
+  r[1] = a - b;
+  r[2] = a * b;
+  r[3] = a / b;
+  r[4] = -a;
+  r[5] = simd::sqrt(a);
+  r[6] = simd::min(a, b);
+  r[7] = simd::max(a, b);
+  r[8] = simd::clamp(a, -1.0f, 1.0f);
+  r[9] = simd::select(a < b, a, b);
+  r[10] = simd::select(simd::both(a <= b, b >= 0.0f), 1.0f, 0.0f);
+  r[11] = simd::select(!(a > b), a * 2.0f, b);
+  bool any = false;
+  for (int i = 0; i < n; ++i) any = any || a_in[i] > b_in[i];
+  r[12] = any ? 1.0f : 0.0f;
+  const auto record = [&](int c) { return a_in[(4 * lane + c) % n] + static_cast<float>(4 * lane + c); };
+  r[13] = record(0) + record(1) * 2.0f + record(2) * 4.0f - record(3);
+  r[14] = static_cast<float>(kTable[std::bit_cast<std::uint32_t>(a_in[0]) & 7u]);
+  for (int k = 0; k < kOps; ++k) out[k * n + lane] = r[k];
+}
+
+template <int N>
+void run_lane_ops(simd::Isa isa, const float* a, const float* b, float* out) {
+  SOFTPBR_DISPATCH(isa, lane_ops<N>)(a, b, out);
+}
+
+std::vector<simd::Isa> supported_isas() {
+  std::vector<simd::Isa> isas;
+  for (simd::Isa isa : {simd::Isa::Baseline, simd::Isa::Avx2, simd::Isa::Avx512})
+    if (simd::supported(isa)) isas.push_back(isa);
+  return isas;
+}
+
+template <int N>
+void check_width(const std::vector<float>& values, std::mt19937& rng) {
+  std::uniform_int_distribution<std::size_t> pick(0, values.size() - 1);
+  std::size_t compared = 0, equal = 0;
+  for (int round = 0; round < 400; ++round) {
+    float a[N], b[N];
+    for (int i = 0; i < N; ++i) a[i] = values[pick(rng)], b[i] = values[pick(rng)];
+    float want[kOps * N];
+    for (int i = 0; i < N; ++i) scalar_ops(a, b, i, N, want);
+    for (simd::Isa isa : supported_isas()) {
+      float got[kOps * N];
+      run_lane_ops<N>(isa, a, b, got);
+      for (int k = 0; k < kOps; ++k)
+        for (int i = 0; i < N; ++i) {
+          const std::uint32_t g = std::bit_cast<std::uint32_t>(got[k * N + i]);
+          const std::uint32_t w = std::bit_cast<std::uint32_t>(want[k * N + i]);
+          // NaN results compare as NaN (their payload is not part of the contract).
+          ++compared;
+          if (g == w || (std::isnan(got[k * N + i]) && std::isnan(want[k * N + i]))) {
+            ++equal;
+          } else {
+            CAPTURE(std::string(simd::isa_name(isa)));
+            CAPTURE(N);
+            CAPTURE(k);
+            CAPTURE(a[i]);
+            CAPTURE(b[i]);
+            CHECK(g == w);
+          }
+        }
+    }
+  }
+  CHECK(compared == 400u * kOps * N * supported_isas().size());
+  CHECK(equal == compared);
+}
+
+}  // namespace
+}  // namespace simd_test
+
+TEST_CASE("simd: every lane operation on every compiled target and width gives the bits of the float operation") {
+  std::vector<float> values = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, 2.0f, 3.0f, 1e-3f, -7.25f,
+                               std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+                               std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::denorm_min(),
+                               std::numeric_limits<float>::min(), std::numeric_limits<float>::max(), 1e30f};
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<float> uniform(-4.0f, 4.0f);
+  for (int i = 0; i < 200; ++i) values.push_back(uniform(rng));
+  simd_test::check_width<4>(values, rng);
+  simd_test::check_width<8>(values, rng);
+  simd_test::check_width<16>(values, rng);
+}
+
+namespace simd_test {
+namespace {
+using Kernel = void (*)(const float*, const float*, float*);
+Kernel chosen(simd::Isa isa) { return SOFTPBR_DISPATCH(isa, lane_ops<4>); }
+}  // namespace
+}  // namespace simd_test
+
+TEST_CASE("simd: dispatch calls the copy of the kernel compiled for the instruction set asked for") {
+  using simd::Isa;
+  using simd_test::chosen;
+  CHECK(simd::supported(Isa::Baseline));
+  CHECK(simd::supported(simd::cpu_isa()));
+  CHECK(simd::isa_name(Isa::Baseline) == "baseline");
+  CHECK((chosen(Isa::Baseline) == &simd_test::baseline::lane_ops<4>));
+#if SOFTPBR_SIMD_X86_TARGETS
+  CHECK((chosen(Isa::Avx2) == &simd_test::avx2::lane_ops<4>));
+  CHECK((chosen(Isa::Avx512) == &simd_test::avx512::lane_ops<4>));
+  CHECK((chosen(Isa::Avx2) != chosen(Isa::Baseline)));
+#else
+  // Only the baseline copy exists: every Isa falls back to it, and no other is supported.
+  CHECK((chosen(Isa::Avx2) == &simd_test::baseline::lane_ops<4>));
+  CHECK(!simd::supported(Isa::Avx2));
+  CHECK(!simd::supported(Isa::Avx512));
+#endif
+}
