@@ -18,6 +18,7 @@
 #include "json_reader.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/raster/renderer.h"
 #include "softpbr/raster/target.h"
 
 namespace softpbr::pbr {
@@ -417,7 +418,7 @@ void Loader::render(const Node& spec, SceneFile& out) {
   if (auto t = r_.member(spec, "threads")) s.threads = static_cast<unsigned>(r_.integer(*t, 0, 1024));
   if (auto t = r_.member(spec, "tile_size")) {
     s.tile_size = static_cast<int>(r_.integer(*t, raster::kMinTileSize, raster::kMaxTileSize));
-    if (s.tile_size % 2 != 0) r_.fail(*t, "expected an even tile size, got " + std::to_string(s.tile_size));
+    if (!raster::valid_tile_size(s.tile_size)) r_.fail(*t, "expected an even tile size, got " + std::to_string(s.tile_size));
   }
 }
 

@@ -58,6 +58,10 @@ struct ClearValues {
 inline constexpr int kMinTileSize = 8;
 inline constexpr int kMaxTileSize = 4096;
 
+// Whether the Renderer accepts `tile` as its tile size: in [kMinTileSize, kMaxTileSize] and
+// even, so that a tile holds whole 2×2 quads.
+constexpr bool valid_tile_size(int tile) { return tile >= kMinTileSize && tile <= kMaxTileSize && tile % 2 == 0; }
+
 class Renderer {
  public:
   // Throws std::invalid_argument for a tile size that is odd or out of range.
