@@ -17,6 +17,7 @@
 
 #include "json_reader.h"
 #include "softpbr/pbr/obj.h"
+#include "softpbr/pbr/shading.h"
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/raster/renderer.h"
 #include "softpbr/raster/target.h"
@@ -30,18 +31,16 @@ using json_reader::Reader;
 namespace {
 
 // ---- Memory estimates ---------------------------------------------------------------------
-// A mesh stores 32 bytes a vertex (MeshVertex) and 12 a triangle (three uint32 indices).
-// Drawing it keeps, until the frame ends, the transformed vertex (clip position 16 bytes,
-// PbrShader's 8 varying floats 32, outcode 2, screen vertex 16: ~72 bytes with padding) and
-// the set-up triangle (raster::Triangle, 120 bytes, plus its bin entries: ~136).
-constexpr std::uint64_t kMeshVertexBytes = 32, kMeshTriangleBytes = 12;
-constexpr std::uint64_t kDrawVertexBytes = 72, kDrawTriangleBytes = 136;
-
+// Bytes a mesh's own arrays take (MeshVertex and three indices a triangle).
 std::uint64_t mesh_bytes(std::uint64_t vertices, std::uint64_t triangles) {
-  return vertices * kMeshVertexBytes + triangles * kMeshTriangleBytes;
+  constexpr std::uint64_t kVertexBytes = sizeof(MeshVertex);
+  constexpr std::uint64_t kTriangleBytes = 3 * sizeof(decltype(Mesh::indices)::value_type);
+  return vertices * kVertexBytes + triangles * kTriangleBytes;
 }
+// Bytes drawing a mesh with the PbrShader holds until the frame is rasterized, as the
+// rasterizer counts them.
 std::uint64_t draw_bytes(std::uint64_t vertices, std::uint64_t triangles) {
-  return vertices * kDrawVertexBytes + triangles * kDrawTriangleBytes;
+  return raster::draw_geometry_bytes(vertices, triangles, raster::kVaryingCount<PbrShader::Varyings>);
 }
 
 // ---- Meshes -------------------------------------------------------------------------------
