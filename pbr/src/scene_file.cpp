@@ -456,10 +456,8 @@ SceneFile Loader::load(const Node& root) {
   return out;
 }
 
-}  // namespace
-
-SceneFile parse_scene_file(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
-                           const SceneLoadOptions& options) {
+SceneFile parse(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
+                const SceneLoadOptions& options) {
   const Reader reader(name);
   if (const auto problem = json_reader::find_structure_problem(text)) reader.fail(problem->pointer, problem->message);
   Json root;
@@ -477,6 +475,17 @@ SceneFile parse_scene_file(std::string_view text, const std::string& name, const
   }
   Loader loader(reader, base_dir, options);
   return loader.load(Node{root, ""});
+}
+
+}  // namespace
+
+SceneFile parse_scene_file(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
+                           const SceneLoadOptions& options) {
+  try {
+    return parse(text, name, base_dir, options);
+  } catch (const json_reader::Error& e) {
+    throw SceneFileError(e.what());  // the reader's line as is: "FILE: /pointer: what"
+  }
 }
 
 SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOptions& options) {
