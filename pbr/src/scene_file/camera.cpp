@@ -25,11 +25,7 @@ Camera read_camera(const Reader& r, const Node& spec) {
   if (auto f = r.member(spec, "fov")) c.fovy = static_cast<float>(dmath::radians(r.number(*f, 0, 180, true, true)));
   if (auto n = r.member(spec, "near")) c.near = r.number_f(*n, 0, 1e30, true);
   if (auto f = r.member(spec, "far")) c.far = r.number_f(*f, 0, 1e30, true);
-  try {
-    validate(c);
-  } catch (const std::exception& e) {
-    r.fail(spec, e.what());
-  }
+  check_at(r, spec, [&] { validate(c); });
   return c;
 }
 

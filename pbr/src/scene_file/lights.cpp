@@ -35,11 +35,7 @@ Light read_light(const Reader& r, const Node& spec) {
   if (inner > outer) r.fail(r.required(spec, "inner_cone"), "expected inner_cone <= outer_cone (" + json_reader::show_number(outer) + "), got " + json_reader::show_number(inner));
   l.inner_cone = static_cast<float>(dmath::radians(inner));
   l.outer_cone = static_cast<float>(dmath::radians(outer));
-  try {
-    prepare_light(l);
-  } catch (const std::exception& e) {
-    r.fail(spec, e.what());
-  }
+  check_at(r, spec, [&] { prepare_light(l); });
   return l;
 }
 

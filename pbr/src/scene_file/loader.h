@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,17 @@ class MemoryBudget {
   std::uint64_t limit_;
   std::uint64_t bytes_ = 0;
 };
+
+// Runs `check`, a validation of the library that throws std::exception on bad values, and
+// fails at `spec` with its message.
+template <class Check>
+void check_at(const Reader& r, const Node& spec, Check&& check) {
+  try {
+    check();
+  } catch (const std::exception& e) {
+    r.fail(spec, e.what());
+  }
+}
 
 Camera read_camera(const Reader& r, const Node& spec);
 Light read_light(const Reader& r, const Node& spec);

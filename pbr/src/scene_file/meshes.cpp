@@ -76,11 +76,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   if (rel.empty()) r_.fail(file, "expected a file name, got \"\"");
   const std::filesystem::path path = rel.is_absolute() ? rel : base_dir_ / rel;
   std::shared_ptr<ObjModel> model;
-  try {
-    model = std::make_shared<ObjModel>(load_obj(path));
-  } catch (const std::exception& e) {
-    r_.fail(file, e.what());
-  }
+  check_at(r_, file, [&] { model = std::make_shared<ObjModel>(load_obj(path)); });
   for (const std::string& w : model->warnings) warnings_.push_back(w);
   LoadedMesh out;
   std::uint64_t v = 0, t = 0;
@@ -150,11 +146,7 @@ LoadedMesh MeshLibrary::build_shape(const Node& spec) {
   }
   budget_.charge(spec, mesh_bytes(v, t), "this mesh");
   LoadedMesh out;
-  try {
-    out.parts.push_back(std::make_shared<const Mesh>(make()));
-  } catch (const std::exception& e) {
-    r_.fail(spec, e.what());
-  }
+  check_at(r_, spec, [&] { out.parts.push_back(std::make_shared<const Mesh>(make())); });
   out.part_material.push_back(-1);
   return out;
 }
