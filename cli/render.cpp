@@ -166,7 +166,7 @@ int run_render(const RenderArgs& a) {
   if (a.threads_opt->count()) s.threads = static_cast<unsigned>(in_range("--threads", a.threads, 0, 1024));
   if (a.tile_opt->count()) {
     s.tile_size = in_range("--tile-size", a.tile_size, raster::kMinTileSize, raster::kMaxTileSize);
-    if (s.tile_size % 2) throw Error(kExitUsage, "--tile-size: expected an even size, got " + std::to_string(s.tile_size));
+    if (!raster::valid_tile_size(s.tile_size)) throw Error(kExitUsage, "--tile-size: expected an even size, got " + std::to_string(s.tile_size));
   }
   if (a.tonemap_opt->count()) {
     const auto op = pbr::tone_map_from_name(a.tonemap);

@@ -1,6 +1,9 @@
 // Physics of the BRDF (pbr/brdf.h, pbr/shading.h): each term against its closed form,
 // normalisation of D, reciprocity, the white furnace, and no NaN/Inf at the edges.
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -47,6 +50,9 @@ void frame(const glm::dvec3& w, glm::dvec3& t, glm::dvec3& b) {
   t = {1.0 + sign * w.x * w.x * a, sign * bb, -sign * w.x};
   b = {bb, sign + w.y * w.y * a, -w.y};
 }
+
+softpbr::simd::Vec3<float> lanes(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+glm::vec3 to_glm(const softpbr::simd::Vec3<float>& v) { return {v.x, v.y, v.z}; }
 
 bool finite_nonneg(const glm::vec3& c) {
   for (int i = 0; i < 3; ++i)
@@ -98,10 +104,12 @@ TEST_CASE("BRDF terms equal their closed forms at fixed angles (float vs double)
   for (const glm::vec3& f0 : f0s)
     for (double voh : vohs) {
       const auto vf = static_cast<float>(voh);
-      const glm::vec3 F = pbr::F_Schlick(f0, vf);
+      const glm::vec3 F = to_glm(pbr::F_Schlick(lanes(f0), vf));
+      const softpbr::simd::Vec3<double> Fd = pbr::F_Schlick<double>({f0.x, f0.y, f0.z}, vf);
       for (int i = 0; i < 3; ++i) {
         const double want = f0[i] + (1.0 - f0[i]) * std::pow(1.0 - static_cast<double>(vf), 5);
         CHECK(std::fabs(F[i] - want) <= 2e-7);
+        CHECK(std::fabs(std::array<double, 3>{Fd.x, Fd.y, Fd.z}[i] - want) <= 1e-15);
       }
     }
   CHECK(pbr::Fd_Lambert<double>() == doctest::Approx(1 / kPi).epsilon(1e-16));
@@ -125,8 +133,8 @@ TEST_CASE("Fresnel: F = F0 exactly at normal incidence and F = 1 at grazing (v·
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (int i = 0; i < 1000; ++i) {
     const glm::vec3 f0(u(rng), u(rng), u(rng));
-    CHECK(pbr::F_Schlick(f0, 1.0f) == f0);
-    const glm::vec3 g = pbr::F_Schlick(f0, 0.0f);
+    CHECK(to_glm(pbr::F_Schlick(lanes(f0), 1.0f)) == f0);
+    const glm::vec3 g = to_glm(pbr::F_Schlick(lanes(f0), 0.0f));
     for (int c = 0; c < 3; ++c) CHECK(std::fabs(g[c] - 1.0f) <= 6e-8f);  // one float ulp below 1
   }
 }
@@ -191,6 +199,9 @@ TEST_CASE("brdf() is kD c/pi + D G F / (4 (n.l)(n.v)) term by term, for random d
     const double den = NoH * NoH * (a2 - 1) + 1;
     const double D = a2 / (kPi * den * den);
     const double G = NoV / (NoV * (1 - k) + k) * (NoL / (NoL * (1 - k) + k));
+    // brdf.h's textbook terms in double are these formulas, operation for operation.
+    CHECK(pbr::D_GGX(NoH, static_cast<double>(m.alpha)) == D);
+    CHECK(pbr::G_Smith(NoV, NoL, k) == G);
     const glm::vec3 got = pbr::brdf(m, nf, l, v);
     for (int c = 0; c < 3; ++c) {
       const double F = m.f0[c] + (1.0 - m.f0[c]) * std::pow(1.0 - VoH, 5);
@@ -208,6 +219,47 @@ TEST_CASE("brdf() is kD c/pi + D G F / (4 (n.l)(n.v)) term by term, for random d
   }
   MESSAGE("brdf() vs the textbook form in double: " << compared << " values, worst error " << worst
                                                      << " of its tolerance");
+}
+
+TEST_CASE("DV_GGX_SchlickSmith, the folded term the shader runs, is D_GGX G_Smith / (4 n.l n.v) in double, "
+          "and lanes give the float bits") {
+  // The grid covers the sharpest lobe (roughness kMinRoughness), grazing n·v at the
+  // kMinNoV clamp, and n·l below the divisor's floor (where the term is the textbook form
+  // with max(n·l, kMinNoV) in the divisor).
+  const float roughnesses[] = {pbr::kMinRoughness, 0.1f, 0.3f, 0.5f, 0.8f, 1.0f};
+  const float cosines[] = {0.0f, 1e-6f, pbr::kMinNoV, 3e-4f, 0.01f, 0.2f, 0.5f, 0.7071f, 0.9f, 0.999f, 0.99999f, 1.0f};
+  double worst = 0;
+  std::vector<float> nohs, nols, novs, alphas, ks, got;
+  for (float r : roughnesses)
+    for (float NoH : cosines)
+      for (float NoL : cosines)
+        for (float cv : cosines) {
+          const float NoV = std::max(cv, pbr::kMinNoV);
+          const float alpha = r * r, k = pbr::k_direct(r);
+          const float dv = pbr::DV_GGX_SchlickSmith(NoH, NoL, NoV, alpha, k);
+          const double a = alpha, kd = k, nol = NoL, nov = NoV, den = pbr::D_GGX_denominator<double>(NoH, a * a);
+          const double want = pbr::D_GGX<double>(NoH, a) * pbr::G_Smith(nov, nol, kd) /
+                              (4 * nov * std::max(nol, static_cast<double>(pbr::kMinNoV)));
+          // D's float denominator carries ~2⁻²⁴ absolute error (see D_GGX_denominator).
+          const double tolerance = 1e-5 + 3e-7 / den;
+          const double rel = std::fabs(dv - want) / std::max(want, 1e-30);
+          worst = std::max(worst, rel / tolerance);
+          CHECK_MESSAGE(rel <= tolerance, "r " << r << " n.h " << NoH << " n.l " << NoL << " n.v " << NoV << ": "
+                                               << dv << " vs " << want);
+          nohs.push_back(NoH), nols.push_back(NoL), novs.push_back(NoV), alphas.push_back(alpha), ks.push_back(k);
+          got.push_back(dv);
+        }
+  MESSAGE("DV_GGX_SchlickSmith vs D_GGX G_Smith / (4 n.l n.v) in double: worst error " << worst
+                                                                                        << " of its tolerance");
+  // Eight lanes at a time, each lane the same bits as the float evaluation.
+  using V = softpbr::simd::Vec<8>;
+  int mismatches = 0;
+  for (std::size_t i = 0; i + 8 <= got.size(); i += 8) {
+    const V dv = pbr::DV_GGX_SchlickSmith(V::load(&nohs[i]), V::load(&nols[i]), V::load(&novs[i]),
+                                          V::load(&alphas[i]), V::load(&ks[i]));
+    for (int j = 0; j < 8; ++j) mismatches += std::bit_cast<std::uint32_t>(dv[j]) != std::bit_cast<std::uint32_t>(got[i + j]);
+  }
+  CHECK(mismatches == 0);
 }
 
 TEST_CASE("BRDF reciprocity: f(l, v) = f(v, l) for random directions, materials and roughness") {

@@ -85,11 +85,20 @@ TEST_CASE("targets outside 1x1 .. kMaxTargetSize are refused before allocating, 
   }
 }
 
-TEST_CASE("tile sizes that are odd or outside [kMinTileSize, kMaxTileSize] are refused") {
+TEST_CASE("tile sizes that are odd or outside [kMinTileSize, kMaxTileSize] are refused, and valid_tile_size says so") {
   for (const int tile : {0, -8, 7, 9, raster::kMinTileSize - 2, raster::kMaxTileSize + 2, INT_MAX, INT_MIN}) {
     CAPTURE(tile);
     CHECK_THROWS_AS(raster::Renderer({.threads = 1, .tile_size = tile}), std::invalid_argument);
+    CHECK_FALSE(raster::valid_tile_size(tile));
   }
+  // valid_tile_size (which the scene loader and the command line check with) accepts
+  // exactly what the Renderer accepts.
+  for (const int tile : {raster::kMinTileSize, raster::kMinTileSize + 2, 64, 66, raster::kMaxTileSize}) {
+    CAPTURE(tile);
+    CHECK(raster::valid_tile_size(tile));
+    CHECK_NOTHROW(raster::Renderer({.threads = 1, .tile_size = tile}));
+  }
+  static_assert(raster::valid_tile_size(64) && !raster::valid_tile_size(65));
 }
 
 TEST_CASE("a draw claiming 2^31 or more indices is refused without reading them, and the frame goes on") {

@@ -12,6 +12,7 @@
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene_file.h"
+#include "softpbr/pbr/shading.h"
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/raster/raster.h"
 
@@ -151,6 +152,18 @@ TEST_CASE("scene file: a 10^6-light scene is refused by its count, with the limi
   std::string ok = "[";
   for (std::size_t i = 0; i < pbr::kMaxLights; ++i) ok += std::string(i ? "," : "") + R"({"type": "point", "position": [0, 1, 0]})";
   CHECK(parse(R"({"objects": [], "lights": )" + ok + "]}").scene.lights.size() == pbr::kMaxLights);
+}
+
+TEST_CASE("scene file: the memory estimate counts each mesh's arrays and each draw as the rasterizer sizes it") {
+  // One cube (24 vertices, 12 triangles) drawn twice: its MeshVertex and index arrays once,
+  // and raster::draw_geometry_bytes for the PBR shader's varyings per draw.
+  const pbr::SceneFile f = parse(scene(R"("mesh": "box"}, {"mesh": "box")", R"("meshes": {"box": {"type": "cube"}})"));
+  REQUIRE(f.scene.objects.size() == 2);
+  const std::uint64_t mesh = 24 * sizeof(pbr::MeshVertex) + 12 * 3 * sizeof(std::uint32_t);
+  const std::uint64_t draw = raster::draw_geometry_bytes(24, 12, raster::kVaryingCount<pbr::PbrShader::Varyings>);
+  CHECK(f.mesh_bytes == mesh + 2 * draw);
+  // A draw holds at least the set-up triangles and the clip-space positions.
+  CHECK(draw >= 12 * sizeof(raster::Triangle) + 24 * sizeof(glm::vec4));
 }
 
 TEST_CASE("scene file: the memory a mesh needs is checked against the limit before the mesh is built") {

@@ -2,7 +2,9 @@
 // monotonicity, the 8-bit transfer curves, exposure, and the .hdr writer.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -96,6 +98,53 @@ TEST_CASE("apply_tone_map equals each operator's closed form (None, Reinhard, AC
   CHECK(pbr::apply_tone_map(pbr::ToneMap::Aces, glm::vec3(7.0f)).r < 1.0f);
   // Negative input is treated as 0 by every operator.
   for (pbr::ToneMap op : kOps) CHECK(pbr::apply_tone_map(op, glm::vec3(-1.0f, -1e-30f, -1e30f)) == glm::vec3(0.0f));
+}
+
+// The inputs: float bit patterns from +0 to +Inf at a stride, the specials and negatives;
+// each colour takes three of them (PBR Neutral mixes the channels).
+namespace {
+
+std::vector<float> tone_map_pin_values() {
+  std::vector<float> v;
+  for (std::uint32_t b = 0; b <= 0x7f800000u; b += 0x8011u) v.push_back(std::bit_cast<float>(b));
+  for (float x : {0.08f, 0.76f, 1.0f, 1e9f, 1e19f, 7.24f, -0.0f, -1.0f, -1e-30f, -std::numeric_limits<float>::infinity(),
+                  std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::denorm_min()})
+    v.push_back(x);
+  return v;
+}
+// FNV-1a over the output bits (every NaN hashed as one value: the encoder makes any NaN 0).
+std::uint64_t tone_map_pin_hash(pbr::ToneMap op) {
+  const std::vector<float> v = tone_map_pin_values();
+  std::uint64_t h = 14695981039346656037ull;
+  const std::size_t n = v.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3 out = pbr::apply_tone_map(op, glm::vec3(v[i], v[(i * 7 + 3) % n], v[(i * 13 + 5) % n]));
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t bits = std::isnan(out[k]) ? 0x7fc00000u : std::bit_cast<std::uint32_t>(out[k]);
+      for (int byte = 0; byte < 4; ++byte) h = (h ^ ((bits >> (8 * byte)) & 0xffu)) * 1099511628211ull;
+    }
+  }
+  return h;
+}
+
+}  // namespace
+
+TEST_CASE("apply_tone_map gives the same float bits as the scalar operators it replaced (pinned hashes)") {
+  // The hashes were taken with the scalar aces_channel/pbr_neutral code that preceded the
+  // lane-generic operators (tone_map_operators.h), before that code was removed.
+  struct Pin {
+    pbr::ToneMap op;
+    std::uint64_t hash;
+  };
+  const Pin pins[] = {{pbr::ToneMap::None, 0xd38ac95e727e2ef0ull},
+                      {pbr::ToneMap::Reinhard, 0xe58841b43f44de75ull},
+                      {pbr::ToneMap::Aces, 0xfc8835c8531591bfull},
+                      {pbr::ToneMap::Neutral, 0x8d609647c387af04ull}};
+  CHECK(tone_map_pin_values().size() == 65259);
+  for (const Pin& p : pins) {
+    CAPTURE(pbr::tone_map_name(p.op));
+    CHECK(tone_map_pin_hash(p.op) == p.hash);
+  }
 }
 
 TEST_CASE("PBR Neutral below the compression start only subtracts the offset") {

@@ -172,7 +172,7 @@ void Reader::fail(const std::string& pointer, const std::string& what) const {
   // Keys are the file's text: keep the message one line whatever they hold.
   for (char& c : line)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  throw SceneFileError(line);
+  throw Error(line, pointer);
 }
 void Reader::fail(const Node& node, const std::string& what) const { fail(node.pointer, what); }
 

@@ -1,11 +1,12 @@
 // json_reader.h — checked reading of untrusted JSON (private to pbr/src): every access
-// names the value by its JSON pointer (RFC 6901), every problem is one SceneFileError line
-// "FILE: /pointer: expected …, got …".
+// names the value by its JSON pointer (RFC 6901), every problem is one json_reader::Error
+// line "FILE: /pointer: expected …, got …" (scene_file.cpp passes it on as SceneFileError).
 #pragma once
 
 #include <cmath>
 #include <initializer_list>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 #include <string>
 #include <string_view>
@@ -15,11 +16,20 @@
 #include <glm/vec4.hpp>
 #include <nlohmann/json.hpp>
 
-#include "softpbr/pbr/scene_file.h"
-
 namespace softpbr::pbr::json_reader {
 
 using Json = nlohmann::json;
+
+// A problem in the document: what() is the one line "FILE: /pointer: what", pointer() the
+// JSON pointer ("" for the top level or the text as a whole).
+class Error : public std::runtime_error {
+ public:
+  Error(const std::string& line, std::string pointer) : std::runtime_error(line), pointer_(std::move(pointer)) {}
+  const std::string& pointer() const { return pointer_; }
+
+ private:
+  std::string pointer_;
+};
 
 // A value in the document and its pointer.
 struct Node {
@@ -35,6 +45,7 @@ class Reader {
  public:
   explicit Reader(std::string file) : file_(std::move(file)) {}
 
+  // Throw Error.
   [[noreturn]] void fail(const Node& node, const std::string& what) const;
   [[noreturn]] void fail(const std::string& pointer, const std::string& what) const;
   const std::string& file() const { return file_; }

@@ -23,38 +23,6 @@ namespace softpbr::pbr {
 namespace {
 namespace dm = dmath;
 
-// ---- Deterministic atan2 ------------------------------------------------------------------
-// dmath has no inverse trigonometry yet; these use IEEE basic operations and sqrt only, so
-// UVs and normal weights have the same bits everywhere. (Candidates to move into dmath.h.)
-
-// atan(t) for 0 ≤ t ≤ 1. Two half-angle steps, atan t = 2 atan(t / (1 + √(1 + t²))), bring t
-// down to at most tan(π/16) ≈ 0.199; the Taylor series to t^25 then leaves below
-// 0.2^27/27 ≈ 5e-21, far under double's 2^-53.
-double atan_unit(double t) {
-  for (int k = 0; k < 2; ++k) t = t / (1.0 + std::sqrt(1.0 + t * t));
-  const double t2 = t * t;
-  double p = 1.0 / 25.0;                                               // + t^24/25
-  for (int k = 11; k >= 0; --k) p = p * t2 + (k % 2 == 0 ? 1.0 : -1.0) / (2 * k + 1);
-  return 4.0 * t * p;
-}
-
-// atan2(y, x) in [−π, π], with atan2(±0, x < 0) = π and atan2(0, 0) = 0.
-double atan2(double y, double x) {
-  const double ax = std::fabs(x), ay = std::fabs(y);
-  if (ax == 0.0 && ay == 0.0) return 0.0;
-  double a = ay <= ax ? atan_unit(ay / ax) : dm::kPi / 2 - atan_unit(ax / ay);
-  if (x < 0.0) a = dm::kPi - a;
-  return y < 0.0 ? -a : a;
-}
-
-// The angle between two non-zero vectors by Kahan's formula 2·atan2(|â − b̂|, |â + b̂|)
-// ("Mindless", 2006, §12), accurate near 0 and π where acos of a dot product is not.
-double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 ua = a / std::sqrt(glm::dot(a, a)), ub = b / std::sqrt(glm::dot(b, b));
-  const glm::dvec3 d = ua - ub, s = ua + ub;
-  return 2.0 * atan2(std::sqrt(glm::dot(d, d)), std::sqrt(glm::dot(s, s)));
-}
-
 glm::dvec3 normalized(const glm::dvec3& v) { return v / std::sqrt(glm::dot(v, v)); }
 
 glm::vec3 to_float(const glm::dvec3& v) { return glm::vec3(v); }
@@ -270,9 +238,9 @@ class IcosphereBuilder {
   }
 
   glm::dvec2 uv_of(const glm::dvec3& p, bool minus_side) const {
-    const double v = atan2(std::sqrt(p.x * p.x + p.z * p.z), p.y) / dm::kPi;
+    const double v = dm::atan2(std::sqrt(p.x * p.x + p.z * p.z), p.y) / dm::kPi;
     if (on_seam(p)) return {minus_side ? 1.0 : 0.0, v};
-    double phi = atan2(p.x, p.z);
+    double phi = dm::atan2(p.x, p.z);
     if (phi < 0.0) phi += 2.0 * dm::kPi;
     return {phi / (2.0 * dm::kPi), v};
   }
@@ -466,7 +434,7 @@ void compute_smooth_normals(Mesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       const glm::dvec3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
       // A positive area means both edges are non-zero, so the angle is well defined.
-      sum[rep[idx[k]]] += angle_between(e1, e2) * face_n;
+      sum[rep[idx[k]]] += dm::angle_between(e1, e2) * face_n;
     }
   }
 

@@ -32,7 +32,7 @@ inline void encode_lanes(const glm::vec4* px, float scale, const Curve& curve, s
   r *= V(scale);
   g *= V(scale);
   b *= V(scale);
-  tone_map_lanes<kOp>(r, g, b);
+  tone_map_operators::tone_map<kOp>(r, g, b);  // the same code as the scalar path
   // raster::unorm8(a) = a·255 + 0.5 truncated for 0 < a < 1, 0 at or below 0 (and NaN), 255
   // from 1: the same as truncating min(max(0, a), 1)·255 + 0.5 (0.5 → 0, 255.5 → 255; max
   // with 0 first turns NaN into 0), which every lane can convert.

@@ -16,6 +16,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/simd/dispatch.h"
 #include "softpbr/simd/simd.h"
+#include "tone_map_operators.h"
 
 namespace softpbr::pbr {
 
@@ -36,43 +37,15 @@ std::string_view tone_map_name(ToneMap op) {
   }
 }
 
-namespace {
-
-float aces_channel(float x) {
-  // Narkowicz 2015, "ACES Filmic Tone Mapping Curve": x(ax + b) / (x(cx + d) + e).
-  constexpr float a = 2.51f, b = 0.03f, c = 2.43f, d = 0.59f, e = 0.14f;
-  return std::clamp((x * (a * x + b)) / (x * (c * x + d) + e), 0.0f, 1.0f);
-}
-
-glm::vec3 pbr_neutral(glm::vec3 color) {
-  // Khronos PBR Neutral tone mapper (Khronos 3D Commerce, 2024), as its reference GLSL.
-  constexpr float kStartCompression = 0.8f - 0.04f;
-  constexpr float kDesaturation = 0.15f;
-  const float x = std::min({color.r, color.g, color.b});
-  const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
-  color -= offset;
-  const float peak = std::max({color.r, color.g, color.b});
-  if (peak < kStartCompression) return color;
-  constexpr float d = 1.0f - kStartCompression;
-  const float new_peak = 1.0f - d * d / (peak + d - kStartCompression);
-  color *= new_peak / peak;
-  const float g = 1.0f - 1.0f / (kDesaturation * (peak - new_peak) + 1.0f);
-  return color * (1.0f - g) + glm::vec3(new_peak) * g;
-}
-
-}  // namespace
-
 glm::vec3 apply_tone_map(ToneMap op, glm::vec3 c) {
-  // From 1e9 on every operator already returns its maximum (1), so the upper clamp changes
-  // no finite result; it keeps +Inf (Inf / Inf) and the ACES fit's x² overflow above ~1e19
-  // from turning into NaN, which would encode as black. NaN stays NaN (encoded as 0).
-  c = glm::min(glm::max(c, glm::vec3(0.0f)), glm::vec3(1e9f));
+  using tone_map_operators::tone_map;
   switch (op) {
-    case ToneMap::None: return glm::min(c, glm::vec3(1.0f));
-    case ToneMap::Reinhard: return c / (glm::vec3(1.0f) + c);
-    case ToneMap::Aces: return {aces_channel(c.r), aces_channel(c.g), aces_channel(c.b)};
-    default: return glm::clamp(pbr_neutral(c), glm::vec3(0.0f), glm::vec3(1.0f));
+    case ToneMap::None: tone_map<ToneMap::None>(c.r, c.g, c.b); break;
+    case ToneMap::Reinhard: tone_map<ToneMap::Reinhard>(c.r, c.g, c.b); break;
+    case ToneMap::Aces: tone_map<ToneMap::Aces>(c.r, c.g, c.b); break;
+    default: tone_map<ToneMap::Neutral>(c.r, c.g, c.b); break;
   }
+  return c;
 }
 
 std::array<float, 255> transfer_thresholds(float gamma) {
@@ -172,7 +145,8 @@ void encode_rect(const raster::Target& target, int x0, int y0, int x1, int y1, f
     for (int x = x0; x < x1; ++x, out += 4) {
       const glm::vec4& c = colors[row + static_cast<std::size_t>(x)];
       if (!have_last || std::memcmp(&c, &last, sizeof c) != 0) {
-        const glm::vec3 m = apply_tone_map(kOp, glm::vec3(c) * scale);
+        glm::vec3 m = glm::vec3(c) * scale;
+        tone_map_operators::tone_map<kOp>(m.r, m.g, m.b);
         last_code[0] = encode_fast(t, first, m.r);
         last_code[1] = encode_fast(t, first, m.g);
         last_code[2] = encode_fast(t, first, m.b);
@@ -207,55 +181,6 @@ struct Job {
   Curve curve;
   raster::Image8* image;
 };
-
-// apply_tone_map on lanes: the same IEEE operations in the same order, glm's and std's
-// min/max/clamp written as simd::min/max/clamp (the same comparisons: glm::min(x, y) is
-// y < x ? y : x as simd::min; std::clamp(v, 0, 1) picks as min(max(v, 0), 1)), branches
-// as selects of both sides (PBR Neutral's compression is computed for every lane and kept
-// where peak ≥ 0.76; a discarded lane's quotient may be Inf or NaN, which no lane keeps).
-template <ToneMap kOp, class F>
-inline void tone_map_lanes(F& r, F& g, F& b) {
-  const auto limit = [](F c) { return simd::min(simd::max(c, F(0.0f)), F(1e9f)); };
-  r = limit(r);
-  g = limit(g);
-  b = limit(b);
-  if constexpr (kOp == ToneMap::None) {
-    r = simd::min(r, F(1.0f));
-    g = simd::min(g, F(1.0f));
-    b = simd::min(b, F(1.0f));
-  } else if constexpr (kOp == ToneMap::Reinhard) {
-    r = r / (F(1.0f) + r);
-    g = g / (F(1.0f) + g);
-    b = b / (F(1.0f) + b);
-  } else if constexpr (kOp == ToneMap::Aces) {
-    constexpr float ka = 2.51f, kb = 0.03f, kc = 2.43f, kd = 0.59f, ke = 0.14f;  // aces_channel
-    const auto aces = [](F x) {
-      return simd::clamp((x * (F(ka) * x + F(kb))) / (x * (F(kc) * x + F(kd)) + F(ke)), F(0.0f), F(1.0f));
-    };
-    r = aces(r);
-    g = aces(g);
-    b = aces(b);
-  } else {
-    constexpr float kStartCompression = 0.8f - 0.04f;  // pbr_neutral's constants
-    constexpr float kDesaturation = 0.15f;
-    constexpr float d = 1.0f - kStartCompression;
-    const F x = simd::min(simd::min(r, g), b);  // std::min({r, g, b})
-    const F offset = simd::select(x < F(0.08f), x - F(6.25f) * x * x, F(0.04f));
-    r -= offset;
-    g -= offset;
-    b -= offset;
-    const F peak = simd::max(simd::max(r, g), b);  // std::max({r, g, b})
-    const F new_peak = F(1.0f) - F(d * d) / (peak + F(d) - F(kStartCompression));
-    const F ratio = new_peak / peak;
-    const F mix = F(1.0f) - F(1.0f) / (F(kDesaturation) * (peak - new_peak) + F(1.0f));
-    const F keep = F(1.0f) - mix, toward = new_peak * mix;
-    const auto compress = [&](F c) { return (c * ratio) * keep + toward; };
-    const auto below = peak < F(kStartCompression);
-    r = simd::clamp(simd::select(below, r, compress(r)), F(0.0f), F(1.0f));
-    g = simd::clamp(simd::select(below, g, compress(g)), F(0.0f), F(1.0f));
-    b = simd::clamp(simd::select(below, b, compress(b)), F(0.0f), F(1.0f));
-  }
-}
 
 // encode_fast without branches: the number of thresholds ≤ v, 0 for NaN. kSteps: how many
 // steps after the table (1 or 2, known when compiled; 0: `steps`, known at run time; −1:

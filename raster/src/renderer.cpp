@@ -12,7 +12,7 @@ namespace softpbr::raster {
 
 namespace {
 int checked_tile_size(int tile) {
-  if (tile < kMinTileSize || tile > kMaxTileSize || tile % 2 != 0)
+  if (!valid_tile_size(tile))
     throw std::invalid_argument("Renderer: tile size " + std::to_string(tile) + " must be even and in [" +
                                 std::to_string(kMinTileSize) + ", " + std::to_string(kMaxTileSize) + "]");
   return tile;

@@ -1,15 +1,21 @@
 // softpbr/pbr/brdf.h — the terms of the Cook-Torrance microfacet BRDF, one small function each.
 //
 // Names follow Filament ("Physically Based Rendering in Filament", R. Guy & M. Agopian):
-// D_ = normal distribution, G_ = geometric shadowing-masking, F_ = Fresnel, Fd_ = diffuse.
+// D_ = normal distribution, G_ = geometric shadowing-masking, V_ = visibility
+// G / (4 · NoL · NoV), F_ = Fresnel, Fd_ = diffuse; DV_ = D · V folded into one expression.
 // NoH = n·h, NoV = n·v, NoL = n·l, VoH = v·h, all clamped to [0, 1] by the caller.
 // α = roughness² (perceptual roughness squared, Burley 2012).
 //
-// The specular lobe is f_s = D · G · F / (4 · NoL · NoV); G_Smith returns G, not the
-// visibility term V = G / (4 · NoL · NoV).
+// The specular lobe is f_s = D · G · F / (4 · NoL · NoV) = DV · F. Each term is written once
+// against a lane type F: float for one pixel, simd::Vec<N> for N pixels (the same IEEE
+// operations per lane, simd.h), and, for the textbook terms, double: the shader
+// (shading.h) evaluates DV_GGX_SchlickSmith, F_Schlick and Fd_Lambert in float lanes; the
+// tests check them against D_GGX, G_Smith and F_Schlick in double.
 #pragma once
 
 #include <glm/vec3.hpp>
+
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
 
@@ -21,53 +27,86 @@ inline constexpr double kPiDouble = 3.14159265358979323846;
 inline constexpr double kInvPiDouble = 0.318309886183790671538;
 static_assert(static_cast<float>(kPiDouble) == kPi && static_cast<float>(kInvPiDouble) == kInvPi);
 
+// Smallest n·v used by the specular term (the caller clamps NoV to it), and the floor of
+// n·l in DV's divisor: keeps G1(n·v)/(n·v) ≤ 1/k finite at grazing angles and for normals
+// facing away.
+inline constexpr float kMinNoV = 1e-4f;
+
+// The denominator of D_GGX without π and the square: d = (n·h)²(α² − 1) + 1, from a2 = α².
+// ≥ a2 > 0 for NoH in [0, 1]. Precision: in float, a2 − 1 rounds to a multiple of 2⁻²⁴, so
+// at kMinRoughness (a2 ≈ 4·10⁻⁶) D's peak 1/(π α²) comes out 0.6% low and ∫ D (n·h) dω
+// 0.25% low; 2·10⁻⁴ low at roughness 0.1, less above (tests/test_brdf.cpp).
+template <class F>
+inline F D_GGX_denominator(F NoH, F a2) {
+  return NoH * NoH * (a2 - F(1)) + F(1);
+}
+
 // Trowbridge & Reitz 1975 / Walter et al. 2007 ("GGX"): D(h) = α² / (π ((n·h)²(α² − 1) + 1)²).
 // Normalised: ∫ D(h) (n·h) dω_h = 1 over the hemisphere.
-template <class T>
-inline T D_GGX(T NoH, T alpha) {
-  const T a2 = alpha * alpha;
-  // ≥ a2 > 0 for NoH in [0, 1]. Precision: in float, a2 − 1 rounds to a multiple of 2⁻²⁴,
-  // so at kMinRoughness (a2 ≈ 4·10⁻⁶) the peak 1/(π α²) comes out 0.6% low and ∫ D (n·h) dω
-  // 0.25% low; 2·10⁻⁴ low at roughness 0.1, less above (tests/test_brdf.cpp).
-  const T d = NoH * NoH * (a2 - T(1)) + T(1);
-  return a2 / (T(kPiDouble) * d * d);
+template <class F>
+inline F D_GGX(F NoH, F alpha) {
+  const F a2 = alpha * alpha;
+  const F d = D_GGX_denominator(NoH, a2);
+  return a2 / (F(kPiDouble) * d * d);
+}
+
+// The denominator of G_SchlickGGX: g(x) = x (1 − k) + k, so that G1(x) = x / g(x).
+template <class F>
+inline F G_SchlickGGX_denominator(F NoX, F k) {
+  return NoX * (F(1) - k) + k;
 }
 
 // Schlick 1994 with Karis 2013's k for direct light, k = (roughness + 1)² / 8:
 // G1(x) = x / (x (1 − k) + k). Returns G1, not a visibility term.
-template <class T>
-inline T G_SchlickGGX(T NoX, T k) {
-  return NoX / (NoX * (T(1) - k) + k);
+template <class F>
+inline F G_SchlickGGX(F NoX, F k) {
+  return NoX / G_SchlickGGX_denominator(NoX, k);
 }
 
 // k of G_SchlickGGX for analytic (direct) lights, from perceptual roughness (Karis 2013,
 // "Real Shading in Unreal Engine 4").
-template <class T>
-inline T k_direct(T roughness) {
-  const T r1 = roughness + T(1);
-  return r1 * r1 / T(8);
+template <class F>
+inline F k_direct(F roughness) {
+  const F r1 = roughness + F(1);
+  return r1 * r1 / F(8);
 }
 
 // Smith 1967, separable form: G(l, v) = G1(n·v) · G1(n·l). Returns G.
-template <class T>
-inline T G_Smith(T NoV, T NoL, T k) {
+template <class F>
+inline F G_Smith(F NoV, F NoL, F k) {
   return G_SchlickGGX(NoV, k) * G_SchlickGGX(NoL, k);
 }
 
+// D_GGX · G_Smith / (4 · NoL · NoV) in one division — the distribution times the
+// visibility, as the shader evaluates it. Returns D · V, not G. With D = α² / (π d²) and
+// G = (NoV / g(NoV)) (NoL / g(NoL)) (d and g the denominators above), NoV cancels:
+//   D · G / (4 NoL NoV) = α² NoL / (4π d² g(NoV) g(NoL) NoL),
+// and NoL is kept in the numerator with the divisor's NoL floored at kMinNoV, so that a
+// light grazing below the floor fades to 0 instead of dividing by ~0 (NoL = 0 gives 0).
+// NoV must be ≥ kMinNoV (the caller clamps it). For F = float or simd::Vec<N>.
+template <class F>
+inline F DV_GGX_SchlickSmith(F NoH, F NoL, F NoV, F alpha, F k) {
+  const F a2 = alpha * alpha;
+  const F d = D_GGX_denominator(NoH, a2);
+  const F g_v = G_SchlickGGX_denominator(NoV, k), g_l = G_SchlickGGX_denominator(NoL, k);
+  return (a2 * NoL) / (F(4.0f * kPi) * d * d * g_v * g_l * simd::max(NoL, F(kMinNoV)));
+}
+
 // Schlick 1994: F = F0 + (1 − F0)(1 − v·h)^5; the fifth power as multiplies, exact and
-// deterministic (no pow).
-inline glm::vec3 F_Schlick(const glm::vec3& f0, float VoH) {
-  const float m = 1.0f - VoH;
-  const float m2 = m * m;
-  const float m5 = m2 * m2 * m;
-  return f0 + (glm::vec3(1.0f) - f0) * m5;
+// deterministic (no pow). One colour per lane of VoH.
+template <class F>
+inline simd::Vec3<F> F_Schlick(const simd::Vec3<F>& f0, F VoH) {
+  const F m = F(1) - VoH;
+  const F m2 = m * m;
+  const F m5 = m2 * m2 * m;
+  return f0 + (simd::Vec3<F>(F(1)) - f0) * m5;
 }
 
 // Lambert: a perfectly diffuse surface reflects c/π in every direction. Returns the BRDF
 // without the albedo: multiply by c.
-template <class T>
-inline T Fd_Lambert() {
-  return T(kInvPiDouble);
+template <class F>
+inline F Fd_Lambert() {
+  return F(kInvPiDouble);
 }
 
 // F0 of the metal/roughness model: 4% for dielectrics, the base colour for metals.

@@ -1,7 +1,7 @@
 // softpbr/pbr/mesh.h — triangle meshes, procedural shapes, smooth normals and bounds.
 //
 // Procedural shapes are built with the deterministic dmath functions (and the deterministic
-// atan2 in mesh.cpp), so a shape has the same bits on every platform. Every shape has unit
+// dmath::atan2), so a shape has the same bits on every platform. Every shape has unit
 // normals, UVs in [0, 1] and counter-clockwise triangles seen from outside (front faces for
 // FrontFace::CounterClockwise with a GL-style camera). Invalid parameters throw
 // std::invalid_argument saying which parameter and what was expected.

@@ -3,7 +3,9 @@
 //   Lo = Σ_lights (kD · c/π + D · G · F / (4 (n·l)(n·v))) · Li · (n·l)
 //        + ambient · c · ao + emissive,          kD = (1 − F)(1 − metallic)
 //
-// with D_GGX, G_Smith (Schlick-GGX, k = (r+1)²/8) and F_Schlick from brdf.h. Nothing here
+// evaluated with brdf.h's terms: D · G / (4 (n·l)(n·v)) as DV_GGX_SchlickSmith (D_GGX and
+// G_Smith with Schlick-GGX, k = (r+1)²/8, folded into one division), F_Schlick and
+// Fd_Lambert. Nothing here
 // produces NaN or Inf for finite inputs: roughness is raised to kMinRoughness, n·v is
 // clamped to kMinNoV (interpolated normals may face away from the viewer), lights with
 // n·l ≤ 0 are skipped, and zero-length normals fall back to the view direction.
@@ -32,10 +34,6 @@
 #include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
-
-// Smallest n·v used by the specular term: keeps G1(n·v)/(n·v) ≤ 1/k finite at grazing
-// angles and for normals facing away.
-inline constexpr float kMinNoV = 1e-4f;
 
 // A material ready for shading: roughness clamped to [kMinRoughness, 1], everything else
 // checked to be finite and in range.
@@ -80,16 +78,6 @@ inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
   return simd::select(positive < inf, unit, fallback);
 }
 
-// Schlick's Fresnel for lanes (brdf.h's F_Schlick per lane).
-template <class F>
-inline Vec3L<F> F_Schlick(const glm::vec3& f0, F VoH) {
-  const F m = F(1.0f) - VoH;
-  const F m2 = m * m;
-  const F m5 = m2 * m2 * m;
-  const Vec3L<F> f = lanes<F>(f0);
-  return f + (Vec3L<F>(F(1.0f)) - f) * m5;
-}
-
 // The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v.
 template <class F>
 inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
@@ -106,15 +94,8 @@ inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>
   const F NoV = simd::clamp(simd::dot(n, v), F(kMinNoV), F(1.0f));
   const F NoH = simd::clamp(simd::select(has_h, simd::dot(n, lv) / lv_len, simd::dot(n, n)), F(0.0f), F(1.0f));
   const F VoH = simd::clamp(simd::select(has_h, simd::dot(v, lv) / lv_len, simd::dot(v, n)), F(0.0f), F(1.0f));
-  // D · G / (4 (n·l)(n·v)) in one division: with D = α² / (π d²) and
-  // G = (n·v / g_v)(n·l / g_l), g_x = x (1 − k) + k, n·v cancels (it is ≥ kMinNoV > 0).
-  const F alpha(m.alpha), k(m.k);
-  const F a2 = alpha * alpha;
-  const F d = NoH * NoH * (a2 - one) + one;
-  const F g_v = NoV * (one - k) + k, g_l = NoL * (one - k) + k;
-  const Vec3L<F> Fr = F_Schlick<F>(m.f0, VoH);
-  const Vec3L<F> specular =
-      Fr * ((a2 * NoL) / (F(4.0f * kPi) * d * d * g_v * g_l * simd::max(NoL, F(kMinNoV))));
+  const Vec3L<F> Fr = F_Schlick(lanes<F>(m.f0), VoH);
+  const Vec3L<F> specular = Fr * DV_GGX_SchlickSmith(NoH, NoL, NoV, F(m.alpha), F(m.k));
   // Fr exceeds 1 when a base colour above 1 (accepted, see prepare_material) lifts F0 over
   // 1: the diffuse weight stops at 0 instead of going negative (the same bits for Fr ≤ 1).
   const Vec3L<F> one_minus_F = Vec3L<F>(F(1.0f)) - Fr;

@@ -7,8 +7,12 @@
 #pragma once
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 namespace softpbr::dmath {
 
@@ -175,5 +179,37 @@ constexpr double pow(double x, double y) {
 }
 
 constexpr double radians(double degrees) { return degrees * (kPi / 180.0); }
+
+// ---- Inverse trigonometry (not constexpr: std::sqrt and std::fabs are not, before C++26;
+// both are exact or correctly rounded, so as deterministic as the basic operations) ----
+
+// atan(t) for 0 ≤ t ≤ 1. Two half-angle steps, atan t = 2 atan(t / (1 + √(1 + t²))), bring t
+// down to at most tan(π/16) ≈ 0.199; the Taylor series to t^25 then leaves below
+// 0.2^27/27 ≈ 5e-21, far under double's 2^-53.
+inline double atan_unit(double t) {
+  for (int k = 0; k < 2; ++k) t = t / (1.0 + std::sqrt(1.0 + t * t));
+  const double t2 = t * t;
+  double p = 1.0 / 25.0;  // + t^24/25
+  for (int k = 11; k >= 0; --k) p = p * t2 + (k % 2 == 0 ? 1.0 : -1.0) / (2 * k + 1);
+  return 4.0 * t * p;
+}
+
+// atan2(y, x) in [−π, π], as std::atan2 for y ≠ 0, except that on the axes the sign of a
+// zero does not count: atan2(±0, x < 0) = π, atan2(±0, x > 0) = 0 and atan2(±0, ±0) = 0.
+inline double atan2(double y, double x) {
+  const double ax = std::fabs(x), ay = std::fabs(y);
+  if (ax == 0.0 && ay == 0.0) return 0.0;
+  double a = ay <= ax ? atan_unit(ay / ax) : kPi / 2 - atan_unit(ax / ay);
+  if (x < 0.0) a = kPi - a;
+  return y < 0.0 ? -a : a;
+}
+
+// The angle between two non-zero vectors by Kahan's formula 2·atan2(|â − b̂|, |â + b̂|)
+// ("Mindless", 2006, §12), accurate near 0 and π where acos of a dot product is not.
+inline double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 ua = a / std::sqrt(glm::dot(a, a)), ub = b / std::sqrt(glm::dot(b, b));
+  const glm::dvec3 d = ua - ub, s = ua + ub;
+  return 2.0 * atan2(std::sqrt(glm::dot(d, d)), std::sqrt(glm::dot(s, s)));
+}
 
 }  // namespace softpbr::dmath

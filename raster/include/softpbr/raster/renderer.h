@@ -12,6 +12,7 @@
 // The image is bit-identical for every thread count and tile size.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -57,6 +58,27 @@ struct ClearValues {
 
 inline constexpr int kMinTileSize = 8;
 inline constexpr int kMaxTileSize = 4096;
+
+// Whether the Renderer accepts `tile` as its tile size: in [kMinTileSize, kMaxTileSize] and
+// even, so that a tile holds whole 2×2 quads.
+constexpr bool valid_tile_size(int tile) { return tile >= kMinTileSize && tile <= kMaxTileSize && tile % 2 == 0; }
+
+// Bytes a draw of `vertices` vertices and `triangles` triangles, `varyings` floats per
+// vertex, holds until its frame is rasterized, for estimates made before drawing (a scene
+// loader's memory budget): per vertex the arrays of TransformedVertices (clip position,
+// varyings, outcode, screen vertex), per triangle the set-up Triangle and four tile-list
+// entries (a small triangle may straddle four tiles). Derived from the types, so the
+// estimate follows them; vector growth slack and vertices made by clipping are not counted.
+constexpr std::size_t draw_geometry_bytes(std::size_t vertices, std::size_t triangles, int varyings) {
+  using V = TransformedVertices;
+  constexpr std::size_t kTileEntriesPerTriangle = 4;
+  const std::size_t per_vertex = sizeof(decltype(V::position)::value_type) +
+                                 static_cast<std::size_t>(varyings) * sizeof(decltype(V::values)::value_type) +
+                                 sizeof(decltype(V::outcode)::value_type) + sizeof(decltype(V::screen)::value_type);
+  const std::size_t per_triangle = sizeof(decltype(TriangleChunk::triangles)::value_type) +
+                                   kTileEntriesPerTriangle * sizeof(decltype(TriangleChunk::list)::value_type);
+  return vertices * per_vertex + triangles * per_triangle;
+}
 
 class Renderer {
  public:

@@ -1,0 +1,114 @@
+// scene_file/loader.h — the parts of the scene-file loader (private to pbr/src): each reads
+// one kind of value of the format (docs/scene-format.md) through a json_reader::Reader and
+// fails with the value's JSON pointer. scene_file.cpp reads the top level with them.
+//
+//   camera.cpp     read_camera        /camera
+//   lights.cpp     read_light         /lights/N
+//   materials.cpp  read_material      /objects/N/material: a preset name or an object
+//   meshes.cpp     MeshLibrary        /meshes, /objects/N/mesh: shapes and OBJ models, cached
+//   objects.cpp    read_object        /objects/N: placement (read_transform) and draws
+//   render.cpp     read_render, read_animation   /render, /animation
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "../json_reader.h"
+#include "softpbr/pbr/obj.h"
+#include "softpbr/pbr/scene_file.h"
+
+namespace softpbr::pbr::scene_file {
+
+using json_reader::Json;
+using json_reader::Node;
+using json_reader::Reader;
+
+// The scene's estimated memory (meshes and their draws) against SceneLoadOptions::memory_limit.
+class MemoryBudget {
+ public:
+  MemoryBudget(const Reader& reader, std::uint64_t limit) : r_(reader), limit_(limit) {}
+  // Adds `bytes`; fails at `where` ("<what> brings the scene's estimated memory to …") past the limit.
+  void charge(const Node& where, std::uint64_t bytes, const char* what);
+  std::uint64_t bytes() const { return bytes_; }
+
+ private:
+  const Reader& r_;
+  std::uint64_t limit_;
+  std::uint64_t bytes_ = 0;
+};
+
+// Runs `check`, a validation of the library that throws std::exception on bad values, and
+// fails at `spec` with its message.
+template <class Check>
+void check_at(const Reader& r, const Node& spec, Check&& check) {
+  try {
+    check();
+  } catch (const std::exception& e) {
+    r.fail(spec, e.what());
+  }
+}
+
+Camera read_camera(const Reader& r, const Node& spec);
+Light read_light(const Reader& r, const Node& spec);
+Material read_material(const Reader& r, const Node& spec);
+// The object's model matrix from {"translate", "rotate", "scale"} or {"matrix"}.
+glm::mat4 read_transform(const Reader& r, const Node& spec);
+// /render: image size, output transform, renderer options, and the scene's background.
+void read_render(const Reader& r, const Node& spec, SceneFile& out);
+void read_animation(const Reader& r, const Node& spec, Animation& out);
+
+// A mesh spec once loaded: a procedural shape (one part) or an OBJ model (one part per
+// shape, with its MTL materials), and the fit transform.
+struct LoadedMesh {
+  std::vector<std::shared_ptr<const Mesh>> parts;
+  std::vector<int> part_material;      // OBJ: index into materials, −1 none
+  std::vector<Material> materials;     // OBJ's MTL materials
+  std::shared_ptr<const Mesh> merged;  // all parts in one mesh, made when an object needs it
+  std::shared_ptr<const ObjModel> obj; // kept to merge on demand
+  glm::mat4 fit{1.0f};
+  bool has_fit = false;
+};
+
+// Bytes a mesh's own arrays take (MeshVertex and three indices a triangle).
+std::uint64_t mesh_bytes(std::uint64_t vertices, std::uint64_t triangles);
+
+// The meshes of one scene file: named ones (/meshes) and inline specs, each built once
+// (cached by name or by the spec's JSON text) and charged to the budget before it is built
+// where its size is known first (procedural shapes).
+class MeshLibrary {
+ public:
+  MeshLibrary(const Reader& reader, std::filesystem::path base_dir, MemoryBudget& budget)
+      : r_(reader), base_dir_(std::move(base_dir)), budget_(budget) {}
+
+  // /meshes: builds every named mesh now, so an unused one is still checked.
+  void define(const Node& meshes);
+  // A mesh spec or the name of one in /meshes.
+  LoadedMesh& mesh(const Node& spec);
+  // Warnings of the OBJ files read so far.
+  std::vector<std::string>& warnings() { return warnings_; }
+
+ private:
+  LoadedMesh build(const Node& spec);
+  LoadedMesh build_obj(const Node& spec, const Node& file);
+  LoadedMesh build_shape(const Node& spec);
+
+  const Reader& r_;
+  std::filesystem::path base_dir_;
+  MemoryBudget& budget_;
+  std::optional<Node> named_;
+  std::map<std::string, LoadedMesh> cache_;  // by name ("#name") or by the spec's JSON text
+  std::vector<std::string> warnings_;
+};
+
+// One entry of /objects: appended to out.scene.objects, one object per drawn part.
+void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, MemoryBudget& budget, SceneFile& out);
+
+}  // namespace softpbr::pbr::scene_file

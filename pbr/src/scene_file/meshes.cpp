@@ -1,0 +1,154 @@
+// Scene files: meshes, procedural shapes or OBJ models, built once each and charged to the
+// memory budget (see scene_file/loader.h).
+#include "loader.h"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+
+namespace softpbr::pbr::scene_file {
+
+namespace {
+
+// pbr::fit_transform of the bounds of all `parts` (the function make_gallery uses too, so
+// gallery_spot.json matches it bit for bit).
+glm::mat4 fit_parts(const std::vector<std::shared_ptr<const Mesh>>& parts, float size) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  Bounds all{glm::vec3(inf), glm::vec3(-inf)};
+  for (const auto& mesh : parts) all = merge(all, bounds(*mesh));
+  return pbr::fit_transform(all, size);
+}
+
+}  // namespace
+
+std::uint64_t mesh_bytes(std::uint64_t vertices, std::uint64_t triangles) {
+  constexpr std::uint64_t kVertexBytes = sizeof(MeshVertex);
+  constexpr std::uint64_t kTriangleBytes = 3 * sizeof(decltype(Mesh::indices)::value_type);
+  return vertices * kVertexBytes + triangles * kTriangleBytes;
+}
+
+void MeshLibrary::define(const Node& meshes) {
+  if (!meshes.value.is_object()) r_.fail(meshes, "expected an object of named meshes, got " + json_reader::show(meshes.value));
+  named_.emplace(meshes);
+  for (const auto& item : meshes.value.items()) {
+    const Json name(item.key());
+    mesh(Node{name, meshes.pointer});
+  }
+}
+
+LoadedMesh& MeshLibrary::mesh(const Node& spec) {
+  std::string key;
+  std::optional<Node> def;
+  if (spec.value.is_string()) {
+    const std::string name = spec.value.get<std::string>();
+    if (!named_ || !named_->value.contains(name))
+      r_.fail(spec, "no mesh named " + json_reader::show(spec.value) + " in /meshes");
+    key = "#" + name;
+    def.emplace(named_->child(name));
+  } else {
+    key = spec.value.dump();
+    def.emplace(spec);
+  }
+  if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+  return cache_.emplace(key, build(*def)).first->second;
+}
+
+LoadedMesh MeshLibrary::build(const Node& spec) {
+  if (!spec.value.is_object()) r_.fail(spec, "expected a mesh object or the name of a mesh in /meshes, got " + json_reader::show(spec.value));
+  std::optional<float> fit;
+  if (auto f = r_.member(spec, "fit")) fit = r_.number_f(*f, 0, 1e30, true);
+  LoadedMesh out;
+  if (auto file = r_.member(spec, "file")) {
+    out = build_obj(spec, *file);
+  } else {
+    out = build_shape(spec);
+  }
+  if (fit) {
+    out.fit = fit_parts(out.parts, *fit);
+    out.has_fit = true;
+  }
+  return out;
+}
+
+LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
+  r_.object(spec, {"file", "fit"});
+  const std::filesystem::path rel = r_.string(file);
+  if (rel.empty()) r_.fail(file, "expected a file name, got \"\"");
+  const std::filesystem::path path = rel.is_absolute() ? rel : base_dir_ / rel;
+  std::shared_ptr<ObjModel> model;
+  check_at(r_, file, [&] { model = std::make_shared<ObjModel>(load_obj(path)); });
+  for (const std::string& w : model->warnings) warnings_.push_back(w);
+  LoadedMesh out;
+  std::uint64_t v = 0, t = 0;
+  for (const ObjShape& s : model->shapes) {
+    out.parts.push_back(std::shared_ptr<const Mesh>(model, &s.mesh));
+    out.part_material.push_back(s.material);
+    v += s.mesh.vertices.size();
+    t += s.mesh.triangle_count();
+  }
+  for (const auto& m : model->materials) out.materials.push_back(m.second);
+  out.obj = model;
+  budget_.charge(file, mesh_bytes(v, t), "this model");
+  return out;
+}
+
+LoadedMesh MeshLibrary::build_shape(const Node& spec) {
+  if (!spec.value.contains("type")) r_.fail(spec, "missing key \"type\" (a procedural shape) or \"file\" (an OBJ model)");
+  const Node type = r_.required(spec, "type");
+  const std::string kind = r_.choice(type, {"uv_sphere", "icosphere", "cube", "plane", "torus"});
+  auto num = [&](const char* key, float fallback, double lo, double hi, bool open_lo) {
+    auto m = r_.member(spec, key);
+    return m ? r_.number_f(*m, lo, hi, open_lo) : fallback;
+  };
+  auto count = [&](const char* key, int fallback, int lo, int hi) {
+    auto m = r_.member(spec, key);
+    return m ? static_cast<int>(r_.integer(*m, lo, hi)) : fallback;
+  };
+  // Vertex and triangle counts are known before the shape is built: check the memory first.
+  std::uint64_t v = 0, t = 0;
+  std::function<Mesh()> make;
+  constexpr double kBig = 1e30;
+  if (kind == "uv_sphere") {
+    r_.object(spec, {"type", "fit", "radius", "segments", "rings"});
+    const float radius = num("radius", 1.0f, 0, kBig, true);
+    const int segments = count("segments", 32, 3, 4096), rings = count("rings", std::max(2, segments / 2), 2, 4096);
+    v = std::uint64_t(segments + 1) * std::uint64_t(rings + 1), t = 2ull * segments * rings;
+    make = [=] { return uv_sphere(radius, segments, rings); };
+  } else if (kind == "icosphere") {
+    r_.object(spec, {"type", "fit", "radius", "subdivisions"});
+    const float radius = num("radius", 1.0f, 0, kBig, true);
+    const int n = count("subdivisions", 3, 0, 8);
+    t = 20ull << (2 * n), v = 3 * t;
+    make = [=] { return icosphere(radius, n); };
+  } else if (kind == "cube") {
+    r_.object(spec, {"type", "fit", "size"});
+    const float size = num("size", 1.0f, 0, kBig, true);
+    v = 24, t = 12;
+    make = [=] { return cube(size); };
+  } else if (kind == "plane") {
+    r_.object(spec, {"type", "fit", "width", "depth", "subdivisions"});
+    const float w = num("width", 1.0f, 0, kBig, true), d = num("depth", 1.0f, 0, kBig, true);
+    const int n = count("subdivisions", 1, 1, 4096);
+    v = std::uint64_t(n + 1) * std::uint64_t(n + 1), t = 2ull * n * n;
+    make = [=] { return plane(w, d, n); };
+  } else {
+    r_.object(spec, {"type", "fit", "major", "minor", "segments", "sides"});
+    const float major = num("major", 1.0f, 0, kBig, true);
+    const float minor = num("minor", 0.25f * major, 0, kBig, true);
+    if (!(minor < major)) {
+      const auto where = r_.member(spec, "minor");  // present: the default is below major
+      r_.fail(where ? where->pointer : spec.pointer, "a torus needs minor < major (" +
+                  json_reader::show_number(minor) + " >= " + json_reader::show_number(major) + ")");
+    }
+    const int segments = count("segments", 48, 3, 4096), sides = count("sides", 24, 3, 4096);
+    v = std::uint64_t(segments + 1) * std::uint64_t(sides + 1), t = 2ull * segments * sides;
+    make = [=] { return torus(major, minor, segments, sides); };
+  }
+  budget_.charge(spec, mesh_bytes(v, t), "this mesh");
+  LoadedMesh out;
+  check_at(r_, spec, [&] { out.parts.push_back(std::make_shared<const Mesh>(make())); });
+  out.part_material.push_back(-1);
+  return out;
+}
+
+}  // namespace softpbr::pbr::scene_file
