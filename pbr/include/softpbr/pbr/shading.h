@@ -69,8 +69,8 @@ template <class F>
 inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
   const F len2 = simd::dot(v, v);
   // "0 < len2 < ∞" as a chain — the second test reads the first select's result — rather
-  // than one combined mask or two tests of len2: the same lanes, and in wide kernels it
-  // stays vector compares and blends (GCC splits combined tests into single lanes, simd.h).
+  // than one combined mask or two tests of len2: the same lanes, each step a compare and a
+  // blend at any width.
   const F one(1.0f), inf(std::numeric_limits<float>::infinity());
   const F positive = simd::select(len2 > F(0.0f), len2, inf);  // 0, negative and NaN → ∞
   const F len = simd::sqrt(simd::select(positive < inf, positive, one));

@@ -40,9 +40,9 @@ struct TileGrid {
   TileRect rect(std::size_t tile) const;
 };
 
-// Aligned to a cache line: workers assemble neighbouring chunks at the same time, and the
-// vectors' end pointers of two chunks on one line made every push_back a coherence miss
-// (false sharing: 3.6x the binning CPU time with 2 threads on the 1080p gallery).
+// Aligned to a cache line: workers assemble neighbouring chunks at the same time, and two
+// chunks' vector end pointers sharing a line would make every push_back a coherence miss
+// (docs/design.md, "Performance notes").
 struct alignas(64) TriangleChunk {
   std::vector<Triangle> triangles;
   std::vector<float> clip_varyings;    // varyings of vertices made by clipping

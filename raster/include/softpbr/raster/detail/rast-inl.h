@@ -135,17 +135,15 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
     }
   }
 
-  // The edge functions of a quad's four lanes as one vector of 64-bit integers per edge,
-  // the lane-0 value plus these steps (built in an array of scalars, they were stored one
-  // by one and reloaded as a vector, which stalls on store forwarding).
+  // The edge functions of a quad's four lanes as one vector of 64-bit integers per edge:
+  // the lane-0 value plus these steps, kept in registers.
   using I64x4 = simd::native_t<std::int64_t, 4>;
   using V4 = simd::Lanes<4, SOFTPBR_ISA>;
   const auto lane_step = [&](int i) {
     const std::int64_t a = t.a[i], b = t.b[i];
     return I64x4{0, a * kStep, b * kStep, (a + b) * kStep};
   };
-  // Named, not an array: GCC keeps them in registers (an array of three went to the
-  // stack and back for every quad).
+  // Three named values, not an array, so that they stay in registers.
   const I64x4 step0 = lane_step(0), step1 = lane_step(1), step2 = lane_step(2);
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
