@@ -10,7 +10,7 @@
 //
 // Checked beyond "no crash, no sanitizer report": the image (colour and depth bits) is the
 // same when the frame is rendered again on one thread with 64×64 tiles and scalar
-// shading — the determinism contract (DESIGN.md §3) must hold for any geometry.
+// shading — the determinism contract (docs/design.md, "Determinism") must hold for any geometry.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>

@@ -1,4 +1,4 @@
-// Determinism (DESIGN.md §3): the same scene gives the same colour and depth bits with any
+// Determinism (docs/design.md, "Determinism"): the same scene gives the same colour and depth bits with any
 // thread count, tile size and packet lane width, frame after frame, and with two
 // renderers at once.
 #include <cstdint>

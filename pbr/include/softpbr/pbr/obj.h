@@ -1,7 +1,7 @@
 // softpbr/pbr/obj.h — Wavefront OBJ + MTL loading (through tinyobjloader) into meshes and
 // metal/roughness materials.
 //
-// OBJ files are untrusted input (DESIGN.md §5): every number and index is checked, and any
+// OBJ files are untrusted input (docs/design.md, "Errors"): every number and index is checked, and any
 // problem is a LoadError whose message starts with the file and, when known, the line
 // ("models/cow.obj:12: face index 9 is out of range (8 vertices so far)"). Loading never
 // reads out of bounds and never aborts.

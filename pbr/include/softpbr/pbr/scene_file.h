@@ -2,7 +2,7 @@
 // or OBJ files), materials, render settings and the turntable animation, loaded into a
 // pbr::Scene. The format is documented in docs/scene-format.md.
 //
-// Scene files are untrusted input (DESIGN.md §5): every key is known, every value has the
+// Scene files are untrusted input (docs/design.md, "Errors"): every key is known, every value has the
 // expected type and range, counts and memory are bounded before anything large is built,
 // and every problem is one SceneFileError line naming the file and the JSON pointer
 // (RFC 6901) of the value, e.g.

@@ -1,7 +1,7 @@
 // softpbr/dmath/dmath.h — deterministic elementary functions.
 //
 // Every function here is built from IEEE-754 basic operations (+, −, ×, ÷, sqrt) in a
-// fixed order, so it returns the same bits on every compiler, libm and CPU (DESIGN.md §3).
+// fixed order, so it returns the same bits on every compiler, libm and CPU (docs/design.md, "Determinism").
 // Use them wherever a value can reach an image: libm's sin/cos/pow may differ in the last
 // bit between platforms. All work in double; callers round to float where they store.
 #pragma once
