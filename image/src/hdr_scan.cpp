@@ -5,33 +5,26 @@
 // a scanline without the marker switches stb to flat pixels for the rest of the image.
 #include "hdr_scan.h"
 
-#include <cstdint>
-#include <vector>
-
-namespace softpbr::golden::detail {
+namespace softpbr::image::detail {
 
 namespace {
 
-// Byte reader over a FILE* that counts what it has read.
+// Byte reader over the file that counts what it has read.
 class Reader {
  public:
-  explicit Reader(std::FILE* f) : f_(f) {}
+  explicit Reader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
   // The next byte, or −1 at the end.
-  int next() {
-    const int c = std::getc(f_);
-    if (c != EOF) ++read_;
-    return c;
-  }
-  // Skips `n` bytes; false if the file ends first.
+  int next() { return read_ < bytes_.size() ? bytes_[read_++] : -1; }
+  // Skips `n` bytes; false if the file ends first (having read all of it).
   bool skip(std::uint64_t n) {
-    for (; n > 0; --n)
-      if (next() < 0) return false;
-    return true;
+    const std::uint64_t left = bytes_.size() - read_;
+    read_ += n < left ? n : left;
+    return n <= left;
   }
   std::uint64_t read() const { return read_; }
 
  private:
-  std::FILE* f_;
+  std::span<const std::uint8_t> bytes_;
   std::uint64_t read_ = 0;
 };
 
@@ -42,7 +35,7 @@ std::string missing(const char* what, std::uint64_t at) {
 
 }  // namespace
 
-std::string hdr_truncation(std::FILE* file, int width, int height) {
+std::string hdr_truncation(std::span<const std::uint8_t> file, int width, int height) {
   Reader in(file);
   // Header: the magic line, lines up to an empty one, then the resolution line.
   int empty_lines_seen = 0, line_length = 0, lines = 0;
@@ -89,4 +82,4 @@ std::string hdr_truncation(std::FILE* file, int width, int height) {
   return "";
 }
 
-}  // namespace softpbr::golden::detail
+}  // namespace softpbr::image::detail
