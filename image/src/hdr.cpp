@@ -10,20 +10,20 @@
 #include "hdr_scan.h"
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
-#include "stb_owner.h"
+#include "stb_decode.h"
 
 namespace softpbr::image {
 
 ImageF load_hdr(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
   detail::expect_format(bytes, name, detail::Format::Hdr);
-  const int size = detail::stb_size(bytes, name);
-  int w = 0, h = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes.data(), size, &w, &h, &channels))
-    detail::fail(name, std::string("not a readable image (") + stbi_failure_reason() + ")");
-  detail::check_size(name, w, h, 16, limits);
+  const detail::StbSize size = detail::stb_info(bytes, name);
+  detail::check_size(name, size.width, size.height, 16, limits);
   // stb_image hangs on some truncated files (hdr_scan.h): check the data is all there.
-  if (const std::string problem = detail::hdr_truncation(bytes, w, h); !problem.empty()) detail::fail(name, problem);
-  const detail::StbPixels<float> rgb(stbi_loadf_from_memory(bytes.data(), size, &w, &h, &channels, 3));
+  if (const std::string problem = detail::hdr_truncation(bytes, size.width, size.height); !problem.empty())
+    detail::fail(name, problem);
+  int w = 0, h = 0, channels = 0;
+  const detail::StbPixels<float> rgb(
+      stbi_loadf_from_memory(bytes.data(), detail::stb_size(bytes, name), &w, &h, &channels, 3));
   if (!rgb) detail::fail(name, std::string("cannot decode (") + stbi_failure_reason() + ")");
   ImageF image{w, h, {}};
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);

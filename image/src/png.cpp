@@ -1,32 +1,24 @@
 // PNG through stb_image (loading, after png_scan.h's chunk walk) and stb_image_write.
 #include <string>
 
-#include <stb_image.h>
 #include <stb_image_write.h>
 
 #include "formats.h"
 #include "png_scan.h"
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
-#include "stb_owner.h"
+#include "stb_decode.h"
 
 namespace softpbr::image {
 
 Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
   detail::expect_format(bytes, name, detail::Format::Png);
-  const int size = detail::stb_size(bytes, name);
-  int w = 0, h = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes.data(), size, &w, &h, &channels))
-    detail::fail(name, std::string("not a readable image (") + stbi_failure_reason() + ")");
-  detail::check_size(name, w, h, 4, limits);
+  const detail::StbSize size = detail::stb_info(bytes, name);
+  detail::check_size(name, size.width, size.height, 4, limits);
   // stb_image allocates what a chunk claims before reading it (png_scan.h).
   if (const std::string problem = detail::png_truncation(bytes); !problem.empty())
     detail::fail(name, "cannot decode (" + problem + ")");
-  const detail::StbPixels<stbi_uc> data(stbi_load_from_memory(bytes.data(), size, &w, &h, &channels, 4));
-  if (!data) detail::fail(name, std::string("cannot decode (") + stbi_failure_reason() + ")");
-  Image8 image{w, h, {}};
-  image.rgba.assign(data.get(), data.get() + static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
-  return image;
+  return detail::stb_load_rgba8(bytes, name);
 }
 
 Image8 load_png(const std::filesystem::path& path, const Limits& limits) {
