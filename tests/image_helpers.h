@@ -50,7 +50,8 @@ inline softpbr::image::Image8 smooth8(int w, int h) {
 }
 
 // The first `components` channels of `image` as a baseline JPEG from stbi_write_jpg (1:
-// the red channel as grey; 4: stb ignores alpha). stb subsamples chroma at quality <= 90.
+// the red channel as grey; 4: stb ignores alpha). stb always writes three components
+// (YCbCr; grey has flat chroma) and subsamples chroma 4:2:0 at quality <= 90.
 inline std::vector<std::uint8_t> jpeg_of(const softpbr::image::Image8& image, int components, int quality) {
   std::vector<std::uint8_t> samples;
   for (std::size_t i = 0; i < image.rgba.size(); i += 4)

@@ -129,7 +129,7 @@ TEST_CASE("Limits: max_side and max_decoded_bytes refuse an image before decodin
   };
   const Case cases[] = {
       {"a.png", image::encode_png(smooth8(64, 32), "png"), false, 64 * 32 * 4},
-      {"a.jpg", jpeg_of(smooth8(64, 32), 1, 90), false, 64 * 32 * 4 + 64 * 32},  // + the grey plane
+      {"a.jpg", jpeg_of(smooth8(64, 32), 1, 90), false, 64 * 32 * 4 + 64 * 32 + 2 * 32 * 16},  // + Y, Cb, Cr (4:2:0)
       {"a.hdr", image::encode_hdr(patternF(64, 32), "hdr"), true, 64 * 32 * 16},
       {"a.exr", image::encode_exr(patternF(64, 32), "exr"), true, 64 * 32 * 16 + 64 * 32 * 4 * 4},  // + 4 planes
   };

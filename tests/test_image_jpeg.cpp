@@ -146,12 +146,33 @@ TEST_CASE("JPEG: a baseline file whose coded data is too short for the blocks it
 }
 
 TEST_CASE("JPEG: decoded bytes count stb's component planes; the limit refuses before decoding") {
-  // 16x16 grey: 1024 bytes of RGBA and a 256-sample plane.
+  // 16x16: 1024 bytes of RGBA, and stb_image_write's YCbCr 4:2:0 planes (it writes three
+  // components even for grey): 16x16 of Y, 8x8 each of Cb and Cr.
   const std::vector<std::uint8_t> jpeg = jpeg_of(smooth8(16, 16), 1, 90);
   image::Limits limits;
-  limits.max_decoded_bytes = 1024 + 256;
+  limits.max_decoded_bytes = 1024 + 256 + 2 * 64;
   CHECK(jpeg_error(jpeg, "fits.jpg", limits).empty());
-  limits.max_decoded_bytes = 1024 + 255;
+  limits.max_decoded_bytes = 1024 + 256 + 2 * 64 - 1;
   CHECK(jpeg_error(jpeg, "over.jpg", limits) ==
-        "over.jpg: image size 16x16 needs 1280 bytes decoded, over the limit of 1279");
+        "over.jpg: image size 16x16 needs 1408 bytes decoded, over the limit of 1407");
+}
+
+TEST_CASE("JPEG: a Huffman table of more than 256 codes, or with more codes of a length than fit, is refused before "
+          "stb builds it") {
+  // fuzz_image's finding (UBSan, index 257 out of bounds): stb_image 2.27 copies a DHT
+  // table's code lengths into a 257-entry array without checking their count
+  // (fuzz/findings/jpeg-dht-overflow).
+  const std::vector<std::uint8_t> whole = jpeg_of(smooth8(16, 16), 3, 75);
+  const std::size_t dht = find_marker(whole, 0xc4);
+  REQUIRE(dht > 0);
+  std::vector<std::uint8_t> many = whole;
+  for (int bits = 9; bits <= 16; ++bits) many[dht + 4 + static_cast<std::size_t>(bits)] = 200;  // counts after Tc/Th
+  CHECK(jpeg_error(many, "many.jpg").rfind("many.jpg: cannot decode (Huffman table of ", 0) == 0);
+  std::vector<std::uint8_t> crowded = whole;
+  crowded[dht + 5] = 3;  // three 1-bit codes
+  CHECK(jpeg_error(crowded, "crowded.jpg") ==
+        "crowded.jpg: cannot decode (Huffman table: more codes of length 1 than fit)");
+  const std::vector<std::uint8_t> finding = read_bytes(fs::path(SOFTPBR_SOURCE_DIR) / "fuzz" / "findings" / "jpeg-dht-overflow");
+  REQUIRE(finding.size() > 1);
+  CHECK(jpeg_error({finding.begin() + 1, finding.end()}, "finding.jpg").find("Huffman table") != std::string::npos);
 }

@@ -62,6 +62,35 @@ std::string read_frame_header(int marker, const std::uint8_t* p, std::size_t len
   return "";
 }
 
+// Checks a DHT segment's payload (T.81 B.2.4.2): tables of a class/id byte, 16 counts of
+// codes per length and the code values. stb_image 2.27 copies the counts' sum of lengths
+// and values into arrays of 257 and 256 entries without checking it (fuzz_image found the
+// overflow: up to 16 × 255 codes), so a table may have at most 256 codes, and the code
+// lengths must fit (at most 2^L codes of length L, after the shorter ones).
+std::string check_huffman_tables(const std::uint8_t* p, std::size_t length) {
+  while (length > 0) {
+    if (length < 17) return "Huffman table segment (FFC4) ends inside a table header";
+    const int table_class = p[0] >> 4, id = p[0] & 15;
+    if (table_class > 1 || id > 3)
+      return "Huffman table class " + std::to_string(table_class) + ", id " + std::to_string(id) +
+             " (expected 0..1, 0..3)";
+    std::size_t codes = 0;
+    for (int bits = 1; bits <= 16; ++bits) codes += p[bits];
+    if (codes > 256) return "Huffman table of " + std::to_string(codes) + " codes (at most 256)";
+    std::uint32_t end = 0;  // one past the last code of the current length (T.81 C.2)
+    for (int bits = 1; bits <= 16; ++bits) {
+      end += p[bits];
+      if (end > (std::uint32_t{1} << bits))
+        return "Huffman table: more codes of length " + std::to_string(bits) + " than fit";
+      end <<= 1;
+    }
+    if (length < 17 + codes) return "Huffman table segment (FFC4) ends inside a table's values";
+    p += 17 + codes;
+    length -= 17 + codes;
+  }
+  return "";
+}
+
 // The fewest 8×8 blocks a sequential file of this frame codes: each component's own blocks
 // (a scan of several components pads to whole MCUs, which only adds blocks).
 std::uint64_t fewest_blocks(const std::uint8_t* frame, int width, int height) {
@@ -118,6 +147,8 @@ JpegScan jpeg_scan(std::span<const std::uint8_t> file) {
       if (frame) return refuse("not JPEG data: a second frame header at byte " + std::to_string(marker_at));
       if (std::string p = read_frame_header(marker, payload, length - 2, out); !p.empty()) return refuse(std::move(p));
       frame = payload;
+    } else if (marker == 0xc4) {
+      if (std::string p = check_huffman_tables(payload, length - 2); !p.empty()) return refuse(std::move(p));
     } else if (marker == 0xda) {  // SOS, then entropy-coded data up to the next marker
       if (!frame) return refuse("not JPEG data: a scan before the frame header");
       ++scans;

@@ -6,8 +6,9 @@
 // and decodes on, so a few hundred bytes whose frame header claims 16384 × 16384 pixels
 // would make it allocate and decode a whole image from nothing, as its TGA and .hdr
 // decoders did before hdr_scan.h and the signature checks (fuzz/README.md, Findings).
-// The walk requires every segment to fit in the file, one supported frame header, at least
-// one scan, and the end-of-image marker; and for sequential (baseline or extended) files,
+// The walk requires every segment to fit in the file, one supported frame header, Huffman
+// tables stb can build (stb_image 2.27 writes past its arrays for a table of more than 256
+// codes, found by fuzz_image), at least one scan, and the end-of-image marker; and for sequential (baseline or extended) files,
 // coded data of at least 2 bits a block — the shortest a block can be coded in (a 1-bit
 // DC code for "no difference" and a 1-bit end-of-block code), so the decode's work is
 // bounded by the file's size. Progressive files code runs of empty blocks in a few bits
