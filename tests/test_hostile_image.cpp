@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -75,6 +76,23 @@ TEST_CASE("an .hdr file that ends on its resolution line is an error, not an ima
                               std::string("\xcc\xf5\xfd\xfd\xbf\xff\x43\x45\xbc\xbc\x02\x02\x38\xbc\xbc\xff", 16);
   const fs::path path = scratch("finding-no-data.hdr");
   write(path, finding);
+  check_refused(load_hdr, path, "truncated");
+}
+
+TEST_CASE("an .hdr header line that starts with a NUL byte ends the header, as stb reads it; missing data is an error") {
+  // fuzz_image's finding (timeout): stb_image reads header lines as C strings, so a line
+  // starting with NUL is the empty line that ends the header; the resolution line after it
+  // (-Y 16384 +X 1638, no pixel data) made stb decode 26M pixels from past the end, while
+  // the truncation walk saw no empty line (fuzz/findings/hdr-nul-header-line).
+  const fs::path path = scratch("finding-nul-line.hdr");
+  using namespace std::string_literals;  // "…"s keeps the NUL byte
+  write(path, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\0IHDR\n-Y 16384 +X 1638\n\x01"s);
+  check_refused(load_hdr, path, "truncated");
+  const fs::path finding = fs::path(SOFTPBR_SOURCE_DIR) / "fuzz" / "findings" / "hdr-nul-header-line";
+  std::ifstream in(finding, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  REQUIRE(bytes.size() > 1);
+  write(path, bytes.substr(1));  // without fuzz_image's selector byte
   check_refused(load_hdr, path, "truncated");
 }
 

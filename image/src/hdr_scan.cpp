@@ -37,21 +37,26 @@ std::string missing(const char* what, std::uint64_t at) {
 
 std::string hdr_truncation(std::span<const std::uint8_t> file, int width, int height) {
   Reader in(file);
-  // Header: the magic line, lines up to an empty one, then the resolution line.
+  // Header: the magic line, lines up to an empty one, then the resolution line. stb reads
+  // each line into a C string, so a line that starts with a NUL byte is empty to it too
+  // (fuzz_image found a header that ends there for stb, which then decoded 16384 x 1638
+  // pixels from past the end, while this walk saw no empty line).
   int empty_lines_seen = 0, line_length = 0, lines = 0;
+  bool starts_with_nul = false;
   for (;;) {
     const int c = in.next();
     // The file ends in the header (stb reports a bad header itself), or on the resolution
     // line: stb parses that line and then reads every pixel from past the end.
     if (c < 0) return empty_lines_seen == 1 ? missing("the resolution line: there is no pixel data", in.read()) : "";
     if (c != '\n') {
-      ++line_length;
+      if (line_length++ == 0) starts_with_nul = c == 0;
       continue;
     }
     ++lines;
-    if (lines > 1 && line_length == 0 && empty_lines_seen == 0) empty_lines_seen = 1;
+    if (lines > 1 && (line_length == 0 || starts_with_nul) && empty_lines_seen == 0) empty_lines_seen = 1;
     else if (empty_lines_seen == 1) break;  // the resolution line just ended
     line_length = 0;
+    starts_with_nul = false;
   }
 
   const std::uint64_t pixels = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
