@@ -32,6 +32,7 @@
 
 #include "llvmpipe.h"
 #include "scenes.h"
+#include "softpbr/image/write.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/target.h"
@@ -117,9 +118,9 @@ void run_child(const Options& o, unsigned threads) {
     if (!o.images.empty()) {
       std::filesystem::create_directories(o.images);
       const std::filesystem::path dir(o.images);
-      raster::write_png(dir / (s.name + "_softpbr.png"), image);
+      softpbr::image::write_png(dir / (s.name + "_softpbr.png"), image);
       raster::Image8 other{s.width, s.height, gl.pixels()};
-      raster::write_png(dir / (s.name + "_llvmpipe.png"), other);
+      softpbr::image::write_png(dir / (s.name + "_llvmpipe.png"), other);
     }
   }
 }

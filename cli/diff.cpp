@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 
 #include "cli_error.h"
-#include "exr_io.h"
 #include "softpbr/golden/compare.h"
 #include "softpbr/golden/image.h"
+#include "softpbr/image/load.h"
+#include "softpbr/image/write.h"
 
 namespace softpbr::cli {
 
@@ -48,7 +51,7 @@ int compare_and_report(const DiffArgs& a, const Image& expected, const Image& ac
     try {
       const raster::Image8 picture = a.side_by_side || !c.same_size() ? golden::side_by_side(expected, actual)
                                                                       : golden::diff_image(expected, actual);
-      raster::write_png(a.out, picture);
+      image::write_png(a.out, picture);
     } catch (const std::exception& e) {
       throw Error(kExitUsage, e.what());
     }
@@ -79,9 +82,13 @@ int run_diff(const DiffArgs& a) {
   if (float_a != float_b)
     throw Error(kExitUsage, a.expected + ", " + a.actual + ": cannot compare an 8-bit image with a float (.hdr/.exr) image");
   try {
-    if (!float_a) return compare_and_report(a, golden::load_png(a.expected), golden::load_png(a.actual));
-    auto load = [](const std::string& path, const std::string& ext) {
-      return ext == ".exr" ? load_exr(path) : golden::load_hdr(path);
+    // Any image the command can render (up to 16384² float RGBA): the inputs are the
+    // user's own files, so only the side limit applies, not the default decoded-bytes bound.
+    image::Limits limits;
+    limits.max_decoded_bytes = std::numeric_limits<std::uint64_t>::max();
+    if (!float_a) return compare_and_report(a, image::load_png(a.expected, limits), image::load_png(a.actual, limits));
+    auto load = [&](const std::string& path, const std::string& ext) {
+      return ext == ".exr" ? image::load_exr(path, limits) : image::load_hdr(path, limits);
     };
     golden::ImageF expected = load(a.expected, ea), actual = load(a.actual, eb);
     // .exr against .hdr: compare what the .hdr could hold (RGBE keeps 8 mantissa bits, no alpha).
@@ -93,7 +100,7 @@ int run_diff(const DiffArgs& a) {
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
-    throw Error(kExitUsage, e.what());  // golden's messages start with the file's path
+    throw Error(kExitUsage, e.what());  // the image library's messages start with the file's path
   }
 }
 

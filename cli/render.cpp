@@ -13,8 +13,8 @@
 #include <system_error>
 
 #include "cli_error.h"
-#include "exr_io.h"
 #include "frames.h"
+#include "softpbr/image/write.h"
 #include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/raster.h"
 
@@ -88,7 +88,7 @@ std::uint64_t physical_memory() {
 }
 
 // Temporary files an interrupted run left beside its outputs (".NAME.tmpNNN", see
-// raster::write_file_atomic), by the output path they were meant to become.
+// image::write_file_atomic), by the output path they were meant to become.
 std::multimap<fs::path, fs::path> stale_temporaries(const std::set<fs::path>& folders) {
   std::multimap<fs::path, fs::path> out;
   for (const fs::path& dir : folders) {
@@ -219,9 +219,9 @@ int run_render(const RenderArgs& a) {
         fs::remove(it->second, ignored);
       }
       try {
-        if (formats[i] == Format::Png) raster::write_png(paths[i], pbr::tone_map_to_rgba8(target, s.output));
+        if (formats[i] == Format::Png) image::write_png(paths[i], pbr::tone_map_to_rgba8(target, s.output));
         else if (formats[i] == Format::Hdr) pbr::write_hdr(paths[i], target, s.output.exposure);
-        else write_exr(paths[i], target, s.output.exposure);
+        else pbr::write_exr(paths[i], target, s.output.exposure);
       } catch (const std::bad_alloc&) {
         throw;
       } catch (const std::exception& e) {

@@ -11,6 +11,7 @@
 #include <exception>
 #include <string>
 
+#include "softpbr/image/write.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/raster/raster.h"
@@ -62,7 +63,7 @@ int main(int argc, char** argv) {
     }
     const pbr::Scene scene = pbr::make_gallery(gallery);
     pbr::render(scene, renderer, target);
-    raster::write_png(out, pbr::tone_map_to_rgba8(target, pbr::gallery_output()));
+    softpbr::image::write_png(out, pbr::tone_map_to_rgba8(target, pbr::gallery_output()));
     std::printf("wrote %s (%dx%d, %u threads, hash %016llx)\n", out.c_str(), width, height, renderer.threads(),
                 static_cast<unsigned long long>(raster::hash_colors(target)));
   } catch (const std::exception& e) {

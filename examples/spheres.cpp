@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include "softpbr/image/write.h"
 #include "softpbr/pbr/camera.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/raster/raster.h"
@@ -82,7 +83,7 @@ int main(int argc, char** argv) {
       }
     renderer.end_frame();
 
-    raster::write_png(out, raster::resolve_srgb8(target));
+    softpbr::image::write_png(out, raster::resolve_srgb8(target));
     std::printf("wrote %s (%dx%d, %u threads, hash %016llx)\n", out.c_str(), width, height, renderer.threads(),
                 static_cast<unsigned long long>(raster::hash_colors(target)));
   } catch (const std::exception& e) {

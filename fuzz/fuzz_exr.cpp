@@ -1,4 +1,5 @@
-// libFuzzer target: OpenEXR loading (cli::load_exr, the `softpbr diff` input path).
+// libFuzzer target: OpenEXR loading (image::load_exr: `softpbr diff` inputs, environment
+// maps), with tinyexr compiled in.
 //
 // The input is the file, written to a private temporary folder as fuzz.exr. A
 // std::runtime_error whose text starts with the path is a fine outcome; anything else is a
@@ -17,7 +18,7 @@
 
 #include "fuzz_support.h"
 
-#include "exr_io.h"
+#include "softpbr/image/load.h"
 
 namespace fs = std::filesystem;
 
@@ -37,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!out) finding("cannot write the temporary input file");
   }
   try {
-    const softpbr::golden::ImageF image = softpbr::cli::load_exr(path);
+    const softpbr::image::ImageF image = softpbr::image::load_exr(path);
     if (image.width < 1 || image.height < 1 ||
         image.rgba.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4)
       finding("loaded image size disagrees with its pixels");

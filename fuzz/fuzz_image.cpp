@@ -1,12 +1,13 @@
-// libFuzzer target: PNG and Radiance .hdr loading (golden::load_png, golden::load_hdr).
+// libFuzzer target: PNG, JPEG and Radiance .hdr loading (image::load_image8, which reads
+// PNG or JPEG by the first bytes, and image::load_hdr), with stb_image compiled in.
 //
-// The first byte chooses the loader (even: load_png into fuzz.png, odd: load_hdr into
-// fuzz.hdr); the rest is the file, written to a private temporary folder. A
-// std::runtime_error whose text starts with the path is a fine outcome; anything else is a
-// finding, as is a loaded image whose size is outside 1x1 .. kMaxTargetSize² or whose
-// pixel count disagrees with its size. A hostile header may claim up to 16384² pixels
-// (1 GiB of RGBA8, 4 GiB of float): the run's -rss_limit_mb decides whether such claims
-// are bounded well enough.
+// The first byte chooses the loader (even: load_image8 on fuzz.img, odd: load_hdr on
+// fuzz.hdr); the rest is the file, written to a private temporary folder (the path form
+// reads it and runs the buffer form). A std::runtime_error whose text starts with the path
+// is a fine outcome; anything else is a finding, as is a loaded image whose size is outside
+// 1x1 .. kMaxSide² or whose pixel count disagrees with its size. A hostile header may claim
+// up to the default Limits (1 GiB decoded): the run's -rss_limit_mb decides whether such
+// claims are bounded well enough.
 #include <unistd.h>
 
 #include <cmath>
@@ -22,11 +23,10 @@
 
 #include "fuzz_support.h"
 
-#include "softpbr/golden/image.h"
+#include "softpbr/image/load.h"
 
 namespace fs = std::filesystem;
-namespace golden = softpbr::golden;
-namespace raster = softpbr::raster;
+namespace image = softpbr::image;
 
 namespace {
 
@@ -35,7 +35,7 @@ namespace {
 const fs::path& folder() { return softpbr::fuzz::private_folder("image"); }
 
 void check_size(int width, int height, std::size_t values, std::size_t per_pixel) {
-  if (width < 1 || height < 1 || width > raster::kMaxTargetSize || height > raster::kMaxTargetSize)
+  if (width < 1 || height < 1 || width > image::kMaxSide || height > image::kMaxSide)
     finding("loaded image size outside the limits");
   if (values != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * per_pixel)
     finding("pixel count disagrees with the size");
@@ -46,7 +46,7 @@ void check_size(int width, int height, std::size_t values, std::size_t per_pixel
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
   const bool hdr = (data[0] & 1) != 0;
-  const fs::path path = folder() / (hdr ? "fuzz.hdr" : "fuzz.png");
+  const fs::path path = folder() / (hdr ? "fuzz.hdr" : "fuzz.img");
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
@@ -54,13 +54,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     if (hdr) {
-      const golden::ImageF image = golden::load_hdr(path);
-      check_size(image.width, image.height, image.rgba.size(), 4);
-      for (std::size_t i = 0; i < image.rgba.size(); ++i)
-        if (!std::isfinite(image.rgba[i]) || image.rgba[i] < 0.0f) finding("HDR value negative or not finite");
+      const image::ImageF loaded = image::load_hdr(path);
+      check_size(loaded.width, loaded.height, loaded.rgba.size(), 4);
+      for (std::size_t i = 0; i < loaded.rgba.size(); ++i)
+        if (!std::isfinite(loaded.rgba[i]) || loaded.rgba[i] < 0.0f) finding("HDR value negative or not finite");
     } else {
-      const golden::Image8 image = golden::load_png(path);
-      check_size(image.width, image.height, image.rgba.size(), 4);
+      const image::Image8 loaded = image::load_image8(path);
+      check_size(loaded.width, loaded.height, loaded.rgba.size(), 4);
     }
   } catch (const std::runtime_error& e) {
     if (std::string_view(e.what()).substr(0, path.string().size()) != path.string())

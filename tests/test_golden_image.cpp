@@ -11,6 +11,7 @@
 
 #include "golden_helpers.h"
 #include "softpbr/golden/image.h"
+#include "softpbr/image/write.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/target.h"
 
@@ -18,7 +19,7 @@ namespace golden = softpbr::golden;
 namespace raster = softpbr::raster;
 using namespace golden_test;
 
-TEST_CASE("golden images: a PNG written by raster::write_png loads back with the same bytes, at odd sizes too") {
+TEST_CASE("golden images: a PNG written by image::write_png loads back with the same bytes, at odd sizes too") {
   const fs::path dir = scratch("image_png_round_trip");
   for (const std::pair<int, int>& size : {std::pair{1, 1}, {3, 7}, {64, 1}, {1, 33}, {130, 17}}) {
     const int w = size.first, h = size.second;
@@ -26,7 +27,7 @@ TEST_CASE("golden images: a PNG written by raster::write_png loads back with the
     CAPTURE(h);
     const raster::Image8 im = pattern8(w, h, w + h);
     const fs::path p = dir / ("im" + std::to_string(w) + "x" + std::to_string(h) + ".png");
-    raster::write_png(p, im);
+    softpbr::image::write_png(p, im);
     const raster::Image8 back = golden::load_png(p);
     CHECK(back.width == w);
     CHECK(back.height == h);
@@ -59,7 +60,7 @@ TEST_CASE("golden images: unreadable files throw an error that starts with the p
   write_bytes(dir / "garbage.png", "this is not an image");
   write_bytes(dir / "empty.png", "");
   // A PNG cut after its header: stb can read the size but not the pixels.
-  raster::write_png(dir / "whole.png", pattern8(40, 40));
+  softpbr::image::write_png(dir / "whole.png", pattern8(40, 40));
   const std::vector<char> whole = file_bytes(dir / "whole.png");
   write_bytes(dir / "truncated.png", std::string(whole.begin(), whole.begin() + 60));
   golden::write_hdr(dir / "float.hdr", patternF(4, 4));

@@ -10,6 +10,7 @@
 #include "golden_helpers.h"
 #include "softpbr/golden/doctest_checks.h"
 #include "softpbr/golden/golden.h"
+#include "softpbr/image/write.h"
 #include "softpbr/raster/target.h"
 
 namespace golden = softpbr::golden;
@@ -48,7 +49,7 @@ TEST_CASE("match_golden: the same image passes; any changed pixel fails and writ
   const golden::Options o = options_in(dir);
   const raster::Image8 im = pattern8(16, 8);
   fs::create_directories(dir / "goldens" / "sub");
-  raster::write_png(dir / "goldens" / "sub" / "pic.png", im);
+  softpbr::image::write_png(dir / "goldens" / "sub" / "pic.png", im);
 
   const golden::MatchResult ok = golden::match_golden(im, "sub/pic.png", {}, o);
   CHECK(ok.passed);
@@ -78,7 +79,7 @@ TEST_CASE("match_golden: a tolerance passes when at most max_pixels pixels diffe
   const golden::Options o = options_in(dir);
   const raster::Image8 im = pattern8(10, 10);
   fs::create_directories(dir / "goldens");
-  raster::write_png(dir / "goldens" / "t.png", im);
+  softpbr::image::write_png(dir / "goldens" / "t.png", im);
   struct Case {
     int pixels, by;
     golden::Tolerance tolerance;
@@ -118,7 +119,7 @@ TEST_CASE("match_golden update mode rewrites a golden outside the tolerance and 
   const fs::path dir = scratch("match_update");
   const raster::Image8 im = pattern8(6, 6);
   fs::create_directories(dir / "goldens");
-  raster::write_png(dir / "goldens" / "u.png", im);
+  softpbr::image::write_png(dir / "goldens" / "u.png", im);
   const std::vector<char> before = file_bytes(dir / "goldens" / "u.png");
 
   const golden::MatchResult inside = golden::match_golden(changed(im, 2, 1), "u.png", {1, 0}, options_in(dir, true));
@@ -139,7 +140,7 @@ TEST_CASE("match_golden never throws for bad goldens: unreadable, wrong format, 
   const golden::Options o = options_in(dir);
   fs::create_directories(dir / "goldens");
   write_bytes(dir / "goldens" / "garbage.png", "not a png");
-  raster::write_png(dir / "goldens" / "small.png", pattern8(3, 3));
+  softpbr::image::write_png(dir / "goldens" / "small.png", pattern8(3, 3));
   struct Case {
     std::string golden, says;
   };

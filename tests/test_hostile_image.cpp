@@ -1,17 +1,19 @@
 // Hostile PNG and Radiance .hdr files: each loads or is a clear error naming the file, in
-// bounded time. Regression tests for fuzz/fuzz_image's findings.
+// bounded time. Regression tests for fuzz/fuzz_image's findings (softpbr::image's loaders;
+// JPEG's are in test_image_jpeg.cpp).
 #include <doctest/doctest.h>
 
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "softpbr/golden/image.h"
+#include "softpbr/image/load.h"
 
-namespace golden = softpbr::golden;
+namespace image = softpbr::image;
 namespace fs = std::filesystem;
 
 namespace {
@@ -35,7 +37,11 @@ std::string rle_scanline() {
   return s;
 }
 
-// Loading `path` with `load` (golden::load_png or golden::load_hdr) throws a
+// The file forms of the loaders, as callables (the names are overloaded).
+const auto load_png = [](const fs::path& p) { return image::load_png(p); };
+const auto load_hdr = [](const fs::path& p) { return image::load_hdr(p); };
+
+// Loading `path` with `load` (load_png or load_hdr) throws a
 // std::runtime_error whose message starts with "<path>: <what>".
 template <class Load>
 void check_refused(Load load, const fs::path& path, const std::string& what) {
@@ -60,7 +66,7 @@ TEST_CASE("an .hdr file cut inside a run-length encoded scanline is an error, no
                                           30);  // the 29 bytes and the literal's terminating NUL
   const fs::path path = scratch("finding-rle-truncated.hdr");
   write(path, finding);
-  check_refused(golden::load_hdr, path, "truncated");
+  check_refused(load_hdr, path, "truncated");
 }
 
 TEST_CASE("an .hdr file that ends on its resolution line is an error, not an image read from nothing") {
@@ -70,7 +76,24 @@ TEST_CASE("an .hdr file that ends on its resolution line is an error, not an ima
                               std::string("\xcc\xf5\xfd\xfd\xbf\xff\x43\x45\xbc\xbc\x02\x02\x38\xbc\xbc\xff", 16);
   const fs::path path = scratch("finding-no-data.hdr");
   write(path, finding);
-  check_refused(golden::load_hdr, path, "truncated");
+  check_refused(load_hdr, path, "truncated");
+}
+
+TEST_CASE("an .hdr header line that starts with a NUL byte ends the header, as stb reads it; missing data is an error") {
+  // fuzz_image's finding (timeout): stb_image reads header lines as C strings, so a line
+  // starting with NUL is the empty line that ends the header; the resolution line after it
+  // (-Y 16384 +X 1638, no pixel data) made stb decode 26M pixels from past the end, while
+  // the truncation walk saw no empty line (fuzz/findings/hdr-nul-header-line).
+  const fs::path path = scratch("finding-nul-line.hdr");
+  using namespace std::string_literals;  // "…"s keeps the NUL byte
+  write(path, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\0IHDR\n-Y 16384 +X 1638\n\x01"s);
+  check_refused(load_hdr, path, "truncated");
+  const fs::path finding = fs::path(SOFTPBR_SOURCE_DIR) / "fuzz" / "findings" / "hdr-nul-header-line";
+  std::ifstream in(finding, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  REQUIRE(bytes.size() > 1);
+  write(path, bytes.substr(1));  // without fuzz_image's selector byte
+  check_refused(load_hdr, path, "truncated");
 }
 
 TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") {
@@ -91,10 +114,10 @@ TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") 
     for (std::size_t n = kHeader.size(); n < c.file.size(); ++n) {  // from the resolution line on
       CAPTURE(n);
       write(path, c.file.substr(0, n));
-      CHECK_THROWS_AS(golden::load_hdr(path), std::runtime_error);
+      CHECK_THROWS_AS(image::load_hdr(path), std::runtime_error);
     }
     write(path, c.file);
-    const golden::ImageF image = golden::load_hdr(path);
+    const image::ImageF image = image::load_hdr(path);
     CHECK(image.width == c.width);
     CHECK(image.height == c.height);
   }
@@ -126,8 +149,8 @@ TEST_CASE("only PNG and .hdr files reach stb_image: other formats are refused by
       CAPTURE(hdr);
       const fs::path path = scratch(c.name);
       write(path, c.bytes);
-      if (hdr) check_refused(golden::load_hdr, path, "not a readable image (no ");
-      else check_refused(golden::load_png, path, "not a readable image (no ");
+      if (hdr) check_refused(load_hdr, path, "not a readable image (no ");
+      else check_refused(load_png, path, "not a readable image (no ");
     }
 }
 
@@ -141,7 +164,7 @@ TEST_CASE("a PNG chunk claiming more bytes than the file has is refused before s
       83);
   const fs::path path = scratch("finding-idat-claim.png");
   write(path, finding);
-  check_refused(golden::load_png, path, "cannot decode (truncated: chunk 'IDAT'");
+  check_refused(load_png, path, "cannot decode (truncated: chunk 'IDAT'");
 }
 
 TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused before decoding") {
@@ -151,10 +174,10 @@ TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused be
                              "\x00\x00\x00\x00\x00\x00\x00\x00IEND\xae\x42\x60\x82",
                              45);
   write(scratch("huge.png"), png_ihdr);
-  CHECK_THROWS_AS(golden::load_png(scratch("huge.png")), std::runtime_error);
+  CHECK_THROWS_AS(image::load_png(scratch("huge.png")), std::runtime_error);
   write(scratch("huge.hdr"), kHeader + "-Y 100000 +X 100000\n");
   try {
-    golden::load_hdr(scratch("huge.hdr"));
+    image::load_hdr(scratch("huge.hdr"));
     FAIL("no exception");
   } catch (const std::runtime_error& e) {
     CHECK(std::string(e.what()).find("100000x100000") != std::string::npos);

@@ -15,6 +15,7 @@
 #include <doctest/doctest.h>
 
 #include "raster_helpers.h"
+#include "softpbr/image/write.h"
 #include "softpbr/simd/simd.h"
 
 namespace {
@@ -209,7 +210,7 @@ TEST_CASE("write_png writes a complete PNG; an unwritable path throws and leaves
   target.clear({0.5f, 0.25f, 1.0f, 1.0f});
   const raster::Image8 image = raster::resolve_srgb8(target);
   const fs::path file = dir.path / "out.png";
-  raster::write_png(file, image);
+  softpbr::image::write_png(file, image);
   REQUIRE(fs::exists(file));
   const std::vector<unsigned char> bytes = read_bytes(file);
   REQUIRE(bytes.size() > 33);
@@ -220,18 +221,18 @@ TEST_CASE("write_png writes a complete PNG; an unwritable path throws and leaves
   CHECK((bytes[16] << 24 | bytes[17] << 16 | bytes[18] << 8 | bytes[19]) == 13);
   CHECK((bytes[20] << 24 | bytes[21] << 16 | bytes[22] << 8 | bytes[23]) == 7);
   // Overwriting keeps a complete file, and nothing temporary is left beside it.
-  raster::write_png(file, image);
+  softpbr::image::write_png(file, image);
   CHECK(read_bytes(file) == bytes);
   CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()) == 1);
 
   const fs::path missing = dir.path / "no-such-folder" / "out.png";
-  CHECK_THROWS_AS(raster::write_png(missing, image), std::runtime_error);
+  CHECK_THROWS_AS(softpbr::image::write_png(missing, image), std::runtime_error);
   CHECK_FALSE(fs::exists(missing));
   CHECK_FALSE(fs::exists(missing.parent_path()));
   CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()) == 1);
   // An image whose pixel data does not match its size is refused before anything is written.
   raster::Image8 broken = image;
   broken.rgba.pop_back();
-  CHECK_THROWS_AS(raster::write_png(dir.path / "broken.png", broken), std::invalid_argument);
+  CHECK_THROWS_AS(softpbr::image::write_png(dir.path / "broken.png", broken), std::invalid_argument);
   CHECK_FALSE(fs::exists(dir.path / "broken.png"));
 }

@@ -1,9 +1,12 @@
-// Draws one triangle with a user-defined shader through the installed softpbr package and
-// checks that it covers the pixels it should.
+// Draws one triangle with a user-defined shader through the installed softpbr package,
+// checks that it covers the pixels it should, and that its PNG (softpbr::image, in memory)
+// loads back with the same bytes.
 #include <cstdio>
 
 #include <glm/glm.hpp>
 
+#include "softpbr/image/load.h"
+#include "softpbr/image/write.h"
 #include "softpbr/pbr/camera.h"
 #include "softpbr/raster/raster.h"
 
@@ -29,5 +32,8 @@ int main() {
   // The diagonal's pixel centres all lie exactly on the edge: one side owns them.
   const bool ok = lit == 32 * 31 / 2 || lit == 32 * 33 / 2;
   std::printf("consumer: %d of 1024 pixels lit: %s\n", lit, ok ? "ok" : "WRONG");
-  return ok ? 0 : 1;
+  const softpbr::image::Image8 image = softpbr::raster::resolve_srgb8(target);
+  const bool png_ok = softpbr::image::load_png(softpbr::image::encode_png(image, "consumer"), "consumer").rgba == image.rgba;
+  std::printf("consumer: PNG round trip through softpbr::image: %s\n", png_ok ? "ok" : "WRONG");
+  return ok && png_ok ? 0 : 1;
 }

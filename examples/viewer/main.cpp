@@ -24,6 +24,7 @@
 #include "script.h"
 #include "sdl_input.h"
 #include "sdl_window.h"
+#include "softpbr/image/write.h"
 #include "softpbr/raster/raster.h"
 #include "viewer_scene.h"
 #include "viewer_state.h"
@@ -69,7 +70,7 @@ class Viewer {
     draw(1);
     const raster::Image8 image = window_.read_back();
     window_.present();
-    raster::write_png(path, image);
+    softpbr::image::write_png(path, image);
     std::printf("viewer: wrote %s (%dx%d, %s, %s)\n", path.string().c_str(), image.width, image.height,
                 meshes_[state_.mesh].name.c_str(), viewer::material_label(state_).c_str());
   }

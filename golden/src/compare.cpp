@@ -42,8 +42,8 @@ Fnv header(int width, int height, std::uint32_t bytes_per_channel) {
 
 template <class Image>
 Comparison compare_samples(const Image& expected, const Image& actual, double threshold, double peak) {
-  detail::check_pixel_data(expected, "expected");
-  detail::check_pixel_data(actual, "actual");
+  image::check_pixels(expected, "expected");
+  image::check_pixels(actual, "actual");
   Comparison c;
   c.expected_width = expected.width;
   c.expected_height = expected.height;
@@ -83,14 +83,14 @@ Comparison compare_samples(const Image& expected, const Image& actual, double th
 }  // namespace
 
 std::uint64_t content_hash(const Image8& image) {
-  detail::check_pixel_data(image, "content_hash");
+  image::check_pixels(image, "content_hash");
   Fnv f = header(image.width, image.height, 1);
   for (std::uint8_t b : image.rgba) f.byte(b);
   return f.h;
 }
 
 std::uint64_t content_hash(const ImageF& image) {
-  detail::check_pixel_data(image, "content_hash");
+  image::check_pixels(image, "content_hash");
   Fnv f = header(image.width, image.height, 4);
   for (float v : image.rgba) {
     std::uint32_t bits;

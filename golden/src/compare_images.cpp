@@ -16,8 +16,8 @@ namespace {
 
 template <class Image>
 void check_same_size(const Image& expected, const Image& actual) {
-  detail::check_pixel_data(expected, "diff_image: expected");
-  detail::check_pixel_data(actual, "diff_image: actual");
+  image::check_pixels(expected, "diff_image: expected");
+  image::check_pixels(actual, "diff_image: actual");
   if (expected.width != actual.width || expected.height != actual.height)
     throw std::invalid_argument("diff_image: sizes differ: expected " + std::to_string(expected.width) + "x" +
                                 std::to_string(expected.height) + ", actual " + std::to_string(actual.width) + "x" +
@@ -87,8 +87,8 @@ Image8 diff_image(const raster::Target& expected, const raster::Target& actual, 
 }
 
 Image8 side_by_side(const Image8& expected, const Image8& actual, double scale) {
-  detail::check_pixel_data(expected, "side_by_side: expected");
-  detail::check_pixel_data(actual, "side_by_side: actual");
+  image::check_pixels(expected, "side_by_side: expected");
+  image::check_pixels(actual, "side_by_side: actual");
   if (expected.width != actual.width || expected.height != actual.height) return columns(expected, actual, nullptr);
   const Image8 diff = diff_image(expected, actual, scale);
   return columns(expected, actual, &diff);

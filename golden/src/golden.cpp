@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string_view>
 
+#include "softpbr/image/write.h"
+
 namespace softpbr::golden {
 
 namespace fs = std::filesystem;
@@ -53,8 +55,8 @@ void try_write(MatchResult& r, const fs::path& path, const std::function<void(co
 }
 
 void write_text(const fs::path& path, const std::string& text) {
-  const auto* bytes = reinterpret_cast<const unsigned char*>(text.data());
-  raster::write_file_atomic(path, std::span<const unsigned char>(bytes, text.size()));
+  const auto* bytes = reinterpret_cast<const std::uint8_t*>(text.data());
+  image::write_file_atomic(path, std::span<const std::uint8_t>(bytes, text.size()));
 }
 
 void add_paths_and_hint(MatchResult& r, const Options& o) {
@@ -76,8 +78,8 @@ std::string tolerance_text(const Tolerance& t) {
 // already what the golden file can hold.
 template <class Image>
 MatchResult match_image(const Image& actual, const fs::path& golden, const Tolerance& tolerance, const Options& o,
-                        Image (*load)(const fs::path&), void (*write)(const fs::path&, const Image&),
-                        std::string_view ext) {
+                        const std::function<Image(const fs::path&)>& load,
+                        const std::function<void(const fs::path&, const Image&)>& write, std::string_view ext) {
   MatchResult r;
   r.golden = resolve(golden, o);
   const fs::path base = output_base(golden, r.golden, o);
@@ -132,9 +134,9 @@ MatchResult match_image(const Image& actual, const fs::path& golden, const Toler
               r.comparison.describe();
   write_actual();
   if (r.comparison.same_size())
-    try_write(r, with_suffix(base, ".diff.png"), [&](const fs::path& p) { raster::write_png(p, diff_image(expected, actual)); });
+    try_write(r, with_suffix(base, ".diff.png"), [&](const fs::path& p) { write_png(p, diff_image(expected, actual)); });
   try_write(r, with_suffix(base, ".side-by-side.png"),
-            [&](const fs::path& p) { raster::write_png(p, side_by_side(expected, actual)); });
+            [&](const fs::path& p) { write_png(p, side_by_side(expected, actual)); });
   add_paths_and_hint(r, o);
   return r;
 }
@@ -175,14 +177,18 @@ MatchResult match_golden(const Image8& actual, const fs::path& golden, const Tol
   if (ext == ".hdr")
     return unsupported(golden, options, "an 8-bit image cannot be checked against a float .hdr golden (use a .png golden)");
   if (ext != ".png") return unsupported(golden, options, "unsupported golden format '" + ext + "' (use .png or .hdr)");
-  return match_image<Image8>(actual, golden, tolerance, options, load_png, raster::write_png, ".png");
+  return match_image<Image8>(
+      actual, golden, tolerance, options, [](const fs::path& p) { return load_png(p); },
+      [](const fs::path& p, const Image8& im) { write_png(p, im); }, ".png");
 }
 
 MatchResult match_golden(const ImageF& actual, const fs::path& golden, const Tolerance& tolerance, const Options& options) {
   const std::string ext = lower_extension(golden);
   if (ext == ".png") return match_golden(to_srgb8(actual), golden, tolerance, options);
   if (ext != ".hdr") return unsupported(golden, options, "unsupported golden format '" + ext + "' (use .png or .hdr)");
-  return match_image<ImageF>(hdr_round_trip(actual), golden, tolerance, options, load_hdr, write_hdr, ".hdr");
+  return match_image<ImageF>(
+      hdr_round_trip(actual), golden, tolerance, options, [](const fs::path& p) { return load_hdr(p); },
+      [](const fs::path& p, const ImageF& im) { write_hdr(p, im); }, ".hdr");
 }
 
 MatchResult match_golden(const raster::Target& actual, const fs::path& golden, const Tolerance& tolerance,
@@ -236,7 +242,7 @@ MatchResult match_render(const raster::Target& target, const Image8& image, cons
         r.message += " hash " + (expected_hash.empty() ? std::string("(none)") : expected_hash) + " -> " + got + ";";
       }
       if (!png_ok) {
-        raster::write_png(png_path, image);
+        write_png(png_path, image);
         r.message += " image " + (png_loaded ? r.comparison.describe() : png_problem) + " -> rewritten";
       }
     } catch (const std::exception& e) {
@@ -258,13 +264,13 @@ MatchResult match_render(const raster::Target& target, const Image8& image, cons
   else if (!png_ok) m << "\n  image: " << r.comparison.describe();
   else m << "\n  image: identical 8-bit image; the float colour buffer differs in bits too small to show";
   r.message = m.str();
-  try_write(r, with_suffix(base, ".actual.png"), [&](const fs::path& p) { raster::write_png(p, image); });
+  try_write(r, with_suffix(base, ".actual.png"), [&](const fs::path& p) { write_png(p, image); });
   try_write(r, with_suffix(base, ".actual.hash"), [&](const fs::path& p) { write_text(p, got + "\n"); });
   if (png_loaded && r.comparison.same_size())
-    try_write(r, with_suffix(base, ".diff.png"), [&](const fs::path& p) { raster::write_png(p, diff_image(golden_image, image)); });
+    try_write(r, with_suffix(base, ".diff.png"), [&](const fs::path& p) { write_png(p, diff_image(golden_image, image)); });
   if (png_loaded)
     try_write(r, with_suffix(base, ".side-by-side.png"),
-              [&](const fs::path& p) { raster::write_png(p, side_by_side(golden_image, image)); });
+              [&](const fs::path& p) { write_png(p, side_by_side(golden_image, image)); });
   add_paths_and_hint(r, options);
   return r;
 }

@@ -1,13 +1,11 @@
-// Internal to softpbr_golden: the per-sample difference compare() and diff_image() share,
-// and the check that an image's pixel data matches its size.
+// Internal to softpbr_golden: the per-sample difference compare() and diff_image() share.
+// (The check that an image's pixel data matches its size is image::check_pixels.)
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <stdexcept>
-#include <string>
 
 namespace softpbr::golden::detail {
 
@@ -24,16 +22,6 @@ inline double sample_diff(float e, float a) {
   if (be == ba) return 0.0;
   if (std::isnan(e) || std::isnan(a)) return std::numeric_limits<double>::infinity();
   return std::fabs(static_cast<double>(e) - static_cast<double>(a));
-}
-
-// Throws std::invalid_argument("<what>: ...") unless rgba holds width × height × 4 samples.
-template <class Image>
-void check_pixel_data(const Image& image, const std::string& what) {
-  if (image.width < 0 || image.height < 0 ||
-      image.rgba.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 4)
-    throw std::invalid_argument(what + ": image size " + std::to_string(image.width) + "x" +
-                                std::to_string(image.height) + " and pixel data (" + std::to_string(image.rgba.size()) +
-                                " samples) disagree");
 }
 
 }  // namespace softpbr::golden::detail

@@ -9,8 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include <stb_image_write.h>
-
+#include "softpbr/image/write.h"
 #include "softpbr/raster/color.h"
 #include "softpbr/check.h"
 #include "softpbr/dmath/dmath.h"
@@ -292,23 +291,22 @@ raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSetti
 }
 
 namespace {
-void append_bytes(void* context, void* data, int size) {
-  auto* out = static_cast<std::vector<unsigned char>*>(context);
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  out->insert(out->end(), bytes, bytes + size);
+// The colour buffer of a target as float RGBA samples (a glm::vec4 is four floats), for
+// the image library's writers: no copy of the buffer is made.
+image::ImageViewF colour_view(const raster::Target& target) {
+  static_assert(sizeof(glm::vec4) == 4 * sizeof(float));
+  const std::span<const glm::vec4> colors = target.colors();
+  return {target.width(), target.height(),
+          std::span<const float>(reinterpret_cast<const float*>(colors.data()), colors.size() * 4)};
 }
 }  // namespace
 
 void write_hdr(const std::filesystem::path& path, const raster::Target& target, float exposure) {
-  const float scale = exposure_scale(exposure);
-  std::vector<float> rgb;
-  rgb.reserve(target.colors().size() * 3);
-  for (const glm::vec4& c : target.colors())
-    for (int i = 0; i < 3; ++i) rgb.push_back(std::isfinite(c[i]) ? std::max(c[i] * scale, 0.0f) : 0.0f);
-  std::vector<unsigned char> bytes;
-  if (!stbi_write_hdr_to_func(append_bytes, &bytes, target.width(), target.height(), 3, rgb.data()))
-    throw std::runtime_error(path.string() + ": HDR encoding failed");
-  raster::write_file_atomic(path, bytes);
+  image::write_hdr(path, colour_view(target), exposure_scale(exposure));
+}
+
+void write_exr(const std::filesystem::path& path, const raster::Target& target, float exposure) {
+  image::write_exr(path, colour_view(target), exposure_scale(exposure));
 }
 
 }  // namespace softpbr::pbr

@@ -6,11 +6,11 @@
 //   e2e_check OUT_DIR TETRAHEDRON_OBJ        exit 0: all equal; 1: a difference (printed)
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 #include <vector>
 
-#include <stb_image.h>
-
+#include "softpbr/image/load.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/raster/raster.h"
 #include "viewer_scene.h"
@@ -75,25 +75,26 @@ std::vector<Shot> expected_shots() {
 
 // Compares a PNG with an image; prints the first difference.
 bool same(const std::string& path, const raster::Image8& expected) {
-  int w = 0, h = 0, channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 4);
-  if (!data) {
-    std::fprintf(stderr, "%s: cannot read the screenshot (%s)\n", path.c_str(), stbi_failure_reason());
+  softpbr::image::Image8 shot;
+  try {
+    shot = softpbr::image::load_png(path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cannot read the screenshot: %s\n", e.what());
     return false;
   }
+  const int w = shot.width, h = shot.height;
   bool ok = w == expected.width && h == expected.height;
   if (!ok) std::fprintf(stderr, "%s: %dx%d, expected %dx%d\n", path.c_str(), w, h, expected.width, expected.height);
   std::size_t differing = 0, first = 0;
   for (std::size_t i = 0; ok && i < expected.rgba.size(); ++i)
-    if (data[i] != expected.rgba[i] && differing++ == 0) first = i;
+    if (shot.rgba[i] != expected.rgba[i] && differing++ == 0) first = i;
   if (ok && differing > 0) {
     const std::size_t p = first / 4;
     std::fprintf(stderr, "%s: %zu bytes differ; first at pixel (%zu, %zu) channel %zu: %d, expected %d\n",
                  path.c_str(), differing, p % static_cast<std::size_t>(w), p / static_cast<std::size_t>(w), first % 4,
-                 data[first], expected.rgba[first]);
+                 shot.rgba[first], expected.rgba[first]);
     ok = false;
   }
-  stbi_image_free(data);
   return ok;
 }
 }  // namespace

@@ -1,5 +1,5 @@
 // softpbr/pbr/tonemap.h — from HDR linear radiance to an image: exposure → tone map →
-// transfer curve → RGBA8, and linear float output (Radiance .hdr).
+// transfer curve → RGBA8, and linear float output (Radiance .hdr, OpenEXR).
 //
 // Every step is basic arithmetic; the transfer curves (exact piecewise sRGB, or a power
 // law "gamma") are applied through 255 precomputed thresholds per curve, computed with
@@ -115,8 +115,14 @@ class ToneMapper {
 };
 
 // Writes the linear colour (× 2^exposure, no tone map) as a Radiance RGBE .hdr file
-// through stb_image_write, atomically. Throws std::runtime_error naming the path.
+// (image::write_hdr: alpha dropped, negative and non-finite values stored as 0),
+// atomically. Throws std::invalid_argument for a non-finite exposure, std::runtime_error
+// naming the path when writing fails.
 void write_hdr(const std::filesystem::path& path, const raster::Target& target, float exposure = 0.0f);
+
+// The same as OpenEXR (image::write_exr): float R, G, B × 2^exposure and A, kept exactly,
+// negatives included, non-finite values as 0; ZIP compressed.
+void write_exr(const std::filesystem::path& path, const raster::Target& target, float exposure = 0.0f);
 
 // The 255 thresholds of an encoding curve: threshold k is the linear value whose encoding
 // is (k + 0.5)/255. gamma 0 selects sRGB.

@@ -1,4 +1,5 @@
-// softpbr/raster/target.h — render targets (float RGBA colour + float depth) and 8-bit images.
+// softpbr/raster/target.h — render targets (float RGBA colour + float depth) and their
+// resolve to 8-bit sRGB images.
 //
 // A Target is what a frame draws into: linear float RGBA (straight values as the shaders
 // write them; the "over" blend expects premultiplied alpha) and a float depth buffer,
@@ -6,12 +7,13 @@
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include <glm/vec4.hpp>
+
+#include "softpbr/image/image.h"
 
 namespace softpbr::raster {
 
@@ -100,26 +102,13 @@ struct FrameAccess {
 };
 }  // namespace detail
 
-// An 8-bit RGBA image, row-major, row 0 at the top.
-struct Image8 {
-  int width = 0;
-  int height = 0;
-  std::vector<std::uint8_t> rgba;  // width * height * 4 bytes
-};
+// An 8-bit RGBA image, row-major, row 0 at the top: softpbr::image's (image/image.h), which
+// also writes it (image::write_png).
+using Image8 = image::Image8;
 
 // Linear colour → 8-bit sRGB (colour channels through the exact sRGB curve, alpha
 // linear). Values are clamped to [0, 1]; NaN becomes 0. Tone mapping belongs to pbr/.
 Image8 resolve_srgb8(const Target& target);
-
-// Writes a PNG with stb_image_write. The file is written to a temporary name in the same
-// folder and renamed, so a failure never leaves a partial image. Throws std::runtime_error
-// naming the path on failure.
-void write_png(const std::filesystem::path& path, const Image8& image);
-
-// Writes `bytes` to a temporary file in the destination folder, then renames it over
-// `path`: readers see the old file or the whole new one, never a partial one. Throws
-// std::runtime_error naming the path on failure (and removes the temporary file).
-void write_file_atomic(const std::filesystem::path& path, std::span<const unsigned char> bytes);
 
 // 64-bit FNV-1a over the colour buffer's float bits (little-endian byte order, row-major,
 // RGBA): equal hashes mean equal pixels, for determinism tests and golden checks.

@@ -1,4 +1,4 @@
-// Internal to softpbr_golden: a walk over a Radiance .hdr file's pixel data, run before
+// Internal to softpbr_image: a walk over a Radiance .hdr file's pixel data, run before
 // stb_image decodes it, that refuses files whose data ends early.
 //
 // Why: stb_image (v2.27 in Debian 12's libstb-dev) reads zero bytes past the end of the
@@ -9,14 +9,14 @@
 // error.
 #pragma once
 
-#include <cstdio>
+#include <cstdint>
+#include <span>
 #include <string>
 
-namespace softpbr::golden::detail {
+namespace softpbr::image::detail {
 
-// Reads `file` from its current position (the start of a Radiance file whose header gave
-// width × height) to the end. Returns "" when every byte stb_image's decoder will read is
+// Walks `file` (a whole Radiance file whose header gave width × height) to the end. Returns "" when every byte stb_image's decoder will read is
 // there (or the data is malformed in a way stb reports itself), else what is missing.
-std::string hdr_truncation(std::FILE* file, int width, int height);
+std::string hdr_truncation(std::span<const std::uint8_t> file, int width, int height);
 
-}  // namespace softpbr::golden::detail
+}  // namespace softpbr::image::detail

@@ -3,23 +3,19 @@
 // type, the data and a 4-byte CRC, up to IEND.
 #include "png_scan.h"
 
-#include <cstdint>
+namespace softpbr::image::detail {
 
-namespace softpbr::golden::detail {
-
-std::string png_truncation(std::FILE* file) {
-  if (std::fseek(file, 0, SEEK_END) != 0) return "cannot measure the file";
-  const long size = std::ftell(file);
-  if (size < 0 || std::fseek(file, 8, SEEK_SET) != 0) return "cannot measure the file";
+std::string png_truncation(std::span<const std::uint8_t> file) {
+  const std::uint64_t size = file.size();
   std::uint64_t at = 8;  // after the signature
   for (;;) {
-    unsigned char head[8];
-    if (std::fread(head, 1, 8, file) != 8) return "";  // no IEND: stb reports the missing data
+    if (at + 8 > size) return "";  // no IEND: stb reports the missing data
+    const std::uint8_t* head = file.data() + at;
     const std::uint64_t length = std::uint64_t{head[0]} << 24 | std::uint64_t{head[1]} << 16 |
                                  std::uint64_t{head[2]} << 8 | std::uint64_t{head[3]};
     const std::string type(reinterpret_cast<const char*>(head + 4), 4);
     at += 8;
-    if (at + length + 4 > static_cast<std::uint64_t>(size)) {
+    if (at + length + 4 > size) {
       std::string printable;
       for (char c : type) printable += (c >= 32 && c < 127) ? c : '?';
       return "truncated: chunk '" + printable + "' at byte " + std::to_string(at - 8) + " claims " +
@@ -27,8 +23,7 @@ std::string png_truncation(std::FILE* file) {
     }
     if (type == "IEND") return "";
     at += length + 4;
-    if (std::fseek(file, static_cast<long>(at), SEEK_SET) != 0) return "cannot seek in the file";
   }
 }
 
-}  // namespace softpbr::golden::detail
+}  // namespace softpbr::image::detail

@@ -5,33 +5,26 @@
 // a scanline without the marker switches stb to flat pixels for the rest of the image.
 #include "hdr_scan.h"
 
-#include <cstdint>
-#include <vector>
-
-namespace softpbr::golden::detail {
+namespace softpbr::image::detail {
 
 namespace {
 
-// Byte reader over a FILE* that counts what it has read.
+// Byte reader over the file that counts what it has read.
 class Reader {
  public:
-  explicit Reader(std::FILE* f) : f_(f) {}
+  explicit Reader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
   // The next byte, or −1 at the end.
-  int next() {
-    const int c = std::getc(f_);
-    if (c != EOF) ++read_;
-    return c;
-  }
-  // Skips `n` bytes; false if the file ends first.
+  int next() { return read_ < bytes_.size() ? bytes_[read_++] : -1; }
+  // Skips `n` bytes; false if the file ends first (having read all of it).
   bool skip(std::uint64_t n) {
-    for (; n > 0; --n)
-      if (next() < 0) return false;
-    return true;
+    const std::uint64_t left = bytes_.size() - read_;
+    read_ += n < left ? n : left;
+    return n <= left;
   }
   std::uint64_t read() const { return read_; }
 
  private:
-  std::FILE* f_;
+  std::span<const std::uint8_t> bytes_;
   std::uint64_t read_ = 0;
 };
 
@@ -42,23 +35,28 @@ std::string missing(const char* what, std::uint64_t at) {
 
 }  // namespace
 
-std::string hdr_truncation(std::FILE* file, int width, int height) {
+std::string hdr_truncation(std::span<const std::uint8_t> file, int width, int height) {
   Reader in(file);
-  // Header: the magic line, lines up to an empty one, then the resolution line.
+  // Header: the magic line, lines up to an empty one, then the resolution line. stb reads
+  // each line into a C string, so a line that starts with a NUL byte is empty to it too
+  // (fuzz_image found a header that ends there for stb, which then decoded 16384 x 1638
+  // pixels from past the end, while this walk saw no empty line).
   int empty_lines_seen = 0, line_length = 0, lines = 0;
+  bool starts_with_nul = false;
   for (;;) {
     const int c = in.next();
     // The file ends in the header (stb reports a bad header itself), or on the resolution
     // line: stb parses that line and then reads every pixel from past the end.
     if (c < 0) return empty_lines_seen == 1 ? missing("the resolution line: there is no pixel data", in.read()) : "";
     if (c != '\n') {
-      ++line_length;
+      if (line_length++ == 0) starts_with_nul = c == 0;
       continue;
     }
     ++lines;
-    if (lines > 1 && line_length == 0 && empty_lines_seen == 0) empty_lines_seen = 1;
+    if (lines > 1 && (line_length == 0 || starts_with_nul) && empty_lines_seen == 0) empty_lines_seen = 1;
     else if (empty_lines_seen == 1) break;  // the resolution line just ended
     line_length = 0;
+    starts_with_nul = false;
   }
 
   const std::uint64_t pixels = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
@@ -89,4 +87,4 @@ std::string hdr_truncation(std::FILE* file, int width, int height) {
   return "";
 }
 
-}  // namespace softpbr::golden::detail
+}  // namespace softpbr::image::detail

@@ -1,0 +1,57 @@
+// softpbr/image/load.h — loading PNG, JPEG, Radiance .hdr and OpenEXR images, from a file
+// or from a memory buffer (an image embedded in a .glb buffer or a data URI).
+//
+// Every loader checks the file before its decoder runs: the signature (first bytes), the
+// size in the header against Limits (each side at most max_side, decoded bytes at most
+// max_decoded_bytes), and that the data the decoder will read is all there — walks written
+// for stb_image's and tinyexr's weaknesses on hostile files (src/png_scan.h, jpeg_scan.h,
+// hdr_scan.h, the header checks in exr.cpp). Decoders: stb_image (PNG, JPEG, .hdr) from
+// Debian's libstb, tinyexr (.exr) from libtinyexr-dev.
+//
+// Errors throw std::runtime_error with one line that starts with the file's path (or the
+// buffer's name) and a colon, then what is wrong: "tex.png: image size 20000x4 is outside
+// 1x1 .. 16384x16384".
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string_view>
+
+#include "softpbr/image/image.h"
+
+namespace softpbr::image {
+
+// PNG as RGBA: grey and RGB get alpha 255, grey is replicated, 16-bit samples are reduced
+// to 8 bits, palettes expanded. Refuses every other format by its first bytes (.hdr: stb
+// would tone map it; TGA/BMP/PSD/PNM: stb's decoders read on past the end of such files).
+Image8 load_png(const std::filesystem::path& path, const Limits& limits = {});
+Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+// JPEG (baseline, extended or progressive, 8-bit, grey, YCbCr or CMYK/YCCK as stb_image
+// reads them) as RGBA with alpha 255.
+Image8 load_jpeg(const std::filesystem::path& path, const Limits& limits = {});
+Image8 load_jpeg(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+// PNG or JPEG, whichever the first bytes say (glTF textures are one or the other).
+Image8 load_image8(const std::filesystem::path& path, const Limits& limits = {});
+Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+// Radiance .hdr (RGBE, flat or run-length encoded) as linear float RGBA with alpha 1.
+// Refuses 8-bit files (stb would invent a gamma curve for them; use load_png).
+ImageF load_hdr(const std::filesystem::path& path, const Limits& limits = {});
+ImageF load_hdr(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+// OpenEXR's R, G, B(, A) channels as linear float RGBA (alpha 1 when absent; a file with a
+// single channel, e.g. Y, reads as grey): single-part scan-line files, half or float,
+// uncompressed, RLE, ZIPS or ZIP. PIZ is refused (tinyexr 1.0.1's PIZ decoder reads out of
+// bounds on damaged files), as are PXR24, B44 and DWA (tinyexr does not decode them),
+// tiled, deep and multi-part files, subsampled and integer channels.
+ImageF load_exr(const std::filesystem::path& path, const Limits& limits = {});
+ImageF load_exr(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+// .hdr or .exr, whichever the first bytes say (environment maps are one or the other).
+ImageF load_imagef(const std::filesystem::path& path, const Limits& limits = {});
+ImageF load_imagef(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+}  // namespace softpbr::image

@@ -1,0 +1,125 @@
+// What the format files share (see formats.h).
+#include "formats.h"
+
+#include <algorithm>
+#include <climits>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+namespace softpbr::image::detail {
+
+void fail(std::string_view name, std::string_view what) {
+  std::string message(name);
+  message += ": ";
+  message += what;
+  throw std::runtime_error(message);
+}
+
+namespace {
+bool starts_with(std::span<const std::uint8_t> bytes, std::string_view magic) {
+  return bytes.size() >= magic.size() && std::equal(magic.begin(), magic.end(), bytes.begin(), [](char m, std::uint8_t b) {
+           return static_cast<std::uint8_t>(m) == b;
+         });
+}
+
+const char* loader_of(Format f) {
+  switch (f) {
+    case Format::Png: return "load_png";
+    case Format::Jpeg: return "load_jpeg";
+    case Format::Hdr: return "load_hdr";
+    default: return "load_exr";
+  }
+}
+}  // namespace
+
+Format sniff(std::span<const std::uint8_t> bytes) {
+  using namespace std::string_view_literals;
+  if (starts_with(bytes, "\x89PNG\r\n\x1a\n"sv)) return Format::Png;
+  if (starts_with(bytes, "\xff\xd8\xff"sv)) return Format::Jpeg;
+  if (starts_with(bytes, "#?RADIANCE\n"sv) || starts_with(bytes, "#?RGBE\n"sv)) return Format::Hdr;
+  if (starts_with(bytes, "\x76\x2f\x31\x01"sv)) return Format::Exr;
+  return Format::Unknown;
+}
+
+void expect_format(std::span<const std::uint8_t> bytes, std::string_view name, Format wanted) {
+  const Format found = sniff(bytes);
+  if (found == wanted) return;
+  const bool wanted_float = wanted == Format::Hdr || wanted == Format::Exr;
+  switch (found) {
+    case Format::Png:
+    case Format::Jpeg:
+      if (wanted_float)
+        fail(name, std::string("is an 8-bit image, not a ") + (wanted == Format::Hdr ? "Radiance .hdr" : "OpenEXR") +
+                       " image; load it with " + loader_of(found));
+      fail(name, std::string("is a ") + (found == Format::Png ? "PNG" : "JPEG") + " image; load it with " +
+                     loader_of(found) + " (or load_image8)");
+    case Format::Hdr:
+    case Format::Exr:
+      if (!wanted_float)
+        fail(name, std::string("is a ") + (found == Format::Hdr ? "Radiance .hdr" : "OpenEXR") +
+                       " (float) image; load it with " + loader_of(found));
+      fail(name, std::string("is a ") + (found == Format::Hdr ? "Radiance .hdr" : "OpenEXR") + " image; load it with " +
+                     loader_of(found) + " (or load_imagef)");
+    default: {
+      const char* what = wanted == Format::Png ? "PNG" : wanted == Format::Jpeg ? "JPEG" : wanted == Format::Hdr ? "Radiance .hdr" : "OpenEXR";
+      fail(name, std::string("not a readable image (no ") + what + " signature)");
+    }
+  }
+}
+
+void check_size(std::string_view name, std::int64_t width, std::int64_t height, std::uint64_t bytes_per_pixel,
+                const Limits& limits, std::uint64_t extra_bytes) {
+  const std::int64_t side = std::clamp(limits.max_side, 1, kMaxSide);
+  if (width < 1 || height < 1 || width > side || height > side)
+    fail(name, "image size " + std::to_string(width) + "x" + std::to_string(height) + " is outside 1x1 .. " +
+                   std::to_string(side) + "x" + std::to_string(side));
+  // At most 16384² × (16 + 4 × channels) here, far inside 64 bits for any channel count tinyexr parses.
+  const std::uint64_t pixels = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+  const std::uint64_t bytes = pixels * bytes_per_pixel + extra_bytes;
+  if (bytes > limits.max_decoded_bytes)
+    fail(name, "image size " + std::to_string(width) + "x" + std::to_string(height) + " needs " + std::to_string(bytes) +
+                   " bytes decoded, over the limit of " + std::to_string(limits.max_decoded_bytes));
+}
+
+int stb_size(std::span<const std::uint8_t> bytes, std::string_view name) {
+  if (bytes.size() > static_cast<std::size_t>(INT_MAX)) fail(name, "over 2 GiB, more than the decoder reads");
+  return static_cast<int>(bytes.size());
+}
+
+std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits) {
+  const std::string name = path.string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) fail(name, "no such file");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) fail(name, "cannot read its size: " + ec.message());
+  if (size > limits.max_file_bytes)
+    fail(name, std::to_string(size) + " bytes, over the limit of " + std::to_string(limits.max_file_bytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(name, "cannot open for reading");
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
+  // A file that shrank while being read keeps only what was there.
+  bytes.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) fail(name, "read error");
+  return bytes;
+}
+
+namespace {
+template <class Sample>
+void check_encodable(const ImageView<Sample>& image, std::string_view name) {
+  check_pixels(image, name);
+  if (image.width < 1 || image.height < 1) throw std::invalid_argument(std::string(name) + ": cannot write an empty image");
+}
+}  // namespace
+
+void check_writable(const ImageView8& image, std::string_view name) { check_encodable(image, name); }
+void check_writable(const ImageViewF& image, std::string_view name) { check_encodable(image, name); }
+
+void append_bytes(void* context, void* data, int size) {
+  auto* out = static_cast<std::vector<std::uint8_t>*>(context);
+  const auto* bytes = static_cast<const std::uint8_t*>(data);
+  out->insert(out->end(), bytes, bytes + size);
+}
+
+}  // namespace softpbr::image::detail

@@ -1,0 +1,35 @@
+// The loaders that choose a format by the first bytes (see load.h).
+#include "formats.h"
+#include "softpbr/image/load.h"
+
+namespace softpbr::image {
+
+Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  switch (detail::sniff(bytes)) {
+    case detail::Format::Jpeg: return load_jpeg(bytes, name, limits);
+    case detail::Format::Png: return load_png(bytes, name, limits);
+    case detail::Format::Hdr: detail::fail(name, "is a Radiance .hdr (float) image; load it with load_hdr (or load_imagef)");
+    case detail::Format::Exr: detail::fail(name, "is an OpenEXR (float) image; load it with load_exr (or load_imagef)");
+    default: detail::fail(name, "not a readable image (no PNG or JPEG signature)");
+  }
+}
+
+Image8 load_image8(const std::filesystem::path& path, const Limits& limits) {
+  return load_image8(detail::read_file(path, limits), path.string(), limits);
+}
+
+ImageF load_imagef(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  switch (detail::sniff(bytes)) {
+    case detail::Format::Hdr: return load_hdr(bytes, name, limits);
+    case detail::Format::Exr: return load_exr(bytes, name, limits);
+    case detail::Format::Png:
+    case detail::Format::Jpeg: detail::fail(name, "is an 8-bit image; load it with load_image8");
+    default: detail::fail(name, "not a readable image (no Radiance .hdr or OpenEXR signature)");
+  }
+}
+
+ImageF load_imagef(const std::filesystem::path& path, const Limits& limits) {
+  return load_imagef(detail::read_file(path, limits), path.string(), limits);
+}
+
+}  // namespace softpbr::image

@@ -1,0 +1,31 @@
+// Internal to softpbr_image: the calls into stb_image that png.cpp, jpeg.cpp and hdr.cpp
+// share, each run after the file's own checks.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string_view>
+
+#include "softpbr/image/image.h"
+
+namespace softpbr::image::detail {
+
+// stb_image's reading of the header: the size, or "<name>: not a readable image (why)".
+struct StbSize {
+  int width = 0;
+  int height = 0;
+};
+StbSize stb_info(std::span<const std::uint8_t> bytes, std::string_view name);
+
+// The whole image decoded to RGBA8 (grey replicated, alpha 255 when absent).
+Image8 stb_load_rgba8(std::span<const std::uint8_t> bytes, std::string_view name);
+
+// The pixels stb_image returns, freed with stbi_image_free.
+struct StbFree {
+  void operator()(void* p) const;
+};
+template <class T>
+using StbPixels = std::unique_ptr<T, StbFree>;
+
+}  // namespace softpbr::image::detail
