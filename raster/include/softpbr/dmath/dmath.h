@@ -66,6 +66,14 @@ constexpr Reduced reduce(double x) {
   const double r = ((x - k * kPio2_1) - k * kPio2_2) - k * kPio2_3;
   return {r, static_cast<std::int64_t>(k)};
 }
+// p · 2^k for |k| ≤ 1075, in two steps so that subnormal results and k = 1024 stay exact.
+constexpr double scale_pow2(double p, std::int64_t k) {
+  const std::int64_t k1 = k / 2, k2 = k - k1;
+  const double s1 = std::bit_cast<double>(static_cast<std::uint64_t>(k1 + 1023) << 52);
+  const double s2 = std::bit_cast<double>(static_cast<std::uint64_t>(k2 + 1023) << 52);
+  return p * s1 * s2;
+}
+
 }  // namespace detail
 
 // sin(x), accurate to a few ulp for |x| <= 1e6; NaN for non-finite x.
@@ -115,12 +123,7 @@ constexpr double exp(double x) {
                                       1.0 / 120.0,             1.0 / 24.0,             1.0 / 6.0,
                                       1.0 / 2.0,               1.0,                    1.0};
   for (double c : kInvFactorial) p = p * r + c;
-  // Scale by 2^k in two steps so subnormal results and k = 1024 stay exact.
-  const auto ki = static_cast<std::int64_t>(k);
-  const std::int64_t k1 = ki / 2, k2 = ki - k1;
-  const double s1 = std::bit_cast<double>(static_cast<std::uint64_t>(k1 + 1023) << 52);
-  const double s2 = std::bit_cast<double>(static_cast<std::uint64_t>(k2 + 1023) << 52);
-  return p * s1 * s2;
+  return detail::scale_pow2(p, static_cast<std::int64_t>(k));
 }
 
 // 2^x, accurate to a few ulp and exact for integer x. The integer part n is split off
@@ -133,12 +136,7 @@ constexpr double exp2(double x) {
   const double n = detail::round_int(x);
   const double f = x - n;  // exact, |f| ≤ 1/2
   const double p = exp(f * 0.693147180559945309417232121458176568);
-  // Scale by 2^n in two steps, as exp does, so subnormal results and n = 1024 stay exact.
-  const auto ni = static_cast<std::int64_t>(n);
-  const std::int64_t n1 = ni / 2, n2 = ni - n1;
-  const double s1 = std::bit_cast<double>(static_cast<std::uint64_t>(n1 + 1023) << 52);
-  const double s2 = std::bit_cast<double>(static_cast<std::uint64_t>(n2 + 1023) << 52);
-  return p * s1 * s2;
+  return detail::scale_pow2(p, static_cast<std::int64_t>(n));
 }
 
 // Natural logarithm, accurate to a few ulp; −Inf at 0, NaN below 0 or for NaN.

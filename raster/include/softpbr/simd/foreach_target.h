@@ -24,6 +24,13 @@
 
 #include "softpbr/simd/isa.h"
 
+// Whether the build's own flags already include AVX-512 F/DQ/VL/BW (e.g. -march=native).
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
+#define SOFTPBR_BUILD_AVX512 1
+#else
+#define SOFTPBR_BUILD_AVX512 0
+#endif
+
 // --- Baseline: the build's own flags. ---
 #define SOFTPBR_TARGET_NS baseline
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Baseline
@@ -32,11 +39,7 @@
 #else
 #define SOFTPBR_TARGET_AVX 0
 #endif
-#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
-#define SOFTPBR_TARGET_AVX512 1
-#else
-#define SOFTPBR_TARGET_AVX512 0
-#endif
+#define SOFTPBR_TARGET_AVX512 SOFTPBR_BUILD_AVX512
 #include SOFTPBR_TARGET_FILE
 #undef SOFTPBR_TARGET_NS
 #undef SOFTPBR_ISA
@@ -54,11 +57,7 @@
 #define SOFTPBR_TARGET_NS avx2
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Avx2
 #define SOFTPBR_TARGET_AVX 1
-#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__) && defined(__AVX512BW__)
-#define SOFTPBR_TARGET_AVX512 1
-#else
-#define SOFTPBR_TARGET_AVX512 0
-#endif
+#define SOFTPBR_TARGET_AVX512 SOFTPBR_BUILD_AVX512
 #include SOFTPBR_TARGET_FILE
 #undef SOFTPBR_TARGET_NS
 #undef SOFTPBR_ISA
@@ -94,4 +93,5 @@
 #endif
 #endif  // SOFTPBR_SIMD_X86_TARGETS
 
+#undef SOFTPBR_BUILD_AVX512
 #undef SOFTPBR_TARGET_FILE

@@ -13,7 +13,18 @@
 #include <string_view>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-// 1 where kernels are also compiled for AVX2 and AVX-512 (x86-64 with GCC or Clang).
+#define SOFTPBR_SIMD_X86 1
+#else
+#define SOFTPBR_SIMD_X86 0
+#endif
+
+// 1 where kernels are also compiled for AVX2 and AVX-512: x86-64 with GCC or Clang, in
+// optimized builds. Unoptimized code (-O0, Debug) is not inlined across the per-target
+// regions, and a call between functions compiled for different vector ABIs (a 32-byte
+// lane vector passed in a ymm register, or in memory) corrupts the values: there every Isa
+// runs the baseline copy of a kernel (SOFTPBR_DISPATCH falls back to it), with the same
+// bits. cpu_isa() still reports the CPU, so the choice of lanes does not depend on it.
+#if SOFTPBR_SIMD_X86 && defined(__OPTIMIZE__)
 #define SOFTPBR_SIMD_X86_TARGETS 1
 #else
 #define SOFTPBR_SIMD_X86_TARGETS 0
@@ -23,10 +34,10 @@ namespace softpbr::simd {
 
 enum class Isa : std::uint8_t { Baseline, Avx2, Avx512 };
 
-// The widest instruction set of this CPU (and OS) that a dispatched kernel can use;
-// Baseline where no other target is compiled. Decided once, on first call.
+// The widest instruction set of this CPU (and OS) that a dispatched kernel can use
+// (Baseline off x86-64). Decided once, on first call.
 inline Isa cpu_isa() {
-#if SOFTPBR_SIMD_X86_TARGETS
+#if SOFTPBR_SIMD_X86
   static const Isa isa = [] {
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
