@@ -1,6 +1,6 @@
 # CMake toolchain for an AArch64 cross build with Debian's cross compiler
 # (g++-aarch64-linux-gnu); tests run under qemu-user (qemu-aarch64). Libraries come from
-# Debian's multiarch arm64 packages (libstb-dev:arm64, libtinyobjloader-dev:arm64 after
+# Debian's multiarch arm64 packages (libstb-dev:arm64, libtinyobjloader-dev:arm64, libtinyexr-dev:arm64 after
 # `dpkg --add-architecture arm64`); glm and doctest are header-only (Architecture: all).
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)

@@ -109,9 +109,12 @@ ImageF load_exr(std::span<const std::uint8_t> bytes, std::string_view name, cons
   EXRImage image;
   InitEXRImage(&image);
   // On failure tinyexr has already called FreeEXRImage (which leaves dangling pointers, so
-  // it must not run twice). Known leak inside tinyexr 1.0.1: it does so before setting
-  // image.num_channels, so the channel planes of a file whose pixel data fails to decode
-  // (w·h·4 bytes each) are never freed (fuzz/README.md, Findings).
+  // it must not run twice). tinyexr 1.0.1 does so before it records the channel count, so
+  // FreeEXRImage would skip the channel planes it allocated (w·h·4 bytes each) and leak
+  // them (fuzz/README.md, Findings): the count is set here first, so that it frees them.
+  // (The planes are allocated all at once, one per header channel; before that `images`
+  // is null and FreeEXRImage frees nothing.)
+  image.num_channels = header.num_channels;
   if (LoadEXRImageFromMemory(&image, &header, bytes.data(), bytes.size(), &err) != TINYEXR_SUCCESS)
     fail(name, "not a readable OpenEXR file: " + take_error(err));
   const std::unique_ptr<EXRImage, int (*)(EXRImage*)> image_owner(&image, &FreeEXRImage);
