@@ -232,7 +232,7 @@ TEST_CASE("write_png writes a complete PNG; an unwritable path throws and leaves
   CHECK(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()) == 1);
   // An image whose pixel data does not match its size is refused before anything is written.
   raster::Image8 broken = image;
-  broken.rgba.pop_back();
+  broken.rgba.resize(broken.rgba.size() - 1);
   CHECK_THROWS_AS(softpbr::image::write_png(dir.path / "broken.png", broken), std::invalid_argument);
   CHECK_FALSE(fs::exists(dir.path / "broken.png"));
 }
