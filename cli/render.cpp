@@ -193,6 +193,9 @@ int run_render(const RenderArgs& a) {
   const long frame_count = shard_frame_count(range, shard);
   auto stale = stale_temporaries(folders);
   raster::Renderer renderer(raster::RendererOptions{s.threads, s.tile_size});
+  if (renderer.threads() < renderer.requested_threads() && !a.quiet)
+    std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
+                 renderer.threads(), renderer.requested_threads(), renderer.threads());
   raster::Target target(s.width, s.height);
   Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(frame_count));
   std::size_t done = 0, skipped = 0;

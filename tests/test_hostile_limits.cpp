@@ -4,7 +4,11 @@
 #include <doctest/doctest.h>
 
 #include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <climits>
 #include <cstdint>
 #include <filesystem>
@@ -163,4 +167,52 @@ TEST_CASE("a million lights through the API is a bounded render with finite pixe
     CHECK(std::isfinite(c.r));
     CHECK(c.r > scene.ambient.r * 0.5f);  // lit by the lights, not only ambient
   }
+}
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define SOFTPBR_TEST_UNDER_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define SOFTPBR_TEST_UNDER_SANITIZER 1
+#endif
+#endif
+
+namespace {
+// In a child process whose address space leaves room for only a few thread stacks, a pool
+// of `threads` is built and used: 0 when it started fewer threads than asked, ran every
+// index exactly once and shut down; 1 when a check failed. A hang is killed by alarm().
+int pool_under_address_limit(unsigned threads) {
+  alarm(30);
+  long pages = 0;
+  {
+    std::ifstream statm("/proc/self/statm");
+    statm >> pages;
+  }
+  if (pages <= 0) return 1;
+  // What the process maps now plus 48 MiB: a few 8 MiB thread stacks, then EAGAIN.
+  const rlim_t limit = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE)) + (rlim_t{48} << 20);
+  const rlimit r{limit, limit};
+  if (setrlimit(RLIMIT_AS, &r) != 0) return 1;
+  std::atomic<int> sum{0};
+  {
+    softpbr::raster::ThreadPool pool(threads);
+    if (pool.requested() != threads || pool.size() >= threads || pool.size() < 1) return 1;
+    pool.parallel_for(1000, [&](std::size_t i) { sum.fetch_add(static_cast<int>(i) + 1, std::memory_order_relaxed); });
+  }
+  return sum.load() == 1000 * 1001 / 2 ? 0 : 1;
+}
+}  // namespace
+
+TEST_CASE("a thread pool the system refuses threads to runs with those it started: no hang, every index run once") {
+#if defined(SOFTPBR_TEST_UNDER_SANITIZER)
+  MESSAGE("skipped: sanitizers reserve address space beyond any useful limit");
+#else
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) _exit(pool_under_address_limit(256));
+  int status = 0;
+  REQUIRE(waitpid(child, &status, 0) == child);
+  CHECK(WIFEXITED(status));  // not killed by the 30 s alarm (a hang) or a crash
+  CHECK(WEXITSTATUS(status) == 0);
+#endif
 }

@@ -52,6 +52,9 @@ class Viewer {
                 o.software || !o.script.empty() || !o.screenshot.empty()) {
     state_.mesh_count = meshes_.size();
     policy_.budget_ms = o.budget_ms;
+    if (renderer_.threads() < renderer_.requested_threads())
+      std::fprintf(stderr, "viewer: the system started %u of the %u threads asked for; rendering with %u\n",
+                   renderer_.threads(), renderer_.requested_threads(), renderer_.threads());
   }
 
   // Renders the state at window size / divisor, shows it (not presented); returns ms.

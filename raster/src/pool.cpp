@@ -2,6 +2,8 @@
 #include "softpbr/raster/pool.h"
 
 #include <algorithm>
+#include <new>
+#include <system_error>
 
 #include "softpbr/simd/simd.h"
 
@@ -24,8 +26,16 @@ bool spin_until(Done done) {
 
 ThreadPool::ThreadPool(unsigned threads) {
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  workers_.reserve(threads - 1);
-  for (unsigned i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
+  requested_ = threads;
+  for (unsigned i = 1; i < threads; ++i) {
+    try {
+      workers_.emplace_back([this] { worker_loop(); });
+    } catch (const std::system_error&) {
+      break;  // the system refused another thread (a process or memory limit)
+    } catch (const std::bad_alloc&) {
+      break;  // no memory for the thread list; no thread was started by this call
+    }
+  }
 }
 
 ThreadPool::~ThreadPool() {

@@ -32,7 +32,10 @@ class ThreadPool {
   // How long a thread spins for the next job (or for the others to finish) before sleeping.
   static constexpr std::chrono::microseconds kSpin{100};
 
-  // threads == 0 means all hardware threads.
+  // threads == 0 means all hardware threads. When the system refuses to start a thread
+  // (a limit on processes, threads or address space: containers, CI runners, `ulimit -u`),
+  // the pool runs with the threads it did start — the caller's thread at least — instead
+  // of failing: size() is then below requested(). Results do not depend on the count.
   explicit ThreadPool(unsigned threads = 0);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
@@ -40,6 +43,8 @@ class ThreadPool {
 
   // Threads that run work, the caller included.
   unsigned size() const { return static_cast<unsigned>(workers_.size()) + 1; }
+  // Threads asked for (0 resolved to the hardware count).
+  unsigned requested() const { return requested_; }
 
   // Calls fn(i) once for every i in [0, count) and returns when all calls are done.
   // The first exception thrown by fn is rethrown here after the others finish.
@@ -50,6 +55,7 @@ class ThreadPool {
   void run_indices();
 
   std::vector<std::thread> workers_;
+  unsigned requested_ = 1;
   std::mutex mutex_;  // guards sleeping (with the condition variables) and error_
   std::condition_variable wake_;
   std::condition_variable done_;

@@ -89,6 +89,9 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   unsigned threads() const { return pool_.size(); }
+  // The threads RendererOptions::threads asked for; more than threads() when the system
+  // refused to start some (the renderer then runs with those it got: the same images).
+  unsigned requested_threads() const { return pool_.requested(); }
   int lanes() const { return lanes_; }
   // The instruction set the packet kernels run with (Baseline: the build's own).
   simd::Isa isa() const { return isa_; }
