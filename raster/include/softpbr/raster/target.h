@@ -18,7 +18,7 @@
 namespace softpbr::raster {
 
 // Largest width or height of a target: keeps fixed-point edge functions inside int64
-// (see setup.h) and a full target under 16384² × 20 bytes ≈ 5 GiB.
+// (see detail/setup.h) and a full target under 16384² × 20 bytes ≈ 5 GiB.
 inline constexpr int kMaxTargetSize = 16384;
 
 namespace detail {

@@ -185,7 +185,6 @@ inline UintLanes<N> truncate_to_uint(Lanes<N, SOFTPBR_ISA> x) {
 // the operations on plain vectors (simd::native_t) that take no lane type to overload on.
 namespace softpbr::simd::SOFTPBR_TARGET_NS {
 
-inline constexpr Isa kIsa = SOFTPBR_ISA;
 template <int N>
 using Vec = Lanes<N, SOFTPBR_ISA>;
 template <int N>
