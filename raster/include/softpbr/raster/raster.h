@@ -6,3 +6,4 @@
 #include "softpbr/raster/renderer.h"
 #include "softpbr/raster/shader.h"
 #include "softpbr/raster/target.h"
+#include "softpbr/raster/texture.h"

@@ -96,6 +96,9 @@ class Renderer {
   // The instruction set the packet kernels run with (Baseline: the build's own).
   simd::Isa isa() const { return isa_; }
   int tile_size() const { return tile_size_; }
+  // The renderer's threads, for work outside frames that should use them too (building a
+  // Texture's mip chain). Not to be used from inside a draw's shader.
+  ThreadPool& pool() { return pool_; }
 
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
   // if a frame is already open. The first form draws over the target's contents; the

@@ -1,0 +1,478 @@
+// Textures: mip chains, and lookups by the OpenGL specification's rules (see texture.h).
+#include "softpbr/raster/texture.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "softpbr/raster/color.h"
+#include "softpbr/raster/pool.h"
+
+namespace softpbr::raster {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct DecodeTables {
+  std::array<float, 256> srgb;
+  std::array<float, 256> unorm;
+};
+
+const DecodeTables& tables() {
+  static const DecodeTables t = [] {
+    DecodeTables d{};
+    for (int k = 0; k < 256; ++k) {
+      // srgb_to_linear is the exact curve in double (basic operations only); one rounding
+      // to float.
+      d.srgb[static_cast<std::size_t>(k)] = static_cast<float>(srgb_to_linear(k / 255.0));
+      d.unorm[static_cast<std::size_t>(k)] = static_cast<float>(k) / 255.0f;
+    }
+    return d;
+  }();
+  return t;
+}
+
+// x when finite, else 0 (x − x is 0 only for finite x).
+inline float finite_or_zero(float x) { return x - x == 0.0f ? x : 0.0f; }
+
+// Texel index i wrapped into [0, size) (OpenGL 4.6, §8.14.2).
+inline int wrap_index(Wrap mode, int i, int size) {
+  switch (mode) {
+    case Wrap::ClampToEdge:
+      return i < 0 ? 0 : (i >= size ? size - 1 : i);
+    case Wrap::MirroredRepeat: {
+      // (size − 1) − mirror((i mod 2·size) − size), mirror(a) = a ≥ 0 ? a : −(1 + a).
+      const int two = 2 * size;
+      int r = i % two;
+      if (r < 0) r += two;
+      r -= size;
+      const int m = r >= 0 ? r : -(1 + r);
+      return size - 1 - m;
+    }
+    case Wrap::Repeat:
+    default: {
+      const int r = i % size;
+      return r < 0 ? r + size : r;
+    }
+  }
+}
+
+// Texture coordinates are clamped to ±2^16 before scaling, so that coordinate × size
+// (≤ 2^30) converts to int exactly; a float that large has no fraction left to filter.
+constexpr float kMaxCoordinate = 65536.0f;
+inline float coordinate(float x) { return std::clamp(finite_or_zero(x), -kMaxCoordinate, kMaxCoordinate); }
+
+}  // namespace
+
+const float* srgb8_decode_table() { return tables().srgb.data(); }
+const float* unorm8_decode_table() { return tables().unorm.data(); }
+
+float lod_log2(float x) {
+  if (x != x || x < 0.0f) return std::numeric_limits<float>::quiet_NaN();
+  if (x == 0.0f) return -kInf;
+  if (x == kInf) return kInf;
+  int e = 0;
+  if (x < std::numeric_limits<float>::min()) {  // subnormal: scale into the normal range
+    x *= 16777216.0f;                            // 2^24
+    e = -24;
+  }
+  const auto bits = std::bit_cast<std::uint32_t>(x);
+  e += static_cast<int>((bits >> 23) & 0xffu) - 127;
+  float m = std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u);  // [1, 2)
+  if (m > 1.41421356f) {
+    m *= 0.5f;
+    ++e;
+  }
+  // log₂ m = (2 / ln 2) · atanh s, s = (m − 1)/(m + 1), |s| ≤ 0.1716: the series to s⁹
+  // leaves under 4·10⁻⁹. m = 1 gives exactly 0, so powers of two are exact.
+  const float s = (m - 1.0f) / (m + 1.0f);
+  const float s2 = s * s;
+  float p = 1.0f / 9.0f;
+  p = p * s2 + 1.0f / 7.0f;
+  p = p * s2 + 1.0f / 5.0f;
+  p = p * s2 + 1.0f / 3.0f;
+  p = p * s2 + 1.0f;
+  constexpr float kTwoOverLn2 = 2.88539008f;  // 2 / ln 2
+  return static_cast<float>(e) + s * p * kTwoOverLn2;
+}
+
+int mip_level_count(int width, int height) {
+  int side = std::max(width, height);
+  int count = 1;
+  while (side > 1) {
+    side >>= 1;
+    ++count;
+  }
+  return count;
+}
+
+void validate(const Sampler& s) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("sampler: " + what); };
+  if (static_cast<unsigned>(s.wrap_u) > 2) fail("wrap_u is not a wrap mode");
+  if (static_cast<unsigned>(s.wrap_v) > 2) fail("wrap_v is not a wrap mode");
+  if (static_cast<unsigned>(s.mag_filter) > 1) fail("mag_filter is not a filter");
+  if (static_cast<unsigned>(s.min_filter) > 1) fail("min_filter is not a filter");
+  if (static_cast<unsigned>(s.mip_filter) > 2) fail("mip_filter is not a mip filter");
+  if (s.max_anisotropy < 1 || s.max_anisotropy > kMaxAnisotropy)
+    fail("max_anisotropy " + std::to_string(s.max_anisotropy) + " is outside [1, 16]");
+  if (!std::isfinite(s.lod_bias)) fail("lod_bias is not finite");
+  if (std::isnan(s.min_lod) || std::isnan(s.max_lod)) fail("min_lod and max_lod must be numbers");
+  if (s.min_lod > s.max_lod) fail("min_lod is above max_lod");
+}
+
+// ---- Construction ----------------------------------------------------------------------
+
+void Texture::allocate_levels(int width, int height, bool mipmaps) {
+  if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide)
+    throw std::invalid_argument("texture: size " + std::to_string(width) + "x" + std::to_string(height) +
+                                " is outside 1 … " + std::to_string(kMaxTextureSide) + " per side");
+  const int count = mipmaps ? mip_level_count(width, height) : 1;
+  std::size_t texels = 0;
+  for (int l = 0; l < count; ++l) {
+    const int w = std::max(1, width >> l), h = std::max(1, height >> l);
+    levels_.push_back({w, h, texels});
+    texels += static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  }
+}
+
+namespace {
+
+// One axis of the downsampling filter from n texels to m = max(1, ⌊n/2⌋): destination
+// texel i averages the source interval [i·n/m, (i+1)·n/m) exactly — a box over the
+// footprint, with fractional weights at its ends when n is odd — so every level keeps
+// the image's mean. In units of 1/m of a source texel the interval is [i·n, (i+1)·n) and
+// source texel j is [j·m, (j+1)·m): the overlaps are integers, the weights overlap / n.
+struct AxisFilter {
+  struct Taps {
+    int first;
+    int count;
+    std::array<float, 4> weight;
+  };
+  std::vector<Taps> taps;
+
+  AxisFilter(int n, int m) : taps(static_cast<std::size_t>(m)) {
+    for (int i = 0; i < m; ++i) {
+      const long long lo = static_cast<long long>(i) * n, hi = lo + n;
+      Taps& t = taps[static_cast<std::size_t>(i)];
+      t.first = static_cast<int>(lo / m);
+      t.count = 0;
+      for (long long j = t.first; j * m < hi; ++j) {
+        const long long overlap = std::min((j + 1) * m, hi) - std::max(j * m, lo);
+        t.weight[static_cast<std::size_t>(t.count++)] = static_cast<float>(overlap) / static_cast<float>(n);
+      }
+    }
+  }
+};
+
+// Builds level `dst` from level `src` (the stored texels, decoded): per destination row,
+// the source rows are combined vertically, then that row horizontally, each sum in tap
+// order — the same operations whichever thread runs the row.
+template <class Fetch, class Store>
+void downsample(const Texture::Level& src, const Texture::Level& dst, const Fetch& fetch, const Store& store,
+                ThreadPool* pool) {
+  const AxisFilter fx(src.width, dst.width), fy(src.height, dst.height);
+  constexpr int kRowsPerJob = 8;
+  const std::size_t jobs = static_cast<std::size_t>((dst.height + kRowsPerJob - 1) / kRowsPerJob);
+  auto run = [&](std::size_t job) {
+    std::vector<float> row(static_cast<std::size_t>(src.width) * 4);
+    const int y_end = std::min(dst.height, static_cast<int>(job + 1) * kRowsPerJob);
+    for (int y = static_cast<int>(job) * kRowsPerJob; y < y_end; ++y) {
+      const AxisFilter::Taps& ty = fy.taps[static_cast<std::size_t>(y)];
+      for (int x = 0; x < src.width; ++x) {
+        float acc[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (int k = 0; k < ty.count; ++k) {
+          float c[4];
+          fetch(x, ty.first + k, c);
+          const float w = ty.weight[static_cast<std::size_t>(k)];
+          for (int ch = 0; ch < 4; ++ch) acc[ch] += c[ch] * w;
+        }
+        std::copy(acc, acc + 4, row.begin() + 4 * x);
+      }
+      for (int x = 0; x < dst.width; ++x) {
+        const AxisFilter::Taps& tx = fx.taps[static_cast<std::size_t>(x)];
+        float acc[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (int k = 0; k < tx.count; ++k) {
+          const float* c = row.data() + 4 * (tx.first + k);
+          const float w = tx.weight[static_cast<std::size_t>(k)];
+          for (int ch = 0; ch < 4; ++ch) acc[ch] += c[ch] * w;
+        }
+        store(x, y, acc);
+      }
+    }
+  };
+  // Small levels are not worth waking the pool for.
+  const std::size_t work = static_cast<std::size_t>(src.width) * static_cast<std::size_t>(src.height);
+  if (pool != nullptr && work >= (std::size_t{1} << 16)) {
+    pool->parallel_for(jobs, run);
+  } else {
+    for (std::size_t j = 0; j < jobs; ++j) run(j);
+  }
+}
+
+}  // namespace
+
+Texture::Texture(const image::ImageView8& image, ColorSpace space, const TextureOptions& options, ThreadPool* pool)
+    : space_(space) {
+  image::check_pixels(image, "texture");
+  if (space != ColorSpace::Linear && space != ColorSpace::Srgb)
+    throw std::invalid_argument("texture: colour space is neither linear nor sRGB");
+  allocate_levels(image.width, image.height, options.mipmaps);
+  const std::size_t texels = levels_.back().offset + static_cast<std::size_t>(levels_.back().width) *
+                                                          static_cast<std::size_t>(levels_.back().height);
+  texels8_.resize(texels * 4);
+  std::copy(image.rgba.begin(), image.rgba.end(), texels8_.begin());
+  rgb_table_ = space == ColorSpace::Srgb ? srgb8_decode_table() : unorm8_decode_table();
+  const float* alpha_table = unorm8_decode_table();
+  for (std::size_t l = 1; l < levels_.size(); ++l) {
+    const Level& src = levels_[l - 1];
+    const Level& dst = levels_[l];
+    const std::uint8_t* in = texels8_.data() + src.offset * 4;
+    std::uint8_t* out = texels8_.data() + dst.offset * 4;
+    const float* rgb = rgb_table_;
+    auto fetch = [&](int x, int y, float c[4]) {
+      const std::uint8_t* p = in + (static_cast<std::size_t>(y) * static_cast<std::size_t>(src.width) +
+                                    static_cast<std::size_t>(x)) * 4;
+      c[0] = rgb[p[0]];
+      c[1] = rgb[p[1]];
+      c[2] = rgb[p[2]];
+      c[3] = alpha_table[p[3]];
+    };
+    const bool srgb = space == ColorSpace::Srgb;
+    auto store = [&](int x, int y, const float c[4]) {
+      std::uint8_t* p = out + (static_cast<std::size_t>(y) * static_cast<std::size_t>(dst.width) +
+                               static_cast<std::size_t>(x)) * 4;
+      for (int ch = 0; ch < 3; ++ch) p[ch] = srgb ? linear_to_srgb8(c[ch]) : unorm8(c[ch]);
+      p[3] = unorm8(c[3]);
+    };
+    downsample(src, dst, fetch, store, pool);
+  }
+}
+
+Texture::Texture(const image::ImageViewF& image, const TextureOptions& options, ThreadPool* pool) {
+  image::check_pixels(image, "texture");
+  for (float x : image.rgba)
+    if (!std::isfinite(x)) throw std::invalid_argument("texture: a float texel is not finite");
+  allocate_levels(image.width, image.height, options.mipmaps);
+  const std::size_t texels = levels_.back().offset + static_cast<std::size_t>(levels_.back().width) *
+                                                          static_cast<std::size_t>(levels_.back().height);
+  texels_f_.resize(texels * 4);
+  std::copy(image.rgba.begin(), image.rgba.end(), texels_f_.begin());
+  for (std::size_t l = 1; l < levels_.size(); ++l) {
+    const Level& src = levels_[l - 1];
+    const Level& dst = levels_[l];
+    const float* in = texels_f_.data() + src.offset * 4;
+    float* out = texels_f_.data() + dst.offset * 4;
+    auto fetch = [&](int x, int y, float c[4]) {
+      const float* p = in + (static_cast<std::size_t>(y) * static_cast<std::size_t>(src.width) +
+                             static_cast<std::size_t>(x)) * 4;
+      std::copy(p, p + 4, c);
+    };
+    auto store = [&](int x, int y, const float c[4]) {
+      std::copy(c, c + 4, out + (static_cast<std::size_t>(y) * static_cast<std::size_t>(dst.width) +
+                                 static_cast<std::size_t>(x)) * 4);
+    };
+    downsample(src, dst, fetch, store, pool);
+  }
+}
+
+// ---- Lookups ---------------------------------------------------------------------------
+
+namespace {
+
+struct Rgba {
+  float c[4];
+};
+
+// The internals of a lookup, shared by the scalar and batch entry points.
+class Lookup {
+ public:
+  explicit Lookup(const Texture& t)
+      : levels_(t.levels()),
+        t8_(t.is_float() ? nullptr : t.texels8().data()),
+        tf_(t.is_float() ? t.texels_f().data() : nullptr),
+        rgb_(t.rgb_decode_table()),
+        alpha_(unorm8_decode_table()) {}
+
+  Rgba fetch(const Texture::Level& lv, int x, int y) const {
+    const std::size_t i = lv.offset + static_cast<std::size_t>(y) * static_cast<std::size_t>(lv.width) +
+                          static_cast<std::size_t>(x);
+    if (tf_ != nullptr) {
+      const float* p = tf_ + i * 4;
+      return {{p[0], p[1], p[2], p[3]}};
+    }
+    const std::uint8_t* p = t8_ + i * 4;
+    return {{rgb_[p[0]], rgb_[p[1]], rgb_[p[2]], alpha_[p[3]]}};
+  }
+
+  // One level, one filter (§8.14.2: nearest reads the texel holding the point; linear
+  // blends the four around it, texel centres at half-integers).
+  Rgba filter_level(const Sampler& s, int level, Filter filter, float u, float v) const {
+    const Texture::Level& lv = levels_[static_cast<std::size_t>(level)];
+    const float x = coordinate(u) * static_cast<float>(lv.width);
+    const float y = coordinate(v) * static_cast<float>(lv.height);
+    if (filter == Filter::Nearest) {
+      const int i = wrap_index(s.wrap_u, static_cast<int>(std::floor(x)), lv.width);
+      const int j = wrap_index(s.wrap_v, static_cast<int>(std::floor(y)), lv.height);
+      return fetch(lv, i, j);
+    }
+    const float xs = x - 0.5f, ys = y - 0.5f;
+    const float x0 = std::floor(xs), y0 = std::floor(ys);
+    const float ax = xs - x0, ay = ys - y0;  // exact
+    const int i0 = static_cast<int>(x0), j0 = static_cast<int>(y0);
+    const int ia = wrap_index(s.wrap_u, i0, lv.width), ib = wrap_index(s.wrap_u, i0 + 1, lv.width);
+    const int ja = wrap_index(s.wrap_v, j0, lv.height), jb = wrap_index(s.wrap_v, j0 + 1, lv.height);
+    const Rgba c00 = fetch(lv, ia, ja), c10 = fetch(lv, ib, ja);
+    const Rgba c01 = fetch(lv, ia, jb), c11 = fetch(lv, ib, jb);
+    const float bx = 1.0f - ax, by = 1.0f - ay;
+    Rgba out;
+    for (int ch = 0; ch < 4; ++ch) {
+      const float top = c00.c[ch] * bx + c10.c[ch] * ax;
+      const float bottom = c01.c[ch] * bx + c11.c[ch] * ax;
+      out.c[ch] = top * by + bottom * ay;
+    }
+    return out;
+  }
+
+  // At a level of detail λ already biased and clamped (§8.14: λ ≤ 0 magnifies; §8.14.3:
+  // the mip levels).
+  Rgba at_lod(const Sampler& s, float lod, float u, float v) const {
+    if (!(lod > 0.0f)) return filter_level(s, 0, s.mag_filter, u, v);
+    const int q = static_cast<int>(levels_.size()) - 1;
+    const float fq = static_cast<float>(q);
+    switch (s.mip_filter) {
+      case MipFilter::None:
+        return filter_level(s, 0, s.min_filter, u, v);
+      case MipFilter::Nearest: {
+        int d = 0;
+        if (lod > 0.5f) d = lod < fq + 0.5f ? static_cast<int>(std::ceil(lod + 0.5f)) - 1 : q;
+        return filter_level(s, d, s.min_filter, u, v);
+      }
+      case MipFilter::Linear:
+      default: {
+        if (!(lod < fq)) return filter_level(s, q, s.min_filter, u, v);
+        const float f = std::floor(lod);
+        const int d1 = static_cast<int>(f);
+        const float t = lod - f;  // exact
+        const Rgba a = filter_level(s, d1, s.min_filter, u, v);
+        const Rgba b = filter_level(s, d1 + 1, s.min_filter, u, v);
+        Rgba out;
+        for (int ch = 0; ch < 4; ++ch) out.c[ch] = a.c[ch] * (1.0f - t) + b.c[ch] * t;
+        return out;
+      }
+    }
+  }
+
+  float clamp_lod(const Sampler& s, float lod) const {
+    // −∞ (zero derivatives) stays below min_lod; NaN cannot occur (inputs are sanitized).
+    const float biased = lod + s.lod_bias;
+    return std::clamp(biased, s.min_lod, s.max_lod);
+  }
+
+  Texture::Footprint footprint(const Sampler& s, float dudx, float dvdx, float dudy, float dvdy, float bias,
+                               float* major_u, float* major_v) const {
+    const float w = static_cast<float>(levels_[0].width), h = static_cast<float>(levels_[0].height);
+    dudx = finite_or_zero(dudx);
+    dvdx = finite_or_zero(dvdx);
+    dudy = finite_or_zero(dudy);
+    dvdy = finite_or_zero(dvdy);
+    const float ux = dudx * w, vx = dvdx * h, uy = dudy * w, vy = dvdy * h;
+    const float px = std::sqrt(ux * ux + vx * vx);  // may be +∞ for huge derivatives
+    const float py = std::sqrt(uy * uy + vy * vy);
+    const bool x_major = !(px < py);
+    const float pmax = x_major ? px : py, pmin = x_major ? py : px;
+    if (major_u != nullptr) {
+      *major_u = x_major ? dudx : dudy;
+      *major_v = x_major ? dvdx : dvdy;
+    }
+    int probes = 1;
+    if (s.max_anisotropy > 1 && pmax > 0.0f) {
+      const float ratio = pmax / pmin;  // +∞ for pmin = 0; NaN for ∞/∞
+      const float limit = static_cast<float>(s.max_anisotropy);
+      probes = ratio < limit ? static_cast<int>(std::ceil(ratio)) : s.max_anisotropy;
+    }
+    const float lod = lod_log2(probes > 1 ? pmax / static_cast<float>(probes) : pmax);
+    return {clamp_lod(s, lod + finite_or_zero(bias)), probes};
+  }
+
+  Rgba sample(const Sampler& s, float u, float v, float dudx, float dvdx, float dudy, float dvdy, float bias) const {
+    float mu = 0.0f, mv = 0.0f;
+    const Texture::Footprint fp = footprint(s, dudx, dvdx, dudy, dvdy, bias, &mu, &mv);
+    if (fp.probes == 1) return at_lod(s, fp.lod, u, v);
+    // EXT_texture_filter_anisotropic: the mean of N probes at u + d·(i/(N + 1) − ½),
+    // i = 1 … N, along the major axis d of the footprint.
+    u = coordinate(u);
+    v = coordinate(v);
+    const float n1 = static_cast<float>(fp.probes + 1);
+    Rgba sum{{0.0f, 0.0f, 0.0f, 0.0f}};
+    for (int i = 1; i <= fp.probes; ++i) {
+      const float t = static_cast<float>(i) / n1 - 0.5f;
+      const Rgba c = at_lod(s, fp.lod, u + mu * t, v + mv * t);
+      for (int ch = 0; ch < 4; ++ch) sum.c[ch] += c.c[ch];
+    }
+    const float n = static_cast<float>(fp.probes);
+    for (float& c : sum.c) c /= n;
+    return sum;
+  }
+
+  Rgba sample_lod(const Sampler& s, float u, float v, float lod) const {
+    // An explicit λ that is NaN reads as 0; ±∞ clamps to the limits.
+    return at_lod(s, clamp_lod(s, lod != lod ? 0.0f : lod), u, v);
+  }
+
+ private:
+  std::span<const Texture::Level> levels_;
+  const std::uint8_t* t8_;
+  const float* tf_;
+  const float* rgb_;
+  const float* alpha_;
+};
+
+inline glm::vec4 to_vec4(const Rgba& c) { return {c.c[0], c.c[1], c.c[2], c.c[3]}; }
+
+}  // namespace
+
+
+glm::vec4 Texture::texel(int level, int x, int y) const {
+  return to_vec4(Lookup(*this).fetch(levels_[static_cast<std::size_t>(level)], x, y));
+}
+
+glm::vec4 Texture::sample(const Sampler& s, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy, float bias) const {
+  return to_vec4(Lookup(*this).sample(s, uv.x, uv.y, dx.x, dx.y, dy.x, dy.y, bias));
+}
+
+glm::vec4 Texture::sample_lod(const Sampler& s, glm::vec2 uv, float lod) const {
+  return to_vec4(Lookup(*this).sample_lod(s, uv.x, uv.y, lod));
+}
+
+Texture::Footprint Texture::footprint(const Sampler& s, glm::vec2 dx, glm::vec2 dy, float bias) const {
+  return Lookup(*this).footprint(s, dx.x, dx.y, dy.x, dy.y, bias, nullptr, nullptr);
+}
+
+void Texture::sample_batch(const Sampler& s, int n, const Batch& b) const {
+  const Lookup lookup(*this);
+  for (int i = 0; i < n; ++i) {
+    const Rgba c = lookup.sample(s, b.u[i], b.v[i], b.dudx[i], b.dvdx[i], b.dudy[i], b.dvdy[i], 0.0f);
+    b.r[i] = c.c[0];
+    b.g[i] = c.c[1];
+    b.b[i] = c.c[2];
+    b.a[i] = c.c[3];
+  }
+}
+
+void Texture::sample_lod_batch(const Sampler& s, int n, const Batch& b) const {
+  const Lookup lookup(*this);
+  for (int i = 0; i < n; ++i) {
+    const Rgba c = lookup.sample_lod(s, b.u[i], b.v[i], b.lod[i]);
+    b.r[i] = c.c[0];
+    b.g[i] = c.c[1];
+    b.b[i] = c.c[2];
+    b.a[i] = c.c[3];
+  }
+}
+
+}  // namespace softpbr::raster
