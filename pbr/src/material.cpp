@@ -9,14 +9,23 @@ namespace softpbr::pbr {
 
 namespace {
 
-constexpr Material metal(float r, float g, float b, float roughness = 0.3f) {
-  return {{r, g, b}, 1.0f, roughness, 1.0f, {0, 0, 0}};
+Material metal(float r, float g, float b, float roughness = 0.3f) {
+  Material m;
+  m.base_color = {r, g, b};
+  m.metallic = 1.0f;
+  m.roughness = roughness;
+  return m;
 }
-constexpr Material dielectric(float r, float g, float b, float roughness) {
-  return {{r, g, b}, 0.0f, roughness, 1.0f, {0, 0, 0}};
+Material dielectric(float r, float g, float b, float roughness) {
+  Material m;
+  m.base_color = {r, g, b};
+  m.roughness = roughness;
+  return m;
 }
 
-constexpr std::array kPresets = {
+// Built on first use (a Material holds texture handles, so it is not a literal type).
+const std::array<NamedMaterial, 14>& presets() {
+  static const std::array<NamedMaterial, 14> kPresets = {
     // Hoffman, "Physics and Math of Shading", SIGGRAPH 2010/2015 courses (also Real-Time
     // Rendering 3rd ed., Table 7.3): linear F0.
     NamedMaterial{"gold", metal(1.00f, 0.71f, 0.29f)},
@@ -37,14 +46,16 @@ constexpr std::array kPresets = {
     NamedMaterial{"plastic_blue", dielectric(0.1f, 0.2f, 0.8f, 0.3f)},
     NamedMaterial{"rubber", dielectric(0.03f, 0.03f, 0.03f, 0.9f)},
     NamedMaterial{"white_paint", dielectric(0.8f, 0.8f, 0.8f, 0.6f)},
-};
+  };
+  return kPresets;
+}
 
 }  // namespace
 
-std::span<const NamedMaterial> material_presets() { return kPresets; }
+std::span<const NamedMaterial> material_presets() { return presets(); }
 
 std::optional<Material> material_preset(std::string_view name) {
-  for (const NamedMaterial& p : kPresets)
+  for (const NamedMaterial& p : presets())
     if (p.name == name) return p.material;
   return std::nullopt;
 }

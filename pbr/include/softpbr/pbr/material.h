@@ -1,11 +1,16 @@
 // softpbr/pbr/material.h — metal/roughness materials and named presets with measured F0.
 #pragma once
 
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+
+#include "softpbr/raster/texture.h"
 
 namespace softpbr::pbr {
 
@@ -14,12 +19,59 @@ namespace softpbr::pbr {
 // floor, MIN_PERCEPTUAL_ROUGHNESS = 0.045, for fp32).
 inline constexpr float kMinRoughness = 0.045f;
 
+// A texture coordinate transform, as KHR_texture_transform: uv' = T(offset) · R(rotation)
+// · S(scale) · uv, the rotation in radians, counter-clockwise in UV space (which turns the
+// image clockwise on screen, v growing down).
+struct UvTransform {
+  glm::vec2 offset{0.0f, 0.0f};
+  float rotation = 0.0f;
+  glm::vec2 scale{1.0f, 1.0f};
+};
+
+// A material's texture: the image, how it is filtered, which UV set of the mesh it reads
+// (0: MeshVertex::uv, 1: Mesh::uv1) and the transform applied to that UV first. An empty
+// slot (no texture) costs nothing: the shader variant is chosen per draw.
+struct TextureSlot {
+  std::shared_ptr<const raster::Texture> texture;
+  raster::Sampler sampler;
+  int uv_set = 0;
+  UvTransform transform;
+
+  explicit operator bool() const { return texture != nullptr; }
+};
+
+// How alpha (base colour alpha × texture alpha) is used, as glTF's alphaMode: Opaque
+// ignores it; Mask draws the pixels with alpha ≥ alpha_cutoff, opaque, and discards the
+// rest; Blend composites premultiplied "over" what is behind, drawn after every opaque
+// object, farthest first.
+enum class AlphaMode : std::uint8_t { Opaque, Mask, Blend };
+
+// The metal/roughness material of glTF 2.0. Each factor multiplies its texture when the
+// slot has one (the texture's linear value: colour textures are decoded from sRGB).
 struct Material {
   glm::vec3 base_color{0.8f, 0.8f, 0.8f};  // linear; a metal's specular colour (F0)
   float metallic = 0.0f;                   // 0 dielectric … 1 metal
   float roughness = 0.5f;                  // perceptual, in [0, 1]
   float ao = 1.0f;                         // ambient occlusion, in [0, 1]
   glm::vec3 emissive{0.0f, 0.0f, 0.0f};    // linear radiance added as is
+  float alpha = 1.0f;                      // base colour alpha, in [0, 1]
+  AlphaMode alpha_mode = AlphaMode::Opaque;
+  float alpha_cutoff = 0.5f;               // AlphaMode::Mask
+  bool double_sided = false;               // drawn without culling; back faces flip the normal
+
+  TextureSlot base_color_texture;          // RGBA (sRGB colour) × (base_color, alpha)
+  TextureSlot metallic_roughness_texture;  // linear: G × roughness, B × metallic (glTF)
+  TextureSlot normal_texture;              // tangent-space normal map, linear RGB
+  float normal_scale = 1.0f;               // scales the map's x and y
+  TextureSlot occlusion_texture;           // linear R: ao = 1 + strength · (R − 1)
+  float occlusion_strength = 1.0f;         // in [0, 1]
+  TextureSlot emissive_texture;            // RGB (sRGB) × emissive
+
+  // Whether any slot holds a texture.
+  bool textured() const {
+    return base_color_texture || metallic_roughness_texture || normal_texture || occlusion_texture ||
+           emissive_texture;
+  }
 };
 
 struct NamedMaterial {
