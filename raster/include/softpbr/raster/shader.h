@@ -113,6 +113,12 @@ struct DrawState {
   Cull cull = Cull::None;
   FrontFace front_face = FrontFace::CounterClockwise;
   Blend blend = Blend::Replace;
+  // Alpha test, as GL's legacy glAlphaFunc(GL_GEQUAL, alpha_ref): a fragment whose alpha
+  // is below alpha_ref (or NaN) is discarded — it writes neither colour nor depth. The
+  // depth of such a draw is tested early (a hidden pixel is not shaded) but written after
+  // shading, in submission order. glTF's alphaMode MASK is this test.
+  bool alpha_test = false;
+  float alpha_ref = 0.5f;
 };
 
 }  // namespace softpbr::raster

@@ -30,7 +30,7 @@ inline glm::vec4 blend(Blend mode, glm::vec4 src, glm::vec4 dst) {
 // written here in lane order, so a pixel that two buffered triangles cover ends up blended
 // in submission order.
 template <int W, class S, int kN>
-void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, glm::vec4* colors) {
+void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, glm::vec4* colors, float* depths) {
   using V = typename S::Varyings;
   using F = std::conditional_t<W == 1, float, simd::Lanes<W, SOFTPBR_ISA>>;
   SOFTPBR_DCHECK(b.count >= 0 && b.count <= W);
@@ -76,7 +76,16 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
     c.r.store(out[0]), c.g.store(out[1]), c.b.store(out[2]), c.a.store(out[3]);
   }
   // The blend mode decided once per packet: replacing does not read the target.
-  if (state.blend == Blend::Replace) {
+  if (state.alpha_test) {
+    // Lanes in submission order, each tested against the depths the lanes before it wrote.
+    for (int lane = 0; lane < b.count; ++lane) {
+      if (!(out[3][lane] >= state.alpha_ref)) continue;
+      const std::size_t idx = b.index[lane];
+      if (!depth_passes(state.depth_test, b.depth[lane], depths[idx])) continue;
+      if (state.depth_write) depths[idx] = b.depth[lane];
+      colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
+    }
+  } else if (state.blend == Blend::Replace) {
     for (int lane = 0; lane < b.count; ++lane)
       colors[b.index[lane]] = glm::vec4(out[0][lane], out[1][lane], out[2][lane], out[3][lane]);
   } else {
@@ -125,12 +134,14 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   // make the compiler reload them for every lane.
   const DepthTest depth_test = state.depth_test;
   const bool depth_write = state.depth_write;
+  // An alpha-tested draw writes depth after shading (flush_packet), not here.
+  const bool early_depth_write = depth_write && !state.alpha_test;
   const int width = target.width;
   glm::vec4* colors = target.colors;
   float* depths = target.depths;
   if constexpr (W > 0) {
     if (packet.front_facing != t.front_facing) {
-      flush_packet<W>(shader, packet, state, colors);
+      flush_packet<W>(shader, packet, state, colors, depths);
       packet.front_facing = t.front_facing;
     }
   }
@@ -173,9 +184,9 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       const V4 w1(__builtin_convertvector(e1 + static_cast<std::int64_t>(t.bias[1]), V4::native));
       const V4 w2(__builtin_convertvector(e2 + static_cast<std::int64_t>(t.bias[2]), V4::native));
 
-      // Early depth test (shaders cannot change depth, nor discard): a passing pixel's
-      // depth is written now, so later triangles test against it even while its colour
-      // waits in a packet.
+      // Early depth test (shaders cannot change depth): a passing pixel's depth is written
+      // now, so later triangles test against it even while its colour waits in a packet —
+      // unless the draw's alpha test may still discard it.
       alignas(16) float z[4];
       {
         const V4 l1 = w1 * V4(t.inv_area);
@@ -186,7 +197,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         if (!(mask & (1u << j))) continue;
         const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
         if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
-        else if (depth_write) depths[idx] = z[j];
+        else if (early_depth_write) depths[idx] = z[j];
       }
       if (mask == 0) continue;
 
@@ -226,6 +237,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
                               t.front_facing};
           const glm::vec4 src = shader.fragment(f);
           const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          if (state.alpha_test) {
+            if (!(src.a >= state.alpha_ref)) continue;
+            if (depth_write) depths[idx] = z[j];
+          }
           colors[idx] = blend(state.blend, src, colors[idx]);
         }
       } else {
@@ -244,7 +259,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
           packet.depth[lane] = z[j];
           packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          if (packet.count == W) flush_packet<W>(shader, packet, state, colors);
+          if (packet.count == W) flush_packet<W>(shader, packet, state, colors, depths);
         }
       }
     }
@@ -260,7 +275,7 @@ SOFTPBR_KERNEL void raster_tile(const S& shader, const DrawGeometry& geometry, s
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
       raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
-  if constexpr (W > 0) flush_packet<W>(shader, packet, geometry.state, target.colors);
+  if constexpr (W > 0) flush_packet<W>(shader, packet, geometry.state, target.colors, target.depths);
 }
 
 }  // namespace softpbr::raster::detail::SOFTPBR_TARGET_NS
