@@ -1,6 +1,7 @@
 // Rendering a scene with the PBR shader (see scene.h).
 #include "softpbr/pbr/scene.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -8,6 +9,7 @@
 #include <glm/matrix.hpp>
 
 #include "softpbr/pbr/shading.h"
+#include "softpbr/pbr/textured_shading.h"
 
 namespace softpbr::pbr {
 
@@ -44,6 +46,25 @@ void render_rgba8(const Scene& scene, raster::Renderer& renderer, raster::Target
 }
 
 namespace {
+
+// Whether an object needs the textured shader: anything PbrShader does not do.
+bool needs_textured_shader(const Object& o) {
+  const Material& m = o.material;
+  return m.textured() || m.alpha_mode != AlphaMode::Opaque || m.double_sided || !o.mesh->colors.empty();
+}
+
+// One object's draw: its shader, the vertices it reads and its state.
+struct ObjectDraw {
+  std::size_t object = 0;
+  bool textured = false;
+  PbrShader plain;
+  TexturedPbrShader shader;
+  std::vector<TexturedVertex> vertices;  // textured only
+  const Mesh* mesh = nullptr;
+  raster::DrawState state;
+  float distance2 = 0.0f;  // blended objects: from the eye to the centre of their bounds
+};
+
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const raster::Renderer::TileCallback& after_tile) {
   validate(scene.camera);
@@ -52,32 +73,77 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   lights->reserve(scene.lights.size());
   for (std::size_t i = 0; i < scene.lights.size(); ++i)
     lights->push_back(with_context("lights[" + std::to_string(i) + "]", [&] { return prepare_light(scene.lights[i]); }));
-  std::vector<PbrShader> shaders;
-  shaders.reserve(scene.objects.size());
   const glm::mat4 view_projection =
       scene.camera.projection(static_cast<float>(target.width()) / static_cast<float>(target.height())) *
       scene.camera.view();
+  std::vector<ObjectDraw> opaque, blended;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
     const std::string where = "objects[" + std::to_string(i) + "]";
     if (!o.mesh) throw std::invalid_argument(where + ": has no mesh");
-    PbrShader s;
-    s.material = with_context(where, [&] { return prepare_material(o.material); });
+    ObjectDraw d;
+    d.object = i;
+    d.mesh = o.mesh.get();
+    d.state.cull = raster::Cull::Back;
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(o.transform)));
+    if (!needs_textured_shader(o)) {
+      PbrShader& s = d.plain;
+      s.material = with_context(where, [&] { return prepare_material(o.material); });
+      s.model = o.transform;
+      s.normal_matrix = normal_matrix;
+      s.view_projection = view_projection;
+      s.eye = scene.camera.position;
+      s.ambient = scene.ambient;
+      s.lights = lights;
+      opaque.push_back(std::move(d));
+      continue;
+    }
+    d.textured = true;
+    TexturedPbrShader& s = d.shader;
+    s.material = std::make_shared<const TexturedMaterial>(
+        with_context(where, [&] { return prepare_textured_material(o.material); }));
+    d.vertices = with_context(where, [&] { return textured_vertices(*o.mesh); });
     s.model = o.transform;
-    s.normal_matrix = glm::transpose(glm::inverse(glm::mat3(o.transform)));
+    s.normal_matrix = normal_matrix;
+    s.handedness = glm::determinant(glm::mat3(o.transform)) < 0.0f ? -1.0f : 1.0f;
     s.view_projection = view_projection;
     s.eye = scene.camera.position;
     s.ambient = scene.ambient;
     s.lights = lights;
-    shaders.push_back(s);
+    if (o.material.double_sided) d.state.cull = raster::Cull::None;
+    switch (o.material.alpha_mode) {
+      case AlphaMode::Mask:
+        d.state.alpha_test = true;  // the shader's alpha is 1 (kept) or 0
+        d.state.alpha_ref = 0.5f;
+        break;
+      case AlphaMode::Blend: {
+        d.state.blend = raster::Blend::Over;
+        d.state.depth_write = false;
+        const Bounds b = bounds(*o.mesh);
+        const glm::vec3 centre = b.empty() ? glm::vec3(0.0f) : glm::vec3(o.transform * glm::vec4(b.centre(), 1.0f));
+        const glm::vec3 to_eye = centre - scene.camera.position;
+        d.distance2 = glm::dot(to_eye, to_eye);
+        break;
+      }
+      case AlphaMode::Opaque:
+      default:
+        break;
+    }
+    (o.material.alpha_mode == AlphaMode::Blend ? blended : opaque).push_back(std::move(d));
   }
+  // Blended objects after every opaque one, farthest first (ties: scene order).
+  std::stable_sort(blended.begin(), blended.end(),
+                   [](const ObjectDraw& a, const ObjectDraw& b) { return a.distance2 > b.distance2; });
 
-  raster::DrawState state;
-  state.cull = raster::Cull::Back;
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f});
   try {
-    for (std::size_t i = 0; i < scene.objects.size(); ++i)
-      renderer.draw(shaders[i], scene.objects[i].mesh->vertices, scene.objects[i].mesh->indices, state);
+    for (const auto* list : {&opaque, &blended})
+      for (const ObjectDraw& d : *list) {
+        if (d.textured)
+          renderer.draw(d.shader, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, d.state);
+        else
+          renderer.draw(d.plain, d.mesh->vertices, d.mesh->indices, d.state);
+      }
   } catch (...) {
     renderer.end_frame();
     throw;

@@ -4,6 +4,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "softpbr/dmath/dmath.h"
+#include "softpbr/pbr/textured_shading.h"
+
 namespace softpbr::pbr {
 
 namespace {
@@ -32,6 +35,90 @@ ShadingMaterial prepare_material(const Material& m) {
   s.ao = m.ao;
   s.emissive = m.emissive;
   return s;
+}
+
+namespace {
+PreparedSlot prepare_slot(const TextureSlot& slot, const std::string& name) {
+  PreparedSlot p;
+  if (!slot) return p;
+  const std::string field = name + "_texture";
+  try {
+    raster::validate(slot.sampler);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("material " + field + ": " + e.what());
+  }
+  require(slot.uv_set == 0 || slot.uv_set == 1, field.c_str(), "uv_set must be 0 or 1");
+  const UvTransform& t = slot.transform;
+  require(std::isfinite(t.offset.x) && std::isfinite(t.offset.y) && std::isfinite(t.rotation) &&
+              std::isfinite(t.scale.x) && std::isfinite(t.scale.y),
+          field.c_str(), "the UV transform must be finite");
+  p.texture = slot.texture.get();
+  p.sampler = slot.sampler;
+  p.uv_set = slot.uv_set;
+  p.transformed = !(t.offset == glm::vec2(0.0f) && t.rotation == 0.0f && t.scale == glm::vec2(1.0f));
+  if (p.transformed) {
+    // KHR_texture_transform: uv' = T(offset) · R(rotation) · S(scale) · uv, with
+    // R = [cos −sin; sin cos] (its GLSL mat3, column-major). dmath: the same bits everywhere.
+    const double c = dmath::cos(t.rotation), sn = dmath::sin(t.rotation);
+    p.a = static_cast<float>(c * t.scale.x);
+    p.b = static_cast<float>(-sn * t.scale.y);
+    p.c = t.offset.x;
+    p.d = static_cast<float>(sn * t.scale.x);
+    p.e = static_cast<float>(c * t.scale.y);
+    p.f = t.offset.y;
+  }
+  return p;
+}
+}  // namespace
+
+TexturedMaterial prepare_textured_material(const Material& m) {
+  TexturedMaterial t;
+  t.base = prepare_material(m);
+  t.roughness_factor = m.roughness;
+  require(in01(m.alpha), "alpha", "must be a number in [0, 1]");
+  require(m.alpha_mode == AlphaMode::Opaque || m.alpha_mode == AlphaMode::Mask || m.alpha_mode == AlphaMode::Blend,
+          "alpha_mode", "must be opaque, mask or blend");
+  require(in01(m.alpha_cutoff), "alpha_cutoff", "must be a number in [0, 1]");
+  require(std::isfinite(m.normal_scale), "normal_scale", "must be finite");
+  require(in01(m.occlusion_strength), "occlusion_strength", "must be a number in [0, 1]");
+  t.alpha = m.alpha;
+  t.alpha_mode = m.alpha_mode;
+  t.alpha_cutoff = m.alpha_cutoff;
+  t.double_sided = m.double_sided;
+  t.normal_scale = m.normal_scale;
+  t.occlusion_strength = m.occlusion_strength;
+  t.base_color = prepare_slot(m.base_color_texture, "base_color");
+  t.metallic_roughness = prepare_slot(m.metallic_roughness_texture, "metallic_roughness");
+  t.normal = prepare_slot(m.normal_texture, "normal");
+  t.occlusion = prepare_slot(m.occlusion_texture, "occlusion");
+  t.emissive = prepare_slot(m.emissive_texture, "emissive");
+  for (const TextureSlot* s : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
+                               &m.occlusion_texture, &m.emissive_texture})
+    if (s->texture) t.keep.push_back(s->texture);
+  return t;
+}
+
+std::vector<TexturedVertex> textured_vertices(const Mesh& mesh) {
+  const std::size_t n = mesh.vertices.size();
+  auto check = [&](std::size_t size, const char* name) {
+    if (size != 0 && size != n)
+      throw std::invalid_argument(std::string("mesh ") + name + ": " + std::to_string(size) + " entries for " +
+                                  std::to_string(n) + " vertices");
+  };
+  check(mesh.tangents.size(), "tangents");
+  check(mesh.uv1.size(), "uv1");
+  check(mesh.colors.size(), "colors");
+  std::vector<TexturedVertex> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const MeshVertex& v = mesh.vertices[i];
+    out[i] = {v.position,
+              v.normal,
+              v.uv,
+              mesh.uv1.empty() ? v.uv : mesh.uv1[i],
+              mesh.tangents.empty() ? glm::vec4(1.0f, 0.0f, 0.0f, 1.0f) : mesh.tangents[i],
+              mesh.colors.empty() ? glm::vec4(1.0f) : mesh.colors[i]};
+  }
+  return out;
 }
 
 }  // namespace softpbr::pbr

@@ -113,5 +113,10 @@ inline F Fd_Lambert() {
 inline glm::vec3 f0_of(const glm::vec3& base_color, float metallic) {
   return glm::vec3(0.04f) + (base_color - glm::vec3(0.04f)) * metallic;
 }
+// The same per lane (the same operations as the glm form, per component).
+template <class F>
+inline simd::Vec3<F> f0_of(const simd::Vec3<F>& base_color, F metallic) {
+  return simd::Vec3<F>(F(0.04f)) + (base_color - simd::Vec3<F>(F(0.04f))) * metallic;
+}
 
 }  // namespace softpbr::pbr

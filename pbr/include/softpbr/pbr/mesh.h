@@ -13,6 +13,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace softpbr::pbr {
 
@@ -25,6 +26,10 @@ struct MeshVertex {
 struct Mesh {
   std::vector<MeshVertex> vertices;
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
+  // Optional per-vertex streams: each is empty or holds one entry per vertex.
+  std::vector<glm::vec4> tangents;  // xyz unit tangent (along +u), w = ±1: bitangent = w · cross(normal, tangent.xyz)
+  std::vector<glm::vec2> uv1;       // second texture-coordinate set
+  std::vector<glm::vec4> colors;    // linear RGBA vertex colour
 
   std::size_t triangle_count() const { return indices.size() / 3; }
 };

@@ -78,9 +78,28 @@ inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
   return simd::select(positive < inf, unit, fallback);
 }
 
+// A material per lane: what the equation reads, uniform (lanes(ShadingMaterial)) or
+// from textures (TexturedPbrShader).
+template <class F>
+struct MaterialLanes {
+  Vec3L<F> albedo;
+  Vec3L<F> f0;
+  F one_minus_metallic;
+  F alpha;  // roughness²
+  F k;      // (roughness + 1)² / 8
+  F ao;
+  Vec3L<F> emissive;
+};
+
+template <class F>
+inline MaterialLanes<F> lanes(const ShadingMaterial& m) {
+  return {lanes<F>(m.albedo), lanes<F>(m.f0), F(1.0f - m.metallic), F(m.alpha), F(m.k), F(m.ao),
+          lanes<F>(m.emissive)};
+}
+
 // The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v.
 template <class F>
-inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
+inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
   // h = (l + v) / |l + v| is only read through n·h and v·h: each is the dot with l + v
   // divided by its length (more exact than normalizing h first, and two divisions, not
   // three). When l + v vanishes (l = −v) h falls back to n, as normalize_or would.
@@ -94,22 +113,22 @@ inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>
   const F NoV = simd::clamp(simd::dot(n, v), F(kMinNoV), F(1.0f));
   const F NoH = simd::clamp(simd::select(has_h, simd::dot(n, lv) / lv_len, simd::dot(n, n)), F(0.0f), F(1.0f));
   const F VoH = simd::clamp(simd::select(has_h, simd::dot(v, lv) / lv_len, simd::dot(v, n)), F(0.0f), F(1.0f));
-  const Vec3L<F> Fr = F_Schlick(lanes<F>(m.f0), VoH);
-  const Vec3L<F> specular = Fr * DV_GGX_SchlickSmith(NoH, NoL, NoV, F(m.alpha), F(m.k));
+  const Vec3L<F> Fr = F_Schlick(m.f0, VoH);
+  const Vec3L<F> specular = Fr * DV_GGX_SchlickSmith(NoH, NoL, NoV, m.alpha, m.k);
   // Fr exceeds 1 when a base colour above 1 (accepted, see prepare_material) lifts F0 over
   // 1: the diffuse weight stops at 0 instead of going negative (the same bits for Fr ≤ 1).
   const Vec3L<F> one_minus_F = Vec3L<F>(F(1.0f)) - Fr;
   const Vec3L<F> kD = Vec3L<F>(simd::max(one_minus_F.x, F(0.0f)), simd::max(one_minus_F.y, F(0.0f)),
                                simd::max(one_minus_F.z, F(0.0f))) *
-                      F(1.0f - m.metallic);
-  return kD * lanes<F>(m.albedo) * Fd_Lambert<F>() + specular;
+                      m.one_minus_metallic;
+  return kD * m.albedo * Fd_Lambert<F>() + specular;
 }
 
 // Outgoing radiance at `position` with normal n (need not be unit) and unit direction to
 // the eye v: the reflectance equation over all lights, plus ambient and emission. Lights
 // with n·l ≤ 0 add nothing.
 template <class F>
-inline Vec3L<F> shade(const ShadingMaterial& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
+inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
                       const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v) {
   const Vec3L<F> n = normalize_or(n_in, v);
   Vec3L<F> lo(F(0.0f));
@@ -120,7 +139,17 @@ inline Vec3L<F> shade(const ShadingMaterial& m, std::span<const PreparedLight> l
     if (!simd::any(lit)) continue;
     lo = simd::select(lit, lo + brdf(m, n, s.to_light, v) * s.radiance * NoL, lo);
   }
-  return lanes<F>(ambient * m.albedo * m.ao) + lo + lanes<F>(m.emissive);
+  return lanes<F>(ambient) * m.albedo * m.ao + lo + m.emissive;
+}
+
+template <class F>
+inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
+  return brdf(lanes<F>(m), n, l, v);
+}
+template <class F>
+inline Vec3L<F> shade(const ShadingMaterial& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
+                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v) {
+  return shade(lanes<F>(m), lights, ambient, position, n_in, v);
 }
 
 // --- The same for one point with glm vectors. ---

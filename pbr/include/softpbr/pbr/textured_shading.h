@@ -1,0 +1,233 @@
+// softpbr/pbr/textured_shading.h — the PBR shader with glTF's textured metal/roughness
+// material: base colour, metallic-roughness, normal, occlusion and emissive maps, vertex
+// colours, a second UV set, alpha modes and double-sided surfaces.
+//
+// render() uses it for objects whose material has a texture, an alpha mode other than
+// opaque or double_sided, or whose mesh has vertex colours; every other object keeps
+// PbrShader, so an untextured material costs what it always did. Inside the shader an
+// empty slot is skipped by a branch on a uniform (once per packet of pixels, the same way
+// for every lane), never per pixel.
+//
+// Per pixel, with the factors of the material (glTF 2.0, §3.9):
+//   base   = base_color × vertex colour × texture.rgb     alpha = alpha × colour.a × texture.a
+//   rough  = roughness × texture.g,  metal = metallic × texture.b,  rough ≥ kMinRoughness
+//   ao     = ao × (1 + occlusion_strength · (texture.r − 1))      (ambient term only)
+//   emit   = emissive × texture.rgb
+//   n      = normalize(T·x + B·y + N·z), (x, y, z) = (2·texture − 1) × (scale, scale, 1),
+//            T the interpolated tangent made orthogonal to N, B = w · (N × T)
+// Back faces of a double-sided material flip N, T and B. Output: opaque → alpha 1; mask →
+// alpha 1 where alpha ≥ alpha_cutoff, else 0 (the draw's alpha test discards it); blend →
+// premultiplied (rgb · alpha, alpha).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "softpbr/pbr/shading.h"
+#include "softpbr/raster/texture.h"
+
+namespace softpbr::pbr {
+
+// What the textured shader reads per vertex: MeshVertex and the optional streams of Mesh
+// (absent streams read as tangent (1, 0, 0, 1), uv1 = uv, colour (1, 1, 1, 1)).
+struct TexturedVertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 uv;
+  glm::vec2 uv1;
+  glm::vec4 tangent;
+  glm::vec4 color;
+};
+
+// The vertices of `mesh` for TexturedPbrShader. Throws std::invalid_argument when a
+// non-empty stream's length differs from the vertex count.
+std::vector<TexturedVertex> textured_vertices(const Mesh& mesh);
+
+// A texture slot ready for lookups: uv' = (a·u + b·v + c, d·u + e·v + f).
+struct PreparedSlot {
+  const raster::Texture* texture = nullptr;
+  raster::Sampler sampler;
+  int uv_set = 0;
+  bool transformed = false;  // false: the identity (skipped)
+  float a = 1, b = 0, c = 0, d = 0, e = 1, f = 0;
+};
+
+struct TexturedMaterial {
+  ShadingMaterial base;  // the factors, validated (as PbrShader's)
+  float roughness_factor;  // unclamped: the texture multiplies it before the clamp
+  float alpha;
+  AlphaMode alpha_mode;
+  float alpha_cutoff;
+  bool double_sided;
+  float normal_scale;
+  float occlusion_strength;
+  PreparedSlot base_color, metallic_roughness, normal, occlusion, emissive;
+  // Keeps the textures alive while a frame holds the shader.
+  std::vector<std::shared_ptr<const raster::Texture>> keep;
+};
+
+// Validates the factors (as prepare_material), the slots' samplers and UV sets and the
+// texture transform; computes the transform's matrix with dmath (the same bits everywhere).
+// Throws std::invalid_argument naming the field.
+TexturedMaterial prepare_textured_material(const Material& m);
+
+struct TexturedPbrShader {
+  using Vertex = TexturedVertex;
+  struct Varyings {
+    glm::vec3 world_position;
+    glm::vec3 normal;
+    glm::vec2 uv;
+    glm::vec2 uv1;
+    glm::vec4 tangent;
+    glm::vec4 color;
+  };
+  // Texture lookups need the derivatives of the UVs.
+  static constexpr bool kUsesDerivatives = true;
+
+  glm::mat4 model{1.0f};
+  glm::mat3 normal_matrix{1.0f};
+  float handedness = 1.0f;  // sign of det(model): a mirroring transform flips the bitangent
+  glm::mat4 view_projection{1.0f};
+  glm::vec3 eye{0.0f};
+  glm::vec3 ambient{0.0f};
+  std::shared_ptr<const TexturedMaterial> material;
+  std::shared_ptr<const std::vector<PreparedLight>> lights;
+
+  glm::vec4 vertex(const Vertex& in, Varyings& out) const {
+    const glm::vec4 world = model * glm::vec4(in.position, 1.0f);
+    out.world_position = glm::vec3(world);
+    out.normal = normal_matrix * in.normal;
+    out.uv = in.uv;
+    out.uv1 = in.uv1;
+    // Tangents are directions on the surface: they transform with the model matrix.
+    out.tangent = glm::vec4(glm::mat3(model) * glm::vec3(in.tangent), in.tangent.w * handedness);
+    out.color = in.color;
+    return view_projection * world;
+  }
+
+  // One pixel: the packet code with F = float.
+  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
+    raster::FragmentPacket<float, Varyings> p;
+    static_assert(sizeof(Varyings) == sizeof(p.v));
+    __builtin_memcpy(p.v, &f.v, sizeof p.v);
+    __builtin_memcpy(p.ddx, &f.ddx, sizeof p.ddx);
+    __builtin_memcpy(p.ddy, &f.ddy, sizeof p.ddy);
+    p.pos_x = f.pos.x;
+    p.pos_y = f.pos.y;
+    p.depth = f.depth;
+    p.front_facing = f.front_facing;
+    const raster::Color<float> c = fragment_packet<float>(p);
+    return {c.r, c.g, c.b, c.a};
+  }
+
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    constexpr int kPosition = offsetof(Varyings, world_position) / sizeof(float);
+    constexpr int kNormal = offsetof(Varyings, normal) / sizeof(float);
+    constexpr int kUv[2] = {offsetof(Varyings, uv) / sizeof(float), offsetof(Varyings, uv1) / sizeof(float)};
+    constexpr int kTangent = offsetof(Varyings, tangent) / sizeof(float);
+    constexpr int kColor = offsetof(Varyings, color) / sizeof(float);
+    const TexturedMaterial& m = *material;
+
+    auto lookup = [&](const PreparedSlot& slot) {
+      const int k = kUv[slot.uv_set];
+      F u = p.v[k], v = p.v[k + 1];
+      F dudx = p.ddx[k], dvdx = p.ddx[k + 1], dudy = p.ddy[k], dvdy = p.ddy[k + 1];
+      if (slot.transformed) {
+        const F tu = F(slot.a) * u + F(slot.b) * v + F(slot.c);
+        const F tv = F(slot.d) * u + F(slot.e) * v + F(slot.f);
+        const F tdudx = F(slot.a) * dudx + F(slot.b) * dvdx, tdvdx = F(slot.d) * dudx + F(slot.e) * dvdx;
+        const F tdudy = F(slot.a) * dudy + F(slot.b) * dvdy, tdvdy = F(slot.d) * dudy + F(slot.e) * dvdy;
+        u = tu, v = tv, dudx = tdudx, dvdx = tdvdx, dudy = tdudy, dvdy = tdvdy;
+      }
+      return raster::sample(*slot.texture, slot.sampler, u, v, dudx, dvdx, dudy, dvdy);
+    };
+
+    // Base colour and alpha.
+    Vec3L<F> base = lanes<F>(m.base.albedo) * Vec3L<F>(p.v[kColor], p.v[kColor + 1], p.v[kColor + 2]);
+    F alpha = F(m.alpha) * p.v[kColor + 3];
+    if (m.base_color.texture != nullptr) {
+      const raster::Color<F> c = lookup(m.base_color);
+      base = base * Vec3L<F>(c.r, c.g, c.b);
+      alpha = alpha * c.a;
+    }
+    // Metallic and roughness.
+    F metallic(m.base.metallic), roughness(m.roughness_factor);
+    if (m.metallic_roughness.texture != nullptr) {
+      const raster::Color<F> c = lookup(m.metallic_roughness);
+      roughness = roughness * c.g;
+      metallic = metallic * c.b;
+    }
+    roughness = simd::clamp(roughness, F(kMinRoughness), F(1.0f));
+    metallic = simd::clamp(metallic, F(0.0f), F(1.0f));
+    MaterialLanes<F> ml;
+    ml.albedo = base;
+    ml.f0 = f0_of(base, metallic);
+    ml.one_minus_metallic = F(1.0f) - metallic;
+    ml.alpha = roughness * roughness;
+    ml.k = k_direct(roughness);
+    ml.ao = F(m.base.ao);
+    if (m.occlusion.texture != nullptr) {
+      const raster::Color<F> c = lookup(m.occlusion);
+      ml.ao = ml.ao * (F(1.0f) + F(m.occlusion_strength) * (c.r - F(1.0f)));
+    }
+    ml.emissive = lanes<F>(m.base.emissive);
+    if (m.emissive.texture != nullptr) {
+      const raster::Color<F> c = lookup(m.emissive);
+      ml.emissive = ml.emissive * Vec3L<F>(c.r, c.g, c.b);
+    }
+
+    // The frame: eye direction, geometric normal (flipped on back faces), normal map.
+    const Vec3L<F> position(p.v[kPosition], p.v[kPosition + 1], p.v[kPosition + 2]);
+    const Vec3L<F> v = normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
+    Vec3L<F> n(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
+    const float facing = p.front_facing ? 1.0f : -1.0f;  // one facing per packet
+    if (!p.front_facing) n = -n;
+    if (m.normal.texture != nullptr) {
+      n = normalize_or(n, v);
+      const raster::Color<F> c = lookup(m.normal);
+      const F scale(m.normal_scale);
+      const F x = (c.r * F(2.0f) - F(1.0f)) * scale, y = (c.g * F(2.0f) - F(1.0f)) * scale;
+      const F z = c.b * F(2.0f) - F(1.0f);
+      const Vec3L<F> t_in = Vec3L<F>(p.v[kTangent], p.v[kTangent + 1], p.v[kTangent + 2]) * F(facing);
+      // Gram–Schmidt: the interpolated tangent made orthogonal to the normal; where it
+      // degenerates (parallel to n or zero) the map is not applied.
+      const Vec3L<F> t_perp = t_in - n * simd::dot(n, t_in);
+      const Vec3L<F> t = normalize_or(t_perp, Vec3L<F>(F(0.0f)));
+      const F w = simd::select(p.v[kTangent + 3] < F(0.0f), F(-1.0f), F(1.0f));
+      const Vec3L<F> b = cross(n, t) * w;
+      const Vec3L<F> mapped = t * x + b * y + n * z;
+      n = normalize_or(mapped, n);
+    }
+    const Vec3L<F> c = shade(ml, *lights, ambient, position, n, v);
+    switch (m.alpha_mode) {
+      case AlphaMode::Mask: {
+        const F keep = simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
+        return {c.x, c.y, c.z, keep};
+      }
+      case AlphaMode::Blend: {
+        const F a = simd::clamp(alpha, F(0.0f), F(1.0f));
+        return {c.x * a, c.y * a, c.z * a, a};
+      }
+      case AlphaMode::Opaque:
+      default:
+        return {c.x, c.y, c.z, F(1.0f)};
+    }
+  }
+
+ private:
+  template <class F>
+  static Vec3L<F> cross(const Vec3L<F>& a, const Vec3L<F>& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  }
+};
+
+}  // namespace softpbr::pbr
