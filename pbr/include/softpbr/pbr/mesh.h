@@ -1,4 +1,5 @@
-// softpbr/pbr/mesh.h — triangle meshes, procedural shapes, smooth normals and bounds.
+// softpbr/pbr/mesh.h — triangle meshes with optional vertex streams, procedural shapes, smooth normals
+// and bounds.
 //
 // Procedural shapes are built with the deterministic dmath functions (and the deterministic
 // dmath::atan2), so a shape has the same bits on every platform. Every shape has unit
@@ -13,6 +14,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 namespace softpbr::pbr {
 
@@ -21,13 +23,27 @@ struct MeshVertex {
   glm::vec3 normal;
   glm::vec2 uv;
 };
+// The untextured fast path draws MeshVertex as is: new attributes go in Mesh's streams.
+static_assert(sizeof(MeshVertex) == 32);
 
+// MeshVertex is what the rasterizer draws (32 bytes: the untextured fast path relies on its
+// layout); attributes only some meshes have live in optional streams beside it, so meshes
+// without them pay nothing.
 struct Mesh {
   std::vector<MeshVertex> vertices;
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
+  // Optional per-vertex streams: each is empty or holds one entry per vertex.
+  std::vector<glm::vec4> tangents;  // xyz unit tangent (along +u), w = ±1: bitangent = w · cross(normal, tangent.xyz)
+  std::vector<glm::vec2> uv1;       // second texture-coordinate set
+  std::vector<glm::vec4> colors;    // linear RGBA vertex colour
 
   std::size_t triangle_count() const { return indices.size() / 3; }
 };
+
+// Throws std::invalid_argument naming the stream if a non-empty optional stream (tangents,
+// uv1, colors) does not hold exactly one entry per vertex. Functions that read or copy the
+// streams check them with it first.
+void validate_streams(const Mesh& mesh);
 
 // A procedural shape may have at most this many vertices: 2^24 vertices of 32 bytes are
 // 512 MiB, far beyond any use of these shapes, and the counts stay exact in float.
