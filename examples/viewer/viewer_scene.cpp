@@ -34,6 +34,8 @@ pbr::Mesh stand_up(pbr::Mesh mesh) {
     v.position = {v.position.x, -v.position.z, v.position.y};
     v.normal = {v.normal.x, -v.normal.z, v.normal.y};
   }
+  // A rotation keeps the handedness: w stays.
+  for (glm::vec4& t : mesh.tangents) t = {t.x, -t.z, t.y, t.w};
   return mesh;
 }
 

@@ -72,6 +72,21 @@ PositionKey position_key(const glm::vec3& p) {
 
 }  // namespace
 
+// ---- Optional streams -----------------------------------------------------------------------
+
+void validate_streams(const Mesh& mesh) {
+  const std::size_t n = mesh.vertices.size();
+  auto check = [n](const char* name, std::size_t size) {
+    if (size != 0 && size != n)
+      throw std::invalid_argument(std::string("mesh: ") + name + " has " + std::to_string(size) +
+                                  " entries, but the mesh has " + std::to_string(n) +
+                                  " vertices (a stream is empty or has one entry per vertex)");
+  };
+  check("tangents", mesh.tangents.size());
+  check("uv1", mesh.uv1.size());
+  check("colors", mesh.colors.size());
+}
+
 // ---- UV sphere ------------------------------------------------------------------------------
 
 Mesh uv_sphere(float radius, int segments, int rings) {

@@ -586,11 +586,25 @@ ObjModel load_obj(const fs::path& path) {
 }
 
 Mesh merge_shapes(const ObjModel& model) {
+  // A stream is kept when every shape with vertices has it: the merged stream must have one
+  // entry per vertex, and values for the shapes without it would be invented.
+  bool tangents = true, uv1 = true, colors = true;
+  for (const ObjShape& shape : model.shapes) {
+    validate_streams(shape.mesh);
+    if (shape.mesh.vertices.empty()) continue;
+    tangents = tangents && !shape.mesh.tangents.empty();
+    uv1 = uv1 && !shape.mesh.uv1.empty();
+    colors = colors && !shape.mesh.colors.empty();
+  }
   Mesh out;
   for (const ObjShape& shape : model.shapes) {
+    const Mesh& m = shape.mesh;
     const auto base = static_cast<std::uint32_t>(out.vertices.size());
-    out.vertices.insert(out.vertices.end(), shape.mesh.vertices.begin(), shape.mesh.vertices.end());
-    for (const std::uint32_t i : shape.mesh.indices) out.indices.push_back(base + i);
+    out.vertices.insert(out.vertices.end(), m.vertices.begin(), m.vertices.end());
+    for (const std::uint32_t i : m.indices) out.indices.push_back(base + i);
+    if (tangents) out.tangents.insert(out.tangents.end(), m.tangents.begin(), m.tangents.end());
+    if (uv1) out.uv1.insert(out.uv1.end(), m.uv1.begin(), m.uv1.end());
+    if (colors) out.colors.insert(out.colors.end(), m.colors.begin(), m.colors.end());
   }
   return out;
 }

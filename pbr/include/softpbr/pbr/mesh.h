@@ -1,4 +1,5 @@
-// softpbr/pbr/mesh.h — triangle meshes, procedural shapes, smooth normals and bounds.
+// softpbr/pbr/mesh.h — triangle meshes with optional vertex streams, procedural shapes, smooth normals,
+// MikkTSpace tangents and bounds.
 //
 // Procedural shapes are built with the deterministic dmath functions (and the deterministic
 // dmath::atan2), so a shape has the same bits on every platform. Every shape has unit
@@ -22,7 +23,12 @@ struct MeshVertex {
   glm::vec3 normal;
   glm::vec2 uv;
 };
+// The untextured fast path draws MeshVertex as is: new attributes go in Mesh's streams.
+static_assert(sizeof(MeshVertex) == 32);
 
+// MeshVertex is what the rasterizer draws (32 bytes: the untextured fast path relies on its
+// layout); attributes only some meshes have live in optional streams beside it, so meshes
+// without them pay nothing.
 struct Mesh {
   std::vector<MeshVertex> vertices;
   std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise seen from outside
@@ -33,6 +39,11 @@ struct Mesh {
 
   std::size_t triangle_count() const { return indices.size() / 3; }
 };
+
+// Throws std::invalid_argument naming the stream if a non-empty optional stream (tangents,
+// uv1, colors) does not hold exactly one entry per vertex. Functions that read or copy the
+// streams check them with it first.
+void validate_streams(const Mesh& mesh);
 
 // A procedural shape may have at most this many vertices: 2^24 vertices of 32 bytes are
 // 512 MiB, far beyond any use of these shapes, and the counts stay exact in float.
@@ -76,6 +87,38 @@ Mesh torus(float major, float minor, int segments, int sides);
 // vertex with no contribution keeps its old normal if non-zero, else gets (0, 1, 0).
 // Throws std::invalid_argument if an index is out of range.
 void compute_smooth_normals(Mesh& mesh);
+
+// MikkTSpace tangents (Mikkelsen 2008, "Simulation of Wrinkled Surfaces Revisited", the
+// tangent space glTF 2.0 asks for when a mesh has none) from positions, normals and uv, into
+// mesh.tangents (replacing any there). Convention: glTF's, UV (0, 0) at the top left of the
+// image and normal textures +Y up, so the bitangent w · cross(normal, tangent.xyz) points
+// up the image, along −∂position/∂v: MikkTSpace run on (u, −v). An unmirrored mapping seen
+// from the front has w = +1; plane() gets (1, 0, 0, +1).
+//
+// As in MikkTSpace, vertices with identical position, normal and uv are welded, and at each
+// welded vertex the triangles around it form groups, joined across shared edges, whose UV
+// orientation (the sign of the UV area) agrees; a group's tangent is the sum of its corners'
+// face tangents (∂position/∂u) projected into the plane of the normal and normalised,
+// weighted by the corner's angle, then normalised. A vertex whose corners fall into groups
+// with different results (typically faces with mirrored UVs on both sides of it) is SPLIT:
+// the first result keeps the vertex, each further one appends a copy of it (its MeshVertex
+// and its entries in uv1 and colors) and that group's corners are re-indexed to the copy.
+// Positions, normals, uv and the triangle order never change; vertices are only appended.
+//
+// Degenerate input never gives NaN. A triangle with zero UV area adds no tangent but joins
+// the group of the first oriented neighbour that reaches it, taking its orientation. A
+// zero-area (or non-finite) triangle joins no group: its corners take the result of the
+// first group at their welded vertex. A group with nothing to add (only zero-UV triangles)
+// takes the result of the first group at its welded vertex that has one. Failing those, and
+// for a vertex no triangle uses, the tangent is the unit vector perpendicular to the normal
+// of Duff et al. 2017 ("Building an Orthonormal Basis, Revisited"; (1, 0, 0) for a normal
+// along ±y) with w = the group's orientation or +1; (1, 0, 0) for a zero or non-finite
+// normal. "First" is in the order of the triangles and their corners.
+// Deterministic: IEEE basic operations and dmath only, a fixed order.
+// Throws std::invalid_argument if indices are not a multiple of 3, an index is out of range,
+// or a stream has the wrong length (validate_streams), and std::length_error if the corners
+// or the split vertices would not fit 32-bit indices; the mesh is then unchanged.
+void generate_tangents(Mesh& mesh);
 
 // Axis-aligned bounds of the mesh's vertex positions.
 struct Bounds {

@@ -69,6 +69,9 @@ ObjModel load_obj(const std::filesystem::path& path);
 float roughness_from_phong_exponent(float ns);
 
 // All shapes of a model in one mesh (materials dropped), e.g. to draw it with one material.
+// An optional stream (tangents, uv1, colors; mesh.h) is kept if every shape with vertices
+// has it and dropped otherwise. Throws std::invalid_argument if a shape's stream has the
+// wrong length (validate_streams).
 Mesh merge_shapes(const ObjModel& model);
 
 }  // namespace softpbr::pbr
