@@ -50,7 +50,7 @@ namespace {
 // Whether an object needs the textured shader: anything PbrShader does not do.
 bool needs_textured_shader(const Object& o) {
   const Material& m = o.material;
-  return m.textured() || m.alpha_mode != AlphaMode::Opaque || m.double_sided || !o.mesh->colors.empty();
+  return m.textured() || m.alpha_mode != AlphaMode::Opaque || m.double_sided || m.unlit || !o.mesh->colors.empty();
 }
 
 // One object's draw: its shader, the vertices it reads and its state.

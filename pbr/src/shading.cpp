@@ -85,6 +85,7 @@ TexturedMaterial prepare_textured_material(const Material& m) {
   t.alpha_mode = m.alpha_mode;
   t.alpha_cutoff = m.alpha_cutoff;
   t.double_sided = m.double_sided;
+  t.unlit = m.unlit;
   t.normal_scale = m.normal_scale;
   t.occlusion_strength = m.occlusion_strength;
   t.base_color = prepare_slot(m.base_color_texture, "base_color");

@@ -58,6 +58,7 @@ struct Material {
   AlphaMode alpha_mode = AlphaMode::Opaque;
   float alpha_cutoff = 0.5f;               // AlphaMode::Mask
   bool double_sided = false;               // drawn without culling; back faces flip the normal
+  bool unlit = false;                      // KHR_materials_unlit: the base colour, no lighting
 
   TextureSlot base_color_texture;          // RGBA (sRGB colour) × (base_color, alpha)
   TextureSlot metallic_roughness_texture;  // linear: G × roughness, B × metallic (glTF)

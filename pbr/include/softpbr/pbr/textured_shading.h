@@ -15,7 +15,8 @@
 //   emit   = emissive × texture.rgb
 //   n      = normalize(T·x + B·y + N·z), (x, y, z) = (2·texture − 1) × (scale, scale, 1),
 //            T the interpolated tangent made orthogonal to N, B = w · (N × T)
-// Back faces of a double-sided material flip N, T and B. Output: opaque → alpha 1; mask →
+// Back faces of a double-sided material flip N, T and B. An unlit material
+// (KHR_materials_unlit) outputs base and alpha without lighting. Output: opaque → alpha 1; mask →
 // alpha 1 where alpha ≥ alpha_cutoff, else 0 (the draw's alpha test discards it); blend →
 // premultiplied (rgb · alpha, alpha).
 #pragma once
@@ -67,6 +68,7 @@ struct TexturedMaterial {
   AlphaMode alpha_mode;
   float alpha_cutoff;
   bool double_sided;
+  bool unlit;
   float normal_scale;
   float occlusion_strength;
   PreparedSlot base_color, metallic_roughness, normal, occlusion, emissive;
@@ -159,6 +161,7 @@ struct TexturedPbrShader {
       base = base * Vec3L<F>(c.r, c.g, c.b);
       alpha = alpha * c.a;
     }
+    if (m.unlit) return output(m, base, alpha);
     // Metallic and roughness.
     F metallic(m.base.metallic), roughness(m.roughness_factor);
     if (m.metallic_roughness.texture != nullptr) {
@@ -207,7 +210,13 @@ struct TexturedPbrShader {
       const Vec3L<F> mapped = t * x + b * y + n * z;
       n = normalize_or(mapped, n);
     }
-    const Vec3L<F> c = shade(ml, *lights, ambient, position, n, v);
+    return output(m, shade(ml, *lights, ambient, position, n, v), alpha);
+  }
+
+ private:
+  // The colour and alpha written for the material's alpha mode.
+  template <class F>
+  static raster::Color<F> output(const TexturedMaterial& m, const Vec3L<F>& c, F alpha) {
     switch (m.alpha_mode) {
       case AlphaMode::Mask: {
         const F keep = simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
@@ -223,7 +232,6 @@ struct TexturedPbrShader {
     }
   }
 
- private:
   template <class F>
   static Vec3L<F> cross(const Vec3L<F>& a, const Vec3L<F>& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};

@@ -1,0 +1,11 @@
+// tinygltf (Debian's libtinygltf-dev), configured the one way softpbr uses it: JSON through
+// nlohmann-json, no image decoding (images are decoded by softpbr::image, with its
+// limits), no image writing. Included by gltf.cpp and by tinygltf.cpp, the one
+// translation unit that compiles its implementation.
+#pragma once
+
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_INCLUDE_STB_IMAGE
+#define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
+#include <tiny_gltf.h>
