@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -15,6 +16,8 @@
 #include "cli_error.h"
 #include "frames.h"
 #include "softpbr/image/write.h"
+#include "softpbr/dmath/dmath.h"
+#include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/raster.h"
 
@@ -26,7 +29,10 @@ namespace raster = softpbr::raster;
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   CLI::App* c = app.add_subcommand("render", "Render a scene file to .png, .hdr and/or .exr images");
-  c->add_option("scene", a.scene, "Scene file (JSON, see docs/scene-format.md)")->required();
+  c->add_option("scene", a.scene,
+                "Scene file (JSON, see docs/scene-format.md), or a glTF 2.0 model (.gltf, .glb) shown with an automatic "
+                "camera and light rig")
+      ->required();
   c->add_option("-o,--output", a.outputs,
                 "Output file, format from the extension: .png (tone mapped, 8-bit), .hdr (linear "
                 "Radiance RGBE) or .exr (linear float RGBA). Repeat for several. With --frames, #### is replaced by the frame number")
@@ -42,6 +48,9 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                                "Frame range A..B (inclusive): the turntable animation of the scene's camera and "
                                "lights; frames whose outputs exist are skipped");
   a.shard_opt = c->add_option("--shard", a.shard, "i/N: render only the frames k of the range with k mod N = i (i from 0)");
+  c->add_option("--yaw", a.yaw, "glTF models: turn the automatic camera this many degrees around the vertical axis");
+  c->add_option("--pitch", a.pitch, "glTF models: raise the automatic camera this many degrees (-89..89)");
+  a.camera_opt = c->add_option("--camera", a.camera, "glTF models: view through camera N of the file (from 0)");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");
   a.max_memory_mib = static_cast<double>(pbr::kDefaultMemoryLimit >> 20);
@@ -51,6 +60,55 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
 }
 
 namespace {
+
+bool is_gltf(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return ext == ".gltf" || ext == ".glb";
+}
+
+// A glTF model as a scene (docs/scene-format.md, "glTF models"): its objects and lights, a
+// camera of the file or pbr::framing_camera, the default light rig when it has no lights.
+pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
+  pbr::SceneFile f;
+  pbr::GltfScene g;
+  try {
+    g = pbr::load_gltf(a.scene, {.pool = &pool});
+  } catch (const pbr::LoadError& e) {
+    throw Error(kExitInput, e.what());
+  }
+  f.warnings = g.warnings;
+  f.scene.objects = std::move(g.objects);
+  f.triangles = g.triangles;
+  const int w = a.width_opt->count() ? a.width : f.render.width, h = a.height_opt->count() ? a.height : f.render.height;
+  if (a.camera_opt->count()) {
+    if (a.camera < 0 || static_cast<std::size_t>(a.camera) >= g.cameras.size())
+      throw Error(kExitUsage, "--camera: " + a.scene + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
+                                  std::to_string(a.camera));
+    f.scene.camera = g.cameras[static_cast<std::size_t>(a.camera)].camera;
+  } else {
+    if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
+      throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
+    f.scene.camera = pbr::framing_camera(pbr::world_bounds(f.scene.objects), static_cast<float>(w) / static_cast<float>(h),
+                                         static_cast<float>(softpbr::dmath::radians(a.yaw)),
+                                         static_cast<float>(softpbr::dmath::radians(a.pitch)));
+  }
+  f.scene.lights = g.lights.empty() ? pbr::default_light_rig(f.scene.camera) : std::move(g.lights);
+  f.scene.ambient = glm::vec3(pbr::kDefaultAmbient);
+  f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
+  // Memory: the meshes and their draws (18 varyings: the textured shader's), and textures.
+  std::set<const void*> seen;
+  for (const pbr::Object& o : f.scene.objects) {
+    f.mesh_bytes += raster::draw_geometry_bytes(o.mesh->vertices.size(), o.mesh->triangle_count(), 18);
+    if (seen.insert(o.mesh.get()).second)
+      f.mesh_bytes += o.mesh->vertices.size() * sizeof(pbr::MeshVertex) + o.mesh->indices.size() * 4;
+    for (const pbr::TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
+                                      &o.material.normal_texture, &o.material.occlusion_texture,
+                                      &o.material.emissive_texture})
+      if (t->texture && seen.insert(t->texture.get()).second) f.mesh_bytes += t->texture->texel_bytes();
+  }
+  return f;
+}
 
 enum class Format { Png, Hdr, Exr };
 
@@ -153,10 +211,17 @@ int run_render(const RenderArgs& a) {
 
   // 2. The scene, with command-line overrides.
   pbr::SceneFile file;
-  try {
-    file = pbr::load_scene_file(a.scene, {memory_limit});
-  } catch (const pbr::SceneFileError& e) {
-    throw Error(kExitInput, e.what());
+  // A glTF model's images decode on a pool of the threads the render will use.
+  const unsigned load_threads = a.threads_opt->count() ? static_cast<unsigned>(in_range("--threads", a.threads, 0, 1024)) : 0;
+  if (is_gltf(a.scene)) {
+    raster::ThreadPool pool(load_threads);
+    file = gltf_scene(a, pool);
+  } else {
+    try {
+      file = pbr::load_scene_file(a.scene, {memory_limit});
+    } catch (const pbr::SceneFileError& e) {
+      throw Error(kExitInput, e.what());
+    }
   }
   if (!a.quiet)
     for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", w.c_str());

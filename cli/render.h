@@ -19,9 +19,13 @@ struct RenderArgs {
   bool force = false;
   bool quiet = false;
   double max_memory_mib = 0;
+  // A glTF model given instead of a scene file: the view.
+  float yaw = 0.0f, pitch = 0.0f;  // degrees
+  int camera = -1;                 // a camera of the file
   // Which options were given (command-line values override the scene file's).
   CLI::Option *width_opt = nullptr, *height_opt = nullptr, *threads_opt = nullptr, *tile_opt = nullptr,
-              *tonemap_opt = nullptr, *exposure_opt = nullptr, *frames_opt = nullptr, *shard_opt = nullptr;
+              *tonemap_opt = nullptr, *exposure_opt = nullptr, *frames_opt = nullptr, *shard_opt = nullptr,
+              *camera_opt = nullptr;
 };
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
