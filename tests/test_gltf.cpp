@@ -1,8 +1,9 @@
 // glTF 2.0 loading: the Khronos sample models of ../shared/gltf load and render (skipped
 // when the folder is absent); renders go to build/gltf-output/ for looking at.
-#include <doctest/doctest.h>
+#include "softpbr/golden/doctest_checks.h"
 
 #include <filesystem>
+#include <fstream>
 #include <algorithm>
 #include <string>
 
@@ -75,4 +76,123 @@ TEST_CASE("every Khronos sample model in ../shared/gltf loads and renders") {
     ++models;
   }
   CHECK(models >= 15);
+}
+
+namespace {
+
+// Renders a shared sample model the way the command does (framing camera, light rig).
+raster::Target render_sample(const std::string& name, const raster::RendererOptions& options, int w = 320, int h = 240) {
+  const fs::path file = model_file(shared_gltf() / name);
+  REQUIRE(!file.empty());
+  raster::Renderer renderer(options);
+  const pbr::GltfScene g = pbr::load_gltf(file, {.pool = &renderer.pool()});
+  raster::Target target(w, h);
+  pbr::render(scene_of(g, w, h), renderer, target);
+  return target;
+}
+
+}  // namespace
+
+TEST_CASE("golden glTF renders: normal maps with generated and with supplied (mirrored) tangents") {
+  // Compared with the Khronos screenshots before committing: in every row the normal-mapped
+  // hemisphere (left) is lit like the geometric one (right), and in the mirror test all
+  // four columns (geometry, normal map, U-mirrored, V-mirrored) agree — a wrong tangent
+  // handedness shows as bumps lit from the opposite side.
+  if (!fs::is_directory(shared_gltf())) {
+    MESSAGE("skipped: " << shared_gltf() << " is absent");
+    return;
+  }
+  for (const std::string name : {"NormalTangentTest", "NormalTangentMirrorTest", "TextureCoordinateTest"}) {
+    CAPTURE(name);
+    const raster::Target t = render_sample(name, {.threads = 0});
+    CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, pbr::OutputSettings{}), "goldens/gltf_" + name);
+    // The same bits at other widths, thread counts and with dispatch off.
+    for (int lanes : {1, 4, 16}) {
+      CAPTURE(lanes);
+      const raster::Target o = render_sample(name, {.threads = 2, .tile_size = 16, .lanes = lanes, .dispatch = lanes != 16});
+      CHECK(raster::hash_colors(o) == raster::hash_colors(t));
+    }
+  }
+}
+
+namespace {
+
+// Writes `json` as a .gltf file in a fresh folder and returns its path.
+fs::path write_gltf(const std::string& name, const std::string& json) {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "gltf-hostile";
+  fs::create_directories(dir);
+  const fs::path p = dir / name;
+  std::ofstream(p) << json;
+  return p;
+}
+
+// One triangle: 3 float positions (36 bytes) then 3 u16 indices (6 bytes, padded to 8), as a
+// base64 data URI.
+const char* kTriangleBuffer =
+    R"("buffers": [{"byteLength": 44, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAA="}])";
+
+std::string triangle_gltf(const std::string& accessors, const std::string& extra = "") {
+  return std::string(R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+    )") + kTriangleBuffer + ", " + accessors + extra + "}";
+}
+
+const char* kGoodAccessors =
+    R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                     {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}])";
+
+std::string load_error(const fs::path& p) {
+  try {
+    pbr::load_gltf(p);
+  } catch (const pbr::LoadError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST_CASE("a hand-written glTF triangle loads; hostile variants fail with the file and JSON pointer") {
+  const fs::path good = write_gltf("good.gltf", triangle_gltf(kGoodAccessors));
+  const pbr::GltfScene g = pbr::load_gltf(good);
+  REQUIRE(g.objects.size() == 1);
+  CHECK(g.triangles == 1);
+  CHECK(g.objects[0].mesh->vertices[1].position == glm::vec3(1, 0, 0));
+  // No NORMAL: flat normals, +z for this counter-clockwise triangle in z = 0.
+  CHECK(g.objects[0].mesh->vertices[0].normal == glm::vec3(0, 0, 1));
+
+  struct Case {
+    std::string name;
+    std::string json;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"past_view.gltf",
+       triangle_gltf(R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"},
+                     {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}])"),
+       "past_view.gltf: /accessors/0: 4 elements of 12 bytes run past bufferView 0 (36 bytes)"},
+      {"bad_index.gltf",
+       triangle_gltf(R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 2, "type": "VEC3"},
+                     {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}])"),
+       "bad_index.gltf: /accessors/1: index 2 at element 2 is out of range (2 vertices)"},
+      {"no_accessor.gltf",
+       triangle_gltf(R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}])"),
+       // tinygltf checks this reference itself while parsing, without a JSON pointer.
+       "no_accessor.gltf: primitive indices accessor out of bounds"},
+      {"required.gltf", triangle_gltf(kGoodAccessors, R"(, "extensionsRequired": ["KHR_draco_mesh_compression"], "extensionsUsed": ["KHR_draco_mesh_compression"])"),
+       "required.gltf: /extensionsRequired/0: the required extension KHR_draco_mesh_compression is not supported"},
+      {"cycle.gltf",
+       std::string(R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"children": [1]}, {"children": [0]}]})"),
+       "cycle.gltf: /nodes/0: is its own ancestor (the node hierarchy has a cycle)"},
+      {"not_json.gltf", "{ this is not json", "not_json.gltf: "},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    const std::string message = load_error(write_gltf(c.name, c.json));
+    CAPTURE(message);
+    // The message starts with the path as given (the folder, then the name).
+    CHECK(message.find(c.message) != std::string::npos);
+    CHECK(message.find('\n') == std::string::npos);
+  }
 }
