@@ -41,8 +41,8 @@ std::string str(std::size_t i) { return std::to_string(i); }
 
 class Loader {
  public:
-  Loader(const std::filesystem::path& path, const tg::Model& model, const GltfOptions& options, GltfScene& out)
-      : file_(path.string()), m_(model), options_(options), out_(out) {}
+  Loader(const std::string& file, const tg::Model& model, const GltfOptions& options, GltfScene& out)
+      : file_(file), m_(model), options_(options), out_(out) {}
 
   [[noreturn]] void fail(const std::string& pointer, const std::string& what) const {
     throw LoadError(file_ + ": " + pointer + ": " + what);
@@ -837,15 +837,22 @@ std::string first_line(const std::string& s) {
 }  // namespace
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options) {
-  const std::string file = path.string();
-  const std::vector<unsigned char> bytes = read_file(path, options.max_file_bytes, file);
+  const std::vector<unsigned char> bytes = read_file(path, options.max_file_bytes, path.string());
+  return load_gltf(bytes, path.string(), path.parent_path(), options);
+}
+
+GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file, const std::filesystem::path& base,
+                    const GltfOptions& options) {
+  if (bytes.size() > options.max_file_bytes || bytes.size() > std::numeric_limits<unsigned>::max())
+    throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
+                    std::to_string(options.max_file_bytes));
   tg::TinyGLTF parser;
   FsContext fs_context{options.max_file_bytes};
   parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
   parser.SetImageLoader(&keep_encoded, nullptr);
   tg::Model model;
   std::string err, warn;
-  const std::string base_dir = path.parent_path().string();
+  const std::string base_dir = base.string();
   bool ok = false;
   try {
     if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)
@@ -867,7 +874,7 @@ GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& option
     if (end == std::string::npos) break;
     start = end + 1;
   }
-  Loader(path, model, options, out).load();
+  Loader(file, model, options, out).load();
   return out;
 }
 

@@ -29,7 +29,9 @@
 // buffer, positions must be finite, and images are checked before decoding.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,6 +69,10 @@ struct GltfScene {
 };
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
+// The same from a .gltf or .glb in memory: `name` starts messages, external files resolve
+// against `base_dir`.
+GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& name, const std::filesystem::path& base_dir,
+                    const GltfOptions& options = {});
 
 // The world-space bounds of the objects' vertices (each mesh's bounds' corners through its
 // transform).
