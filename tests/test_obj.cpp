@@ -119,9 +119,10 @@ TEST_CASE("obj: the spot cow from assets loads as one closed, outward-facing mes
   CHECK(open == 0);  // smooth normals may lean past a few triangles at sharp creases (ears, horns)
   const pbr::Bounds b = pbr::bounds(mesh);
   CHECK(!b.empty());
-  // The file's UVs: four of its 3225 lie just outside [0, 1] (u down to −0.052, v up to 1.0007).
+  // The file's UVs: four of its 3225 lie just outside [0, 1] (u down to −0.052, v up to
+  // 1.0007, which the flip to v down makes −0.0007).
   for (const pbr::MeshVertex& v : mesh.vertices)
-    CHECK((v.uv.x >= -0.06f && v.uv.x <= 1.0f && v.uv.y >= 0.0f && v.uv.y <= 1.001f));
+    CHECK((v.uv.x >= -0.06f && v.uv.x <= 1.0f && v.uv.y >= -0.001f && v.uv.y <= 1.0f));
 }
 
 TEST_CASE("obj: quads and larger polygons are triangulated keeping their winding") {
@@ -217,8 +218,11 @@ f 2/2 4/4 3/5
   check_model(model);
   const pbr::Mesh& mesh = model.shapes.at(0).mesh;
   CHECK(mesh.vertices.size() == 5);  // position 3 appears with two different UVs
+  // (u, 1 − v): OBJ's v grows up the image, softpbr's down.
   CHECK(mesh.vertices[mesh.indices[5]].uv == glm::vec2(0.5f, 0.5f));
-  CHECK(mesh.vertices[mesh.indices[4]].uv == glm::vec2(1.0f, 1.0f));
+  CHECK(mesh.vertices[mesh.indices[4]].uv == glm::vec2(1.0f, 0.0f));
+  CHECK(mesh.vertices[mesh.indices[2]].uv == glm::vec2(0.0f, 0.0f));
+  CHECK(mesh.vertices[mesh.indices[0]].uv == glm::vec2(0.0f, 1.0f));
 }
 
 TEST_CASE("obj: faces are split by material, one ObjShape per object and material") {

@@ -469,7 +469,7 @@ class MeshBuilder {
             if (!finite3(vert.position)) fail(path_, line_of_position(key.v), "vertex position is not finite");
             if (key.vt >= 0) {
               const auto* t = &attrib_.texcoords[static_cast<std::size_t>(key.vt) * 2];
-              vert.uv = {t[0], t[1]};
+              vert.uv = {t[0], 1.0f - t[1]};  // OBJ's v grows up the image, softpbr's down (obj.h)
               if (!std::isfinite(vert.uv.x) || !std::isfinite(vert.uv.y))
                 fail(path_, 0, "texture coordinate " + std::to_string(key.vt + 1) + " is not finite");
             }

@@ -47,7 +47,9 @@ struct ObjModel {
 // - Vertices are shared within a shape where position, texture and normal indices agree.
 // - Vertices without a normal get the angle-weighted smooth normal of the shape's faces
 //   around their position (smoothing groups are ignored); given normals are normalised.
-// - Texture coordinates are optional ((0, 0) when missing). Texture maps are not loaded.
+// - Texture coordinates are optional ((0, 0) when missing) and flipped to (u, 1 − v): OBJ's
+//   v grows up the image, softpbr's (and glTF's, raster/texture.h) down from its first row.
+//   Texture maps are not loaded.
 // - MTL → Material: base_color ← Kd (clamped to [0, 1]); metallic ← Pm; roughness ← Pr
 //   (both PBR-extension keys, clamped to [0, 1]), or when Pr is absent
 //   roughness_from_phong_exponent(Ns), or Material's default when both are absent;
