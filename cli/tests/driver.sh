@@ -103,7 +103,7 @@ errors)
 "roughness": 0.5|"roughness": 2|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got 2
 "roughness": 0.5|"roughness": "NaN"|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got "NaN"
 "roughness": 0.5|"rougness": 0.5|3|bad.json: /objects/0/material/rougness: unknown key "rougness" (did you mean "roughness"?)
-"roughness": 0.5|"roughness": 0.5, "shiny": true|3|bad.json: /objects/0/material/shiny: unknown key "shiny" (expected one of: preset, base_color, metallic, roughness, ao, emissive)
+"roughness": 0.5|"roughness": 0.5, "shiny": true|3|bad.json: /objects/0/material/shiny: unknown key "shiny" (expected one of: preset, base_color, metallic, roughness, ao, emissive, alpha, alpha_mode, alpha_cutoff, double_sided, base_color_texture, metallic_roughness_texture, normal_texture, normal_scale, occlusion_texture, occlusion_strength, emissive_texture)
 "width": 32|"width": 0|3|bad.json: /render/width: expected an integer in [1, 16384], got 0
 "width": 32|"width": -5|3|bad.json: /render/width: expected an integer in [1, 16384], got -5
 "width": 32|"width": "32"|3|bad.json: /render/width: expected an integer in [1, 16384], got "32"
