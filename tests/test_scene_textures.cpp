@@ -294,3 +294,16 @@ TEST_CASE("scene textures: texels are charged to the memory budget, and an image
         "t.json: /objects/0/material/base_color_texture: this texture brings the scene's estimated memory to 8.9 KiB, "
         "over the limit of 6.8 KiB");
 }
+
+TEST_CASE("scene textures: examples/scenes/textured.json loads with its textures, the ORM image shared by two slots") {
+  const pbr::SceneFile f = pbr::load_scene_file(fs::path(SOFTPBR_SOURCE_DIR) / "examples/scenes/textured.json");
+  CHECK(f.warnings.empty());
+  int textured = 0;
+  for (const pbr::Object& o : f.scene.objects) {
+    textured += o.material.textured();
+    if (o.material.occlusion_texture && o.material.metallic_roughness_texture)
+      CHECK(o.material.occlusion_texture.texture == o.material.metallic_roughness_texture.texture);
+  }
+  CHECK(textured >= 3);
+  CHECK(f.texture_bytes > 0);
+}
