@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -42,6 +43,22 @@ MeshProblems find_problems(const pbr::Mesh& mesh) {
 }
 
 void print_vec(const char* label, glm::vec3 v) { std::printf("%s(%g, %g, %g)", label, v.x, v.y, v.z); }
+
+// "base_color 512x512, normal 512x512": the material's textured slots, or "".
+std::string texture_list(const pbr::Material& m) {
+  std::string out;
+  auto add = [&](const char* name, const pbr::TextureSlot& slot) {
+    if (!slot) return;
+    out += (out.empty() ? "" : ", ") + std::string(name) + " " + std::to_string(slot.texture->width()) + "x" +
+           std::to_string(slot.texture->height());
+  };
+  add("base_color", m.base_color_texture);
+  add("metallic_roughness", m.metallic_roughness_texture);
+  add("normal", m.normal_texture);
+  add("occlusion", m.occlusion_texture);
+  add("emissive", m.emissive_texture);
+  return out;
+}
 
 int info_obj(const std::string& path) {
   pbr::ObjModel model;
@@ -81,10 +98,13 @@ int info_obj(const std::string& path) {
     std::printf("\n");
   }
   std::printf("  materials  %zu\n", model.materials.size());
-  for (const auto& [name, m] : model.materials)
+  for (const auto& [name, m] : model.materials) {
     std::printf("    %-24s base_color (%g, %g, %g) metallic %g roughness %g emissive (%g, %g, %g)\n", name.c_str(),
                 m.base_color.r, m.base_color.g, m.base_color.b, m.metallic, m.roughness, m.emissive.r, m.emissive.g,
                 m.emissive.b);
+    if (const std::string t = texture_list(m); !t.empty()) std::printf("    %-24s textures %s\n", "", t.c_str());
+  }
+  if (model.texture_bytes > 0) std::printf("  textures   %s\n", pbr::format_bytes(model.texture_bytes).c_str());
   std::printf("  problems   %zu\n", problems.size());
   for (const std::string& p : problems) std::printf("    %s\n", p.c_str());
   return kExitOk;
@@ -106,10 +126,11 @@ int info_scene(const std::string& path) {
   std::printf("\n  render     %dx%d, tone map %s, exposure %g, gamma %s\n", file.render.width, file.render.height,
               std::string(pbr::tone_map_name(file.render.output.tone_map)).c_str(), file.render.output.exposure,
               file.render.output.gamma > 0 ? std::to_string(file.render.output.gamma).c_str() : "srgb");
-  std::printf("  memory     %s (estimate: meshes and draws %s, image %s)\n",
-              pbr::format_bytes(file.mesh_bytes + pbr::image_memory(file.render.width, file.render.height)).c_str(),
-              pbr::format_bytes(file.mesh_bytes).c_str(),
-              pbr::format_bytes(pbr::image_memory(file.render.width, file.render.height)).c_str());
+  const std::uint64_t image = pbr::image_memory(file.render.width, file.render.height);
+  std::printf("  memory     %s (estimate: meshes and draws %s, textures %s, image %s)\n",
+              pbr::format_bytes(file.mesh_bytes + file.texture_bytes + image).c_str(),
+              pbr::format_bytes(file.mesh_bytes).c_str(), pbr::format_bytes(file.texture_bytes).c_str(),
+              pbr::format_bytes(image).c_str());
   std::printf("  problems   %zu\n", file.warnings.size());
   for (const std::string& w : file.warnings) std::printf("    %s\n", w.c_str());
   return kExitOk;

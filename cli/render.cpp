@@ -243,7 +243,7 @@ int run_render(const RenderArgs& a) {
   // 3. Memory, before the target is allocated.
   const std::uint64_t physical = physical_memory();
   const std::uint64_t limit = physical ? std::min(memory_limit, physical) : memory_limit;
-  const std::uint64_t needed = pbr::image_memory(s.width, s.height) + file.mesh_bytes;
+  const std::uint64_t needed = pbr::image_memory(s.width, s.height) + file.mesh_bytes + file.texture_bytes;
   if (needed > limit) {
     const bool from_cli = a.width_opt->count() || a.height_opt->count();
     const std::string where = from_cli ? "--width " + std::to_string(s.width) + " --height " + std::to_string(s.height)

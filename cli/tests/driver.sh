@@ -7,7 +7,7 @@
 #           gallery.json and gallery_spot.json give the library's own gallery goldens
 #           (tests/goldens/*.hash: the JSON files are make_gallery() exactly)
 #   errors  every error case: its one-line message, its exit code, and no output file
-#           created or truncated
+#           created or truncated (textures: cli/tests/hostile/*-texture.png, below)
 #   frames  shards cover a frame list exactly once, with the same images as one run; a
 #           re-run skips complete frames
 #   kill    a render killed with SIGKILL mid-way leaves only complete frames; a re-run
@@ -44,6 +44,8 @@ scenes)
   [ "${SOFTPBR_UPDATE_GOLDENS:-}" = 1 ] && : >"$hashes.new"
   for scene in "$scenes"/*.json; do
     name=$(basename "$scene" .json)
+    # Scenes waiting for the textured shader: no golden until it lands (test_scene_textures.cpp loads them).
+    case $name in textured) echo "skip: $name (no golden hash before the textured shader)"; continue ;; esac
     out=$("$softpbr" render "$scene" -o "$name.png" --threads 2 --tile-size 64) || { fail "$name: render failed"; continue; }
     hash=${out##*hash }
     # The same bits for other thread counts and tile sizes (at a quarter of the size, to be quick).
@@ -89,6 +91,12 @@ scenes)
 
 errors)
   cp -r "$scenes/models" models
+  # Hostile textures, each a few bytes: a 64x64 PNG cut inside its IDAT chunk; IHDRs
+  # declaring 100000x100000 (stb_image's header scan refuses more than 2^30 bytes of pixels
+  # before it gives the size, so the reason is stb's) and 100000x16, over one row of data.
+  cp "$src"/cli/tests/hostile/*-texture.png .
+  printf 'newmtl m\nKd 1 1 1\nmap_Kd gone.png\n' >tex.mtl
+  printf 'mtllib tex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n' >tex.obj
   printf 'KEEP' >keep.png
   # scene_with 'JSON' — a small valid scene with one replaced fragment
   base='{"camera": {"position": [0, 0, 3]}, "lights": [{"type": "point", "position": [1, 1, 2], "intensity": 5}], "objects": [{"mesh": {"type": "cube"}, "material": {"preset": "gold", "roughness": 0.5}}], "render": {"width": 32, "height": 24}}'
@@ -103,7 +111,13 @@ errors)
 "roughness": 0.5|"roughness": 2|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got 2
 "roughness": 0.5|"roughness": "NaN"|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got "NaN"
 "roughness": 0.5|"rougness": 0.5|3|bad.json: /objects/0/material/rougness: unknown key "rougness" (did you mean "roughness"?)
-"roughness": 0.5|"roughness": 0.5, "shiny": true|3|bad.json: /objects/0/material/shiny: unknown key "shiny" (expected one of: preset, base_color, metallic, roughness, ao, emissive)
+"roughness": 0.5|"roughness": 0.5, "shiny": true|3|bad.json: /objects/0/material/shiny: unknown key "shiny" (expected one of: preset, base_color, metallic, roughness, ao, emissive, alpha, alpha_mode, alpha_cutoff, double_sided, base_color_texture, metallic_roughness_texture, normal_texture, normal_scale, occlusion_texture, occlusion_strength, emissive_texture)
+"roughness": 0.5|"roughness": 0.5, "base_color_texture": "truncated-texture.png"|3|bad.json: /objects/0/material/base_color_texture: truncated-texture.png: cannot decode (truncated: chunk 'IDAT' at byte 33 claims 7818 bytes, more than the file has left)
+"roughness": 0.5|"roughness": 0.5, "normal_texture": {"image": "textures/missing.png"}|3|bad.json: /objects/0/material/normal_texture/image: textures/missing.png: no such file
+"roughness": 0.5|"roughness": 0.5, "emissive_texture": "huge-texture.png"|3|bad.json: /objects/0/material/emissive_texture: huge-texture.png: not a readable image (unknown image type)
+"roughness": 0.5|"roughness": 0.5, "occlusion_texture": {"image": "wide-texture.png"}|3|bad.json: /objects/0/material/occlusion_texture/image: wide-texture.png: image size 100000x16 is outside 1x1 .. 16384x16384
+"roughness": 0.5|"roughness": 0.5, "base_color_texture": {"image": "keep.png", "sampler": {"anisotropy": 32}}|3|bad.json: /objects/0/material/base_color_texture/sampler/anisotropy: expected an integer in [1, 16], got 32
+"type": "cube"|"file": "tex.obj"|3|bad.json: /objects/0/mesh/file: tex.mtl:3: map_Kd: gone.png: no such file
 "width": 32|"width": 0|3|bad.json: /render/width: expected an integer in [1, 16384], got 0
 "width": 32|"width": -5|3|bad.json: /render/width: expected an integer in [1, 16384], got -5
 "width": 32|"width": "32"|3|bad.json: /render/width: expected an integer in [1, 16384], got "32"

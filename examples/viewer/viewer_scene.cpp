@@ -52,8 +52,8 @@ std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
                                    std::vector<std::string>& warnings) {
   std::vector<NamedMesh> meshes;
   meshes.push_back({"spheres", nullptr});
-  // The bundled models' warnings are known and harmless (the teapot's MTL names a texture
-  // and sets both d and Tr): only the user's files get theirs reported.
+  // The bundled models' warnings are known and harmless (the teapot's MTL sets both d and
+  // Tr): only the user's files get theirs reported.
   std::vector<std::string> bundled_warnings;
   meshes.push_back({"spot", load_merged(assets_dir / "models/spot/spot_triangulated.obj", bundled_warnings)});
   meshes.push_back({"teapot", load_merged(assets_dir / "models/teapot/teapot.obj", bundled_warnings)});

@@ -256,6 +256,11 @@ std::string Reader::string(const Node& node) const {
   return node.value.get<std::string>();
 }
 
+bool Reader::boolean(const Node& node) const {
+  if (!node.value.is_boolean()) fail(node, std::string("expected true or false, got ") + show(node.value));
+  return node.value.get<bool>();
+}
+
 std::string Reader::choice(const Node& node, const std::vector<std::string>& names) const {
   if (!node.value.is_string() || std::find(names.begin(), names.end(), node.value.get<std::string>()) == names.end())
     fail(node, "expected one of " + list(names) + ", got " + show(node.value));

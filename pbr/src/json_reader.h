@@ -62,6 +62,7 @@ class Reader {
   // An integer in [lo, hi].
   long long integer(const Node& node, long long lo, long long hi) const;
   std::string string(const Node& node) const;
+  bool boolean(const Node& node) const;
   // One of `names`.
   std::string choice(const Node& node, const std::vector<std::string>& names) const;
   // An array of n numbers in [lo, hi] (finite).

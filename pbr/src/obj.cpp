@@ -5,7 +5,9 @@
 // out-of-range indices only as a warning with the file's last line, and cannot tell "Pr 0"
 // from "no Pr". So a first pass over the text (validate_obj) checks every number and index
 // with its line number before tinyobjloader sees the file, and the MTL reader notes which
-// keys each material has. The meshes are then built with every index checked again.
+// keys each material has and the line of each map statement (tinyobjloader gives materials
+// no line numbers). The meshes are then built with every index checked again; the maps
+// become texture slots in mtl_textures.cpp.
 #include "softpbr/pbr/obj.h"
 
 #include <algorithm>
@@ -24,6 +26,8 @@
 #include <glm/geometric.hpp>
 
 #include <tiny_obj_loader.h>
+
+#include "mtl_textures.h"
 
 namespace softpbr::pbr {
 
@@ -287,12 +291,22 @@ std::string located(const fs::path& path, std::string w) {
 
 // ---- Materials ------------------------------------------------------------------------------
 
-// What the MTL text says about each material beyond tinyobjloader's values.
-struct MtlInfo {
-  fs::path file;
-  bool has_pr = false;  // "Pr" present (tinyobjloader's default 0 is indistinguishable)
-  bool has_ns = false;  // "Ns" present (tinyobjloader's default is 1)
-};
+using detail::MtlInfo;
+
+// What a material's keys are taken to be when the text and tinyobjloader disagree on the
+// materials (not expected): Ns present, nothing else, no lines.
+MtlInfo fallback_info(const fs::path& file) {
+  MtlInfo info{file};
+  info.has_ns = true;
+  return info;
+}
+
+// The MTL keywords of the maps that become texture slots, as tinyobjloader matches them.
+constexpr std::pair<std::string_view, detail::MtlMap> kMapKeywords[] = {
+    {"map_Kd", detail::kMapKd},   {"map_Ke", detail::kMapKe},   {"map_Pr", detail::kMapPr},
+    {"map_Pm", detail::kMapPm},   {"map_Ns", detail::kMapNs},   {"norm", detail::kMapNorm},
+    {"map_Bump", detail::kMapBump}, {"map_bump", detail::kMapBump}, {"bump", detail::kMapBump},
+    {"map_d", detail::kMapD}};
 
 // Reads mtllib files next to the OBJ file. Warnings and errors are kept here (errors for
 // load_obj to throw once tinyobjloader returns, rather than thrown through it).
@@ -318,15 +332,24 @@ class MtlReader final : public tinyobj::MaterialReader {
     // (lines are trimmed at both ends first); text before the first one only becomes a
     // material when there is no `newmtl` at all.
     std::vector<MtlInfo> blocks(1, MtlInfo{path});
-    for_each_line(text, [&](std::size_t, std::string_view line) {
+    for_each_line(text, [&](std::size_t number, std::string_view line) {
       while (!line.empty() && is_space(line.back())) line.remove_suffix(1);
       while (!line.empty() && is_space(line.front())) line.remove_prefix(1);
       auto starts = [&](std::string_view key) {
         return line.size() > key.size() && line.substr(0, key.size()) == key && is_space(line[key.size()]);
       };
       if (starts("newmtl")) blocks.push_back(MtlInfo{path});
-      if (starts("Pr")) blocks.back().has_pr = true;
-      if (starts("Ns")) blocks.back().has_ns = true;
+      MtlInfo& b = blocks.back();
+      if (starts("Pr")) b.has_pr = true;
+      if (starts("Ns")) b.has_ns = true;
+      if (starts("Pm")) b.has_pm = true;
+      if (starts("Kd")) b.has_kd = true;
+      if (starts("Ke")) b.has_ke = true;
+      for (const auto& [keyword, map] : kMapKeywords)
+        if (starts(keyword)) {
+          b.line[map] = number;
+          b.keyword[map] = keyword;
+        }
     });
     if (blocks.size() > 1) blocks.erase(blocks.begin());
 
@@ -338,7 +361,7 @@ class MtlReader final : public tinyobj::MaterialReader {
     for (std::string w; std::getline(lines, w);)
       if (std::string l = located(path, w); !l.empty()) warnings.push_back(l);
     const std::size_t added = materials->size() - before;
-    if (added != blocks.size()) blocks.assign(added, MtlInfo{path, false, true});  // unexpected: trust Ns
+    if (added != blocks.size()) blocks.assign(added, fallback_info(path));  // unexpected: trust Ns
     info.insert(info.end(), blocks.begin(), blocks.end());
     return true;
   }
@@ -362,8 +385,10 @@ bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 //   roughness  ← Pr (PBR extension), clamped to [0, 1]; absent → roughness_from_phong_exponent(Ns);
 //                neither → Material's default
 //   emissive   ← Ke, negative components raised to 0
-// Texture maps, Ka, Ks, d/Tr, Ni, illum and the other extension keys are not used.
-Material mtl_to_material(const tinyobj::material_t& m, const MtlInfo& info, std::vector<std::string>& warnings) {
+//   texture maps (when `textures` is given) ← detail::map_textures (obj.h lists the mapping)
+// Ka, Ks, d/Tr, Ni, illum and the other extension keys are not used.
+Material mtl_to_material(const tinyobj::material_t& m, const MtlInfo& info, std::vector<std::string>& warnings,
+                         detail::MtlTextures* textures) {
   const std::string where = describe(info.file) + ": material '" + m.name + "'";
   const glm::vec3 kd = vec3_of(m.diffuse), ke = vec3_of(m.emission);
   if (!finite3(kd) || !finite3(ke) || !std::isfinite(m.roughness) || !std::isfinite(m.metallic) ||
@@ -382,9 +407,7 @@ Material mtl_to_material(const tinyobj::material_t& m, const MtlInfo& info, std:
   }
   out.emissive = glm::max(ke, glm::vec3(0.0f));
   if (out.emissive != ke) warnings.push_back(where + ": negative Ke raised to 0");
-  if (!m.diffuse_texname.empty() || !m.normal_texname.empty() || !m.bump_texname.empty() ||
-      !m.roughness_texname.empty() || !m.metallic_texname.empty() || !m.emissive_texname.empty())
-    warnings.push_back(where + ": texture maps are not loaded");
+  if (textures) detail::map_textures(m, info, out, *textures);
   return out;
 }
 
@@ -469,7 +492,7 @@ class MeshBuilder {
             if (!finite3(vert.position)) fail(path_, line_of_position(key.v), "vertex position is not finite");
             if (key.vt >= 0) {
               const auto* t = &attrib_.texcoords[static_cast<std::size_t>(key.vt) * 2];
-              vert.uv = {t[0], t[1]};
+              vert.uv = {t[0], 1.0f - t[1]};  // OBJ's v grows up the image, softpbr's down (obj.h)
               if (!std::isfinite(vert.uv.x) || !std::isfinite(vert.uv.y))
                 fail(path_, 0, "texture coordinate " + std::to_string(key.vt + 1) + " is not finite");
             }
@@ -539,7 +562,12 @@ float roughness_from_phong_exponent(float ns) {
   return std::clamp(static_cast<float>(std::sqrt(alpha)), 0.0f, 1.0f);
 }
 
-ObjModel load_obj(const fs::path& path) {
+ObjModel load_obj(const fs::path& path, const ObjOptions& options) {
+  detail::TextureCache cache;
+  return detail::load_obj(path, options, cache);
+}
+
+ObjModel detail::load_obj(const fs::path& path, const ObjOptions& options, TextureCache& cache) {
   std::string text;
   if (std::string problem = read_text(path, text); !problem.empty()) fail(path, 0, problem);
   ObjScan scan = validate_obj(path, text);
@@ -565,12 +593,15 @@ ObjModel load_obj(const fs::path& path) {
   model.warnings = std::move(scan.warnings);
   model.warnings.insert(model.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
   add_warnings(path, warn, model.warnings);
-  if (mtl.info.size() != materials.size()) mtl.info.resize(materials.size(), MtlInfo{path, false, true});
+  if (mtl.info.size() != materials.size()) mtl.info.resize(materials.size(), fallback_info(path));
+  detail::MtlTextures textures{cache, options.texture_memory_limit, cache.bytes(), model.warnings};
   for (std::size_t i = 0; i < materials.size(); ++i) {
     std::string name = materials[i].name;
     name.erase(0, name.find_first_not_of(" \t"));
-    model.materials.emplace_back(name, mtl_to_material(materials[i], mtl.info[i], model.warnings));
+    model.materials.emplace_back(
+        name, mtl_to_material(materials[i], mtl.info[i], model.warnings, options.textures ? &textures : nullptr));
   }
+  model.texture_bytes = cache.bytes() - textures.start;
 
   MeshBuilder builder(path, attrib, scan);
   std::size_t lines = 0, points = 0;

@@ -34,7 +34,8 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   r.object(root, {"camera", "lights", "ambient", "meshes", "objects", "render", "animation"});
   SceneFile out;
   scene_file::MemoryBudget budget(r, options.memory_limit);
-  scene_file::MeshLibrary meshes(r, base_dir, budget);
+  scene_file::TextureLibrary textures(r, base_dir, budget);
+  scene_file::MeshLibrary meshes(r, base_dir, budget, textures);
   if (auto c = r.member(root, "camera")) out.scene.camera = scene_file::read_camera(r, *c);
   if (auto a = r.member(root, "ambient")) out.scene.ambient = r.vec3(*a, 0, 1e30);
   if (auto s = r.member(root, "render")) scene_file::read_render(r, *s, out);
@@ -46,8 +47,9 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   if (auto m = r.member(root, "meshes")) meshes.define(*m);
   const Node objects = r.required(root, "objects");
   const std::size_t n = r.array(objects, kMaxObjects, "each object is a draw call");
-  for (std::size_t i = 0; i < n; ++i) scene_file::read_object(r, objects.at(i), meshes, budget, out);
-  out.mesh_bytes = budget.bytes();
+  for (std::size_t i = 0; i < n; ++i) scene_file::read_object(r, objects.at(i), meshes, textures, budget, out);
+  out.texture_bytes = textures.bytes();
+  out.mesh_bytes = budget.bytes() - out.texture_bytes;
   out.warnings = std::move(meshes.warnings());
   return out;
 }

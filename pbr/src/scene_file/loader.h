@@ -5,6 +5,7 @@
 //   camera.cpp     read_camera        /camera
 //   lights.cpp     read_light         /lights/N
 //   materials.cpp  read_material      /objects/N/material: a preset name or an object
+//   textures.cpp   TextureLibrary     /objects/N/material/*_texture: image files, cached
 //   meshes.cpp     MeshLibrary        /meshes, /objects/N/mesh: shapes and OBJ models, cached
 //   objects.cpp    read_object        /objects/N: placement (read_transform) and draws
 //   render.cpp     read_render, read_animation   /render, /animation
@@ -22,6 +23,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "../json_reader.h"
+#include "../texture_cache.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene_file.h"
 
@@ -31,13 +33,16 @@ using json_reader::Json;
 using json_reader::Node;
 using json_reader::Reader;
 
-// The scene's estimated memory (meshes and their draws) against SceneLoadOptions::memory_limit.
+// The scene's estimated memory (meshes, their draws and textures) against
+// SceneLoadOptions::memory_limit.
 class MemoryBudget {
  public:
   MemoryBudget(const Reader& reader, std::uint64_t limit) : r_(reader), limit_(limit) {}
   // Adds `bytes`; fails at `where` ("<what> brings the scene's estimated memory to …") past the limit.
   void charge(const Node& where, std::uint64_t bytes, const char* what);
   std::uint64_t bytes() const { return bytes_; }
+  // What is left under the limit: the bound of an image read before it is decoded.
+  std::uint64_t left() const { return bytes_ < limit_ ? limit_ - bytes_ : 0; }
 
  private:
   const Reader& r_;
@@ -56,9 +61,29 @@ void check_at(const Reader& r, const Node& spec, Check&& check) {
   }
 }
 
+// The textures of one scene file: image paths resolve against the scene's folder; each file
+// is loaded once per colour space (a TextureCache shared with the scene's OBJ models), and
+// its texels are charged to the budget — refused before decoding when they would pass it.
+class TextureLibrary {
+ public:
+  TextureLibrary(const Reader& reader, std::filesystem::path base_dir, MemoryBudget& budget)
+      : r_(reader), base_dir_(std::move(base_dir)), budget_(budget) {}
+
+  // A material's texture slot: an image path, or {"image", "sampler", "uv_set", "uv_transform"}.
+  TextureSlot slot(const Node& spec, raster::ColorSpace space);
+  detail::TextureCache& cache() { return cache_; }
+  std::uint64_t bytes() const { return cache_.bytes(); }
+
+ private:
+  const Reader& r_;
+  std::filesystem::path base_dir_;
+  MemoryBudget& budget_;
+  detail::TextureCache cache_;
+};
+
 Camera read_camera(const Reader& r, const Node& spec);
 Light read_light(const Reader& r, const Node& spec);
-Material read_material(const Reader& r, const Node& spec);
+Material read_material(const Reader& r, const Node& spec, TextureLibrary& textures);
 // The object's model matrix from {"translate", "rotate", "scale"} or {"matrix"}.
 glm::mat4 read_transform(const Reader& r, const Node& spec);
 // /render: image size, output transform, renderer options, and the scene's background.
@@ -82,11 +107,12 @@ std::uint64_t mesh_bytes(std::uint64_t vertices, std::uint64_t triangles);
 
 // The meshes of one scene file: named ones (/meshes) and inline specs, each built once
 // (cached by name or by the spec's JSON text) and charged to the budget before it is built
-// where its size is known first (procedural shapes).
+// where its size is known first (procedural shapes). OBJ models' MTL maps load into the
+// scene's texture cache.
 class MeshLibrary {
  public:
-  MeshLibrary(const Reader& reader, std::filesystem::path base_dir, MemoryBudget& budget)
-      : r_(reader), base_dir_(std::move(base_dir)), budget_(budget) {}
+  MeshLibrary(const Reader& reader, std::filesystem::path base_dir, MemoryBudget& budget, TextureLibrary& textures)
+      : r_(reader), base_dir_(std::move(base_dir)), budget_(budget), textures_(textures) {}
 
   // /meshes: builds every named mesh now, so an unused one is still checked.
   void define(const Node& meshes);
@@ -103,12 +129,14 @@ class MeshLibrary {
   const Reader& r_;
   std::filesystem::path base_dir_;
   MemoryBudget& budget_;
+  TextureLibrary& textures_;
   std::optional<Node> named_;
   std::map<std::string, LoadedMesh> cache_;  // by name ("#name") or by the spec's JSON text
   std::vector<std::string> warnings_;
 };
 
 // One entry of /objects: appended to out.scene.objects, one object per drawn part.
-void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, MemoryBudget& budget, SceneFile& out);
+void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, TextureLibrary& textures, MemoryBudget& budget,
+                 SceneFile& out);
 
 }  // namespace softpbr::pbr::scene_file

@@ -1,9 +1,10 @@
-// Scene files: materials, a preset name or an object of overrides (see scene_file/loader.h).
+// Scene files: materials, a preset name or an object of overrides and textures (see
+// scene_file/loader.h).
 #include "loader.h"
 
 namespace softpbr::pbr::scene_file {
 
-Material read_material(const Reader& r, const Node& spec) {
+Material read_material(const Reader& r, const Node& spec, TextureLibrary& textures) {
   if (spec.value.is_string()) {
     const auto preset = material_preset(spec.value.get<std::string>());
     if (!preset) {
@@ -13,17 +14,36 @@ Material read_material(const Reader& r, const Node& spec) {
     }
     return *preset;
   }
-  r.object(spec, {"preset", "base_color", "metallic", "roughness", "ao", "emissive"});
+  r.object(spec, {"preset", "base_color", "metallic", "roughness", "ao", "emissive", "alpha", "alpha_mode",
+                  "alpha_cutoff", "double_sided", "base_color_texture", "metallic_roughness_texture",
+                  "normal_texture", "normal_scale", "occlusion_texture", "occlusion_strength", "emissive_texture"});
   Material m;
   if (auto p = r.member(spec, "preset")) {
     if (!p->value.is_string()) r.fail(*p, "expected a preset name, got " + json_reader::show(p->value));
-    m = read_material(r, *p);
+    m = read_material(r, *p, textures);
   }
   if (auto c = r.member(spec, "base_color")) m.base_color = r.vec3(*c, 0, 1);
   if (auto c = r.member(spec, "metallic")) m.metallic = r.number_f(*c, 0, 1);
   if (auto c = r.member(spec, "roughness")) m.roughness = r.number_f(*c, 0, 1);
   if (auto c = r.member(spec, "ao")) m.ao = r.number_f(*c, 0, 1);
   if (auto c = r.member(spec, "emissive")) m.emissive = r.vec3(*c, 0, 1e30);
+  if (auto c = r.member(spec, "alpha")) m.alpha = r.number_f(*c, 0, 1);
+  if (auto c = r.member(spec, "alpha_mode")) {
+    const std::string mode = r.choice(*c, {"opaque", "mask", "blend"});
+    m.alpha_mode = mode == "opaque" ? AlphaMode::Opaque : mode == "mask" ? AlphaMode::Mask : AlphaMode::Blend;
+  }
+  if (auto c = r.member(spec, "alpha_cutoff")) m.alpha_cutoff = r.number_f(*c, 0, 1);
+  if (auto c = r.member(spec, "double_sided")) m.double_sided = r.boolean(*c);
+  if (auto c = r.member(spec, "normal_scale")) m.normal_scale = r.number_f(*c, -1e30, 1e30);
+  if (auto c = r.member(spec, "occlusion_strength")) m.occlusion_strength = r.number_f(*c, 0, 1);
+  // Colour textures hold sRGB codes, data textures linear ones (glTF 2.0 §3.9.2).
+  using raster::ColorSpace;
+  if (auto t = r.member(spec, "base_color_texture")) m.base_color_texture = textures.slot(*t, ColorSpace::Srgb);
+  if (auto t = r.member(spec, "metallic_roughness_texture"))
+    m.metallic_roughness_texture = textures.slot(*t, ColorSpace::Linear);
+  if (auto t = r.member(spec, "normal_texture")) m.normal_texture = textures.slot(*t, ColorSpace::Linear);
+  if (auto t = r.member(spec, "occlusion_texture")) m.occlusion_texture = textures.slot(*t, ColorSpace::Linear);
+  if (auto t = r.member(spec, "emissive_texture")) m.emissive_texture = textures.slot(*t, ColorSpace::Srgb);
   return m;
 }
 

@@ -2,6 +2,8 @@
 // memory budget (see scene_file/loader.h).
 #include "loader.h"
 
+#include "../mtl_textures.h"
+
 #include <algorithm>
 #include <functional>
 #include <limits>
@@ -76,7 +78,12 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   if (rel.empty()) r_.fail(file, "expected a file name, got \"\"");
   const std::filesystem::path path = rel.is_absolute() ? rel : base_dir_ / rel;
   std::shared_ptr<ObjModel> model;
-  check_at(r_, file, [&] { model = std::make_shared<ObjModel>(load_obj(path)); });
+  // MTL maps load into the scene's cache, bounded by what the budget has left, and are
+  // charged once the model is read (its meshes' size is only known then too).
+  ObjOptions options;
+  options.texture_memory_limit = budget_.left();
+  const std::uint64_t textures_before = textures_.bytes();
+  check_at(r_, file, [&] { model = std::make_shared<ObjModel>(detail::load_obj(path, options, textures_.cache())); });
   for (const std::string& w : model->warnings) warnings_.push_back(w);
   LoadedMesh out;
   std::uint64_t v = 0, t = 0;
@@ -88,6 +95,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   }
   for (const auto& m : model->materials) out.materials.push_back(m.second);
   out.obj = model;
+  budget_.charge(file, textures_.bytes() - textures_before, "this model's textures");
   budget_.charge(file, mesh_bytes(v, t), "this model");
   return out;
 }

@@ -75,7 +75,8 @@ glm::mat4 read_transform(const Reader& r, const Node& spec) {
   return out;
 }
 
-void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, MemoryBudget& budget, SceneFile& out) {
+void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, TextureLibrary& textures, MemoryBudget& budget,
+                 SceneFile& out) {
   r.object(spec, {"name", "mesh", "material", "transform"});
   if (auto n = r.member(spec, "name")) r.string(*n);
   LoadedMesh& m = meshes.mesh(r.required(spec, "mesh"));
@@ -93,7 +94,7 @@ void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, MemoryB
     out.scene.objects.push_back({std::move(mesh), material, placed});
   };
   if (auto mat = r.member(spec, "material")) {
-    const Material material = read_material(r, *mat);
+    const Material material = read_material(r, *mat, textures);
     if (m.parts.size() == 1) {
       add(m.parts[0], material, spec);
     } else {

@@ -54,21 +54,23 @@ struct SceneFile {
   RenderSettings render;
   Animation animation;
   std::uint64_t mesh_bytes = 0;   // memory the scene's meshes and their draws are estimated to need
+  std::uint64_t texture_bytes = 0;  // texels of its textures, mip levels included (a shared image counts once)
   std::uint64_t triangles = 0;    // drawn per frame (a shared mesh counts once per object)
   std::vector<std::string> warnings;  // e.g. from OBJ files, one line each, naming the file
 };
 
 struct SceneLoadOptions {
-  // The loader refuses a scene whose meshes are estimated to need more (checked before a
-  // procedural mesh is generated; after an OBJ file is read, since its size is only then known).
+  // The loader refuses a scene whose meshes and textures are estimated to need more
+  // (checked before a procedural mesh is generated and before an image is decoded, from its
+  // header; after an OBJ file is read, since its size is only then known).
   std::uint64_t memory_limit = kDefaultMemoryLimit;
 };
 
-// Reads and validates a scene file. Relative mesh paths resolve against the file's folder.
+// Reads and validates a scene file. Relative mesh and image paths resolve against the file's folder.
 // Throws SceneFileError (one line: the path as given, the JSON pointer, the problem).
 SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOptions& options = {});
 
-// The same from text: `name` is used in messages, `base_dir` resolves relative mesh paths.
+// The same from text: `name` is used in messages, `base_dir` resolves relative mesh and image paths.
 SceneFile parse_scene_file(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
                            const SceneLoadOptions& options = {});
 

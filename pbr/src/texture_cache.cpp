@@ -1,0 +1,72 @@
+// Image files as textures, loaded once per colour space (see texture_cache.h).
+#include "texture_cache.h"
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+#include <system_error>
+
+#include "softpbr/image/load.h"
+#include "softpbr/pbr/scene_file.h"
+
+namespace softpbr::pbr::detail {
+
+namespace fs = std::filesystem;
+
+bool is_float_image_path(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".hdr" || ext == ".exr";
+}
+
+TextureImage read_texture_image(const fs::path& path, std::uint64_t max_bytes) {
+  image::Limits limits;
+  // The base level's share of the bound: levels 1, 2, … of a square chain add 1/4 + 1/16 +
+  // … < 1/3 of it (an elongated one up to 1 more: its exact size is charged once built).
+  const std::uint64_t base = max_bytes / 4 * 3;
+  const bool bounded = base < limits.max_decoded_bytes;
+  if (bounded) limits.max_decoded_bytes = base;
+  TextureImage out;
+  out.is_float = is_float_image_path(path);
+  try {
+    if (out.is_float) out.imagef = image::load_imagef(path, limits);
+    else out.image8 = image::load_image8(path, limits);
+  } catch (const std::runtime_error& e) {
+    // The library's "… needs N bytes decoded, over the limit of M": say where M comes from.
+    const std::string what = e.what();
+    if (bounded && what.ends_with("over the limit of " + std::to_string(base)))
+      throw std::runtime_error(what + " (the memory limit leaves " + format_bytes(max_bytes) +
+                               " for this texture, and its mip levels add a third to the image)");
+    throw;
+  }
+  return out;
+}
+
+std::shared_ptr<const raster::Texture> make_texture(const TextureImage& image, raster::ColorSpace space,
+                                                    const std::string& name) {
+  try {
+    if (image.is_float) return std::make_shared<const raster::Texture>(image::ImageViewF(image.imagef));
+    return std::make_shared<const raster::Texture>(image::ImageView8(image.image8), space);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(name + ": " + e.what());
+  }
+}
+
+std::string TextureCache::key(const fs::path& path, std::string_view how) {
+  std::error_code ec;
+  fs::path canonical = fs::canonical(path, ec);
+  if (ec) canonical = path.lexically_normal();  // a missing file fails when it is read
+  std::string key = canonical.string();
+  key += '\0';  // no path holds a NUL
+  key += how;
+  return key;
+}
+
+std::shared_ptr<const raster::Texture> TextureCache::load(const fs::path& path, raster::ColorSpace space,
+                                                          std::uint64_t max_bytes) {
+  const bool is_float = is_float_image_path(path);
+  const char* how = is_float ? "float" : space == raster::ColorSpace::Srgb ? "srgb" : "linear";
+  return get(key(path, how), [&] { return make_texture(read_texture_image(path, max_bytes), space, path.string()); });
+}
+
+}  // namespace softpbr::pbr::detail
