@@ -61,6 +61,7 @@ struct ObjectDraw {
   TexturedPbrShader shader;
   std::vector<TexturedVertex> vertices;  // textured only
   const Mesh* mesh = nullptr;
+  std::shared_ptr<const Mesh> generated;  // the mesh with MikkTSpace tangents, when it had none
   raster::DrawState state;
   float distance2 = 0.0f;  // blended objects: from the eye to the centre of their bounds
 };
@@ -102,7 +103,15 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     TexturedPbrShader& s = d.shader;
     s.material = std::make_shared<const TexturedMaterial>(
         with_context(where, [&] { return prepare_textured_material(o.material); }));
-    d.vertices = with_context(where, [&] { return textured_vertices(*o.mesh); });
+    if (o.material.normal_texture && o.mesh->tangents.empty()) {
+      // A normal map needs tangents: MikkTSpace, as glTF prescribes (per frame here;
+      // loaders generate them once, when they build the mesh).
+      auto copy = std::make_shared<Mesh>(*o.mesh);
+      with_context(where, [&] { generate_tangents(*copy); });
+      d.generated = copy;
+      d.mesh = copy.get();
+    }
+    d.vertices = with_context(where, [&] { return textured_vertices(*d.mesh); });
     s.model = o.transform;
     s.normal_matrix = normal_matrix;
     s.handedness = glm::determinant(glm::mat3(o.transform)) < 0.0f ? -1.0f : 1.0f;
