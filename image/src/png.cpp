@@ -13,6 +13,15 @@ namespace softpbr::image {
 
 Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
   detail::expect_format(bytes, name, detail::Format::Png);
+  // The size from the IHDR chunk first (it must follow the signature): stb_info refuses an
+  // image over 2^30 pixel bytes as "unknown image type", which would hide the reason.
+  if (bytes.size() >= 24 && bytes[12] == 'I' && bytes[13] == 'H' && bytes[14] == 'D' && bytes[15] == 'R') {
+    auto be32 = [&](std::size_t at) {
+      return (std::uint32_t{bytes[at]} << 24) | (std::uint32_t{bytes[at + 1]} << 16) | (std::uint32_t{bytes[at + 2]} << 8) |
+             std::uint32_t{bytes[at + 3]};
+    };
+    detail::check_size(name, be32(16), be32(20), 4, limits);
+  }
   const detail::StbSize size = detail::stb_info(bytes, name);
   detail::check_size(name, size.width, size.height, 4, limits);
   // stb_image allocates what a chunk claims before reading it (png_scan.h).
