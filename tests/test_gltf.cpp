@@ -2,14 +2,16 @@
 // when the folder is absent); renders go to build/gltf-output/ for looking at.
 #include "softpbr/golden/doctest_checks.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <algorithm>
 #include <string>
 
 #include "softpbr/image/write.h"
 #include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
 
@@ -194,5 +196,33 @@ TEST_CASE("a hand-written glTF triangle loads; hostile variants fail with the fi
     // The message starts with the path as given (the folder, then the name).
     CHECK(message.find(c.message) != std::string::npos);
     CHECK(message.find('\n') == std::string::npos);
+  }
+}
+
+TEST_CASE("scene files place a glTF model like an OBJ model: its primitives with their materials, or merged") {
+  const fs::path triangle = fs::path(SOFTPBR_SOURCE_DIR) / "fuzz" / "corpus" / "gltf" / "triangle.gltf";
+  const std::string own = R"({"objects": [{"mesh": {"file": ")" + triangle.string() + R"("}}]})";
+  const pbr::SceneFile f = pbr::parse_scene_file(own, "t.json", fs::path(SOFTPBR_BINARY_DIR));
+  // The file's two nodes each draw mesh 0's two primitives (a list and a strip).
+  REQUIRE(f.scene.objects.size() == 4);
+  CHECK(f.scene.objects[0].material.base_color_texture);
+  CHECK(f.scene.objects[0].material.alpha_mode == pbr::AlphaMode::Mask);
+  CHECK(f.scene.objects[0].material.double_sided);
+  CHECK(f.scene.objects[0].transform == glm::mat4(1.0f));  // node transforms are baked in
+  CHECK(f.texture_bytes + f.mesh_bytes > 0);
+  // Baked positions stay finite (the second node mirrors its parent's quarter turn).
+  for (const pbr::Object& o : f.scene.objects)
+    for (const pbr::MeshVertex& v : o.mesh->vertices) CHECK(std::isfinite(v.position.x));
+  const std::string merged = R"({"objects": [{"mesh": {"file": ")" + triangle.string() + R"("}, "material": "gold"}]})";
+  const pbr::SceneFile m = pbr::parse_scene_file(merged, "t.json", fs::path(SOFTPBR_BINARY_DIR));
+  REQUIRE(m.scene.objects.size() == 1);
+  CHECK(m.scene.objects[0].mesh->triangle_count() == 4);
+  // Errors name the scene file's pointer and then the glTF's.
+  const std::string bad = R"({"objects": [{"mesh": {"file": "missing.glb"}}]})";
+  try {
+    pbr::parse_scene_file(bad, "t.json", fs::path(SOFTPBR_BINARY_DIR));
+    FAIL("no error");
+  } catch (const pbr::SceneFileError& e) {
+    CHECK(std::string(e.what()).rfind("t.json: /objects/0/mesh/file: ", 0) == 0);
   }
 }

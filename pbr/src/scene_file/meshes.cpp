@@ -5,12 +5,57 @@
 #include "../mtl_textures.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include <glm/matrix.hpp>
+
+#include "softpbr/pbr/gltf.h"
 #include <functional>
 #include <limits>
 
 namespace softpbr::pbr::scene_file {
 
 namespace {
+
+// `mesh` with its node transform applied: positions by M, normals by M's inverse
+// transpose (normalised), tangents by M with the handedness flipped when M mirrors (the
+// loader already reversed such a mesh's winding).
+Mesh baked(const Mesh& mesh, const glm::mat4& m) {
+  Mesh out = mesh;
+  const glm::mat3 linear(m);
+  const glm::mat3 normals = glm::transpose(glm::inverse(linear));
+  const float handedness = glm::determinant(linear) < 0.0f ? -1.0f : 1.0f;
+  auto unit = [](glm::vec3 v, glm::vec3 fallback) {
+    const float len = std::sqrt(glm::dot(v, v));
+    return len > 0.0f && std::isfinite(len) ? v / len : fallback;
+  };
+  for (MeshVertex& v : out.vertices) {
+    v.position = glm::vec3(m * glm::vec4(v.position, 1.0f));
+    v.normal = unit(normals * v.normal, v.normal);
+  }
+  for (glm::vec4& t : out.tangents) t = glm::vec4(unit(linear * glm::vec3(t), glm::vec3(t)), t.w * handedness);
+  return out;
+}
+
+// A glTF model's objects as the shapes of a model (materials one per shape, in order), and
+// the bytes of its textures, each counted once.
+ObjModel gltf_as_model(const GltfScene& g, std::uint64_t& texture_bytes) {
+  ObjModel model;
+  model.warnings = g.warnings;
+  std::set<const raster::Texture*> seen;
+  for (std::size_t i = 0; i < g.objects.size(); ++i) {
+    const Object& o = g.objects[i];
+    model.shapes.push_back({"primitive " + std::to_string(i), baked(*o.mesh, o.transform), static_cast<int>(i)});
+    model.materials.emplace_back("material " + std::to_string(i), o.material);
+    for (const TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
+                                 &o.material.normal_texture, &o.material.occlusion_texture, &o.material.emissive_texture})
+      if (t->texture && seen.insert(t->texture.get()).second) texture_bytes += t->texture->texel_bytes();
+  }
+  return model;
+}
 
 // pbr::fit_transform of the bounds of all `parts` (the function make_gallery uses too, so
 // gallery_spot.json matches it bit for bit).
@@ -83,7 +128,21 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   ObjOptions options;
   options.texture_memory_limit = budget_.left();
   const std::uint64_t textures_before = textures_.bytes();
-  check_at(r_, file, [&] { model = std::make_shared<ObjModel>(detail::load_obj(path, options, textures_.cache())); });
+  std::uint64_t gltf_texture_bytes = 0;
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".gltf" || ext == ".glb") {
+    // A glTF model: its primitives become the parts, baked into the model's space by their
+    // node transforms, each with its material, like an OBJ's shapes (its lights and cameras
+    // are not used here).
+    check_at(r_, file, [&] {
+      GltfOptions g;
+      g.image_limits.max_decoded_bytes = std::min<std::uint64_t>(g.image_limits.max_decoded_bytes, budget_.left());
+      model = std::make_shared<ObjModel>(gltf_as_model(load_gltf(path, g), gltf_texture_bytes));
+    });
+  } else {
+    check_at(r_, file, [&] { model = std::make_shared<ObjModel>(detail::load_obj(path, options, textures_.cache())); });
+  }
   for (const std::string& w : model->warnings) warnings_.push_back(w);
   LoadedMesh out;
   std::uint64_t v = 0, t = 0;
@@ -95,7 +154,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   }
   for (const auto& m : model->materials) out.materials.push_back(m.second);
   out.obj = model;
-  budget_.charge(file, textures_.bytes() - textures_before, "this model's textures");
+  budget_.charge(file, textures_.bytes() - textures_before + gltf_texture_bytes, "this model's textures");
   budget_.charge(file, mesh_bytes(v, t), "this model");
   return out;
 }
