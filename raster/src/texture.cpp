@@ -5,12 +5,14 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "softpbr/raster/color.h"
 #include "softpbr/raster/pool.h"
+#include "softpbr/simd/isa.h"
 
 namespace softpbr::raster {
 
@@ -23,17 +25,20 @@ struct DecodeTables {
   std::array<float, 256> unorm;
 };
 
-const DecodeTables& tables() {
-  static const DecodeTables t = [] {
-    DecodeTables d{};
-    for (int k = 0; k < 256; ++k) {
-      // srgb_to_linear is the exact curve in double (basic operations only); one rounding
-      // to float.
-      d.srgb[static_cast<std::size_t>(k)] = static_cast<float>(srgb_to_linear(k / 255.0));
-      d.unorm[static_cast<std::size_t>(k)] = static_cast<float>(k) / 255.0f;
-    }
-    return d;
-  }();
+DecodeTables make_tables() {
+  DecodeTables d{};
+  for (int k = 0; k < 256; ++k) {
+    // srgb_to_linear is the exact curve in double (basic operations only); one rounding
+    // to float.
+    d.srgb[static_cast<std::size_t>(k)] = static_cast<float>(srgb_to_linear(k / 255.0));
+    d.unorm[static_cast<std::size_t>(k)] = static_cast<float>(k) / 255.0f;
+  }
+  return d;
+}
+
+// Built on first use; inline, so that a lookup pays only the guard's test.
+inline const DecodeTables& tables() {
+  static const DecodeTables t = make_tables();
   return t;
 }
 
@@ -291,11 +296,42 @@ Texture::Texture(const image::ImageViewF& image, const TextureOptions& options, 
 
 // ---- Lookups ---------------------------------------------------------------------------
 
+namespace detail {
+// What the eight-lane kernel (texture-inl.h) reads: an 8-bit texture whose sides are powers
+// of two, through a sampler that repeats both ways and filters linearly everywhere.
+struct LaneTexture {
+  const std::uint8_t* texels;  // RGBA8, every level
+  const float* rgb;            // colour code → linear
+  const float* alpha;          // alpha code → k/255
+  const Texture::Level* levels;
+  int q;                       // the last level
+  float width, height;         // level 0's sides
+  float lod_bias, min_lod, max_lod;
+  int max_anisotropy;
+};
+}  // namespace detail
+
+}  // namespace softpbr::raster
+
+// detail::{avx2, avx512}::sample_lanes() (the baseline copy has none unless the build
+// itself targets AVX); sample_batch() runs the AVX2 copy.
+#define SOFTPBR_TARGET_FILE "texture-inl.h"
+#include "softpbr/simd/foreach_target.h"
+
+namespace softpbr::raster {
+
 namespace {
 
 struct Rgba {
   float c[4];
 };
+
+// The samplers of the fast paths: repeat both ways, every filter linear (any anisotropy).
+inline bool repeat_trilinear(const Sampler& s) {
+  return s.wrap_u == Wrap::Repeat && s.wrap_v == Wrap::Repeat && s.mag_filter == Filter::Linear &&
+         s.min_filter == Filter::Linear && s.mip_filter == MipFilter::Linear;
+}
+inline bool power_of_two(int x) { return (x & (x - 1)) == 0; }  // for x ≥ 1
 
 // The four channels of a texel or of a filtered value in one vector (GCC/Clang vector
 // extension): every operation is element-wise, so each channel gets the IEEE operation the
@@ -460,10 +496,7 @@ class Lookup {
   // of each pair from the first, the coordinates clamped once for both levels, the
   // channels as one vector and log₂ inline. The same bits (tests/test_texture.cpp, the
   // textured goldens).
-  bool fast(const Sampler& s) const {
-    return t8_ != nullptr && s.wrap_u == Wrap::Repeat && s.wrap_v == Wrap::Repeat && s.mag_filter == Filter::Linear &&
-           s.min_filter == Filter::Linear && s.mip_filter == MipFilter::Linear;
-  }
+  bool fast(const Sampler& s) const { return t8_ != nullptr && repeat_trilinear(s); }
 
   Rgba4 decode(const std::uint8_t* p) const { return Rgba4{rgb_[p[0]], rgb_[p[1]], rgb_[p[2]], alpha_[p[3]]}; }
 
@@ -558,6 +591,25 @@ Texture::Footprint Texture::footprint(const Sampler& s, glm::vec2 dx, glm::vec2 
 }
 
 void Texture::sample_batch(const Sampler& s, int n, const Batch& b) const {
+#if SOFTPBR_SIMD_X86_TARGETS
+  if (!is_float() && repeat_trilinear(s) && power_of_two(width()) && power_of_two(height()) &&
+      simd::cpu_isa() != simd::Isa::Baseline) {
+    const detail::LaneTexture t{texels8_.data(),
+                                rgb_table_,
+                                tables().unorm.data(),
+                                levels_.data(),
+                                static_cast<int>(levels_.size()) - 1,
+                                static_cast<float>(width()),
+                                static_cast<float>(height()),
+                                s.lod_bias,
+                                s.min_lod,
+                                s.max_lod,
+                                s.max_anisotropy};
+    // The AVX2 copy on AVX-512 CPUs too: the kernel's vectors are 256 bits wide.
+    detail::avx2::sample_lanes(t, n, b);
+    return;
+  }
+#endif
   const Lookup lookup(*this);
   if (lookup.fast(s)) {
     for (int i = 0; i < n; ++i) {
