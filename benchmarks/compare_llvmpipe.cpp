@@ -89,11 +89,18 @@ Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::ui
 void run_child(const Options& o, unsigned threads) {
   const std::string lp = std::to_string(threads);
   setenv("LP_NUM_THREADS", lp.c_str(), 1);  // before the first GL context of this process
+  bool said = false;
   for (const bench::BenchScene& s : bench::all_scenes(bench::default_shared_models())) {
     if (!o.filter.empty() && s.name.find(o.filter) == std::string::npos) continue;
     raster::Renderer renderer({.threads = threads, .tile_size = 64});
     raster::Target target(s.width, s.height);
     bench::LlvmpipeRenderer gl(s.width, s.height);
+    if (!said) {
+      const std::string aniso = gl.anisotropy_extension();
+      std::printf("# %s, LP_NUM_THREADS=%u; anisotropic filtering: %s (max %.0f)\n", gl.renderer_name().c_str(),
+                  threads, aniso.empty() ? "none reported" : aniso.c_str(), static_cast<double>(gl.max_anisotropy()));
+      said = true;
+    }
     gl.load(s.scene, s.output);
     raster::Image8 image;
     pbr::render_rgba8(s.scene, renderer, target, s.output, image);  // warm-up (and llvmpipe's shader compile)

@@ -8,6 +8,13 @@
 // Reinhard and the gamma curve in the fragment shader, written to an RGBA8 buffer. The
 // vertex stage is the same (world position, normal matrix, view-projection), the meshes
 // the same vertex and index buffers, back faces culled, depth test less.
+//
+// Objects with a base colour texture (TexturedPbrShader's in softpbr) are drawn by a second
+// program: the mesh's uv as a vertex attribute, softpbr's own mip chain uploaded level by
+// level (GL_SRGB8_ALPHA8 for sRGB textures), a sampler object with the Sampler's wrap
+// modes, filters, LOD bias and limits and, when llvmpipe has anisotropic filtering, its
+// max_anisotropy; the base colour is u_albedo × texture(...).rgb where TexturedPbrShader
+// multiplies it, and F0 follows from it per pixel.
 #pragma once
 
 #include <cstdint>
@@ -30,8 +37,10 @@ class LlvmpipeRenderer {
   LlvmpipeRenderer(const LlvmpipeRenderer&) = delete;
   LlvmpipeRenderer& operator=(const LlvmpipeRenderer&) = delete;
 
-  // Uploads the scene's meshes and sets its uniforms (outside any timing). Point lights
-  // only (the benchmark scenes have nothing else); throws std::invalid_argument otherwise.
+  // Uploads the scene's meshes and textures and sets its uniforms (outside any timing).
+  // Point lights only, and of the textures only a base colour texture (uv set 0, no UV
+  // transform) on an opaque single-sided material (the benchmark scenes have nothing
+  // else); throws std::invalid_argument otherwise.
   void load(const pbr::Scene& scene, const pbr::OutputSettings& output);
 
   // One frame: clear + one draw per object + glFinish.
@@ -42,6 +51,13 @@ class LlvmpipeRenderer {
 
   // "llvmpipe (LLVM 15.0.6, 256 bits)" or the like.
   std::string renderer_name() const;
+
+  // The extension string through which anisotropic filtering is set
+  // ("GL_ARB_texture_filter_anisotropic" or "GL_EXT_texture_filter_anisotropic"), empty
+  // when llvmpipe reports neither (samplers are then isotropic), and
+  // GL_MAX_TEXTURE_MAX_ANISOTROPY (1 without).
+  std::string anisotropy_extension() const;
+  float max_anisotropy() const;
 
  private:
   struct Impl;

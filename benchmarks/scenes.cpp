@@ -1,6 +1,8 @@
 // The benchmark scenes (see scenes.h).
 #include "scenes.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -37,7 +39,52 @@ pbr::GalleryOptions benchmark_gallery_options() {
   return o;
 }
 
+// A 32-bit integer hash (the finalizer of MurmurHash3).
+std::uint32_t mix(std::uint32_t h) {
+  h ^= h >> 16;
+  h *= 0x85ebca6bu;
+  h ^= h >> 13;
+  h *= 0xc2b2ae35u;
+  h ^= h >> 16;
+  return h;
+}
+
+// `material` with benchmark_texture() as its base colour texture through `sampler`.
+pbr::Material with_base_texture(pbr::Material material, const raster::Sampler& sampler) {
+  material.base_color_texture.texture = benchmark_texture();
+  material.base_color_texture.sampler = sampler;
+  return material;
+}
+
 }  // namespace
+
+std::shared_ptr<const raster::Texture> benchmark_texture() {
+  static const std::shared_ptr<const raster::Texture> texture = [] {
+    constexpr int kSize = 2048, kCell = 64;
+    image::Image8 im;
+    im.width = im.height = kSize;
+    im.rgba.resize(static_cast<std::size_t>(kSize) * kSize * 4);
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        std::uint8_t* p = &im.rgba[(static_cast<std::size_t>(y) * kSize + static_cast<std::size_t>(x)) * 4];
+        const int cx = x / kCell, cy = y / kCell;
+        const std::uint32_t cell = mix(static_cast<std::uint32_t>(cx) * 0x9e3779b1u + static_cast<std::uint32_t>(cy));
+        const std::uint32_t noise = mix(static_cast<std::uint32_t>(y) * 0x01000193u ^ static_cast<std::uint32_t>(x) * 0x27d4eb2fu);
+        const bool dark = (cx + cy) % 2 == 1;
+        const bool line = x % kCell < 2 || y % kCell < 2;
+        for (int ch = 0; ch < 3; ++ch) {
+          int c = 40 + static_cast<int>((cell >> (8 * ch)) & 0xffu) * 190 / 255;  // 40 … 230
+          if (dark) c = c * 3 / 5;
+          c += static_cast<int>((noise >> (8 * ch)) % 49u) - 24;
+          if (line) c = 235;
+          p[ch] = static_cast<std::uint8_t>(std::clamp(c, 0, 255));
+        }
+        p[3] = 255;
+      }
+    return std::make_shared<const raster::Texture>(im, raster::ColorSpace::Srgb);
+  }();
+  return texture;
+}
 
 BenchScene gallery_scene(int segments, int width, int height) {
   BenchScene b;
@@ -82,6 +129,28 @@ BenchScene fill_scene(int width, int height, int layers) {
   return b;
 }
 
+BenchScene textured_fill_scene(int width, int height, const std::string& tag, glm::vec2 uv_scale,
+                               int max_anisotropy, int layers) {
+  BenchScene b = fill_scene(width, height, layers);
+  b.name = "fill" + std::to_string(layers) + "x_" + tag + "_" + size_suffix(width, height);
+  auto plane = std::make_shared<pbr::Mesh>(*b.scene.objects.front().mesh);
+  for (pbr::MeshVertex& v : plane->vertices) v.uv *= uv_scale;
+  raster::Sampler sampler;  // repeat, trilinear
+  sampler.max_anisotropy = max_anisotropy;
+  for (pbr::Object& o : b.scene.objects) {
+    o.mesh = plane;
+    o.material = with_base_texture(o.material, sampler);
+  }
+  return b;
+}
+
+BenchScene textured_gallery_scene(int segments, int width, int height) {
+  BenchScene b = gallery_scene(segments, width, height);
+  b.name = "gallery" + std::to_string(segments) + "_tex_" + size_suffix(width, height);
+  for (pbr::Object& o : b.scene.objects) o.material = with_base_texture(o.material, raster::Sampler{});
+  return b;
+}
+
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height) {
   pbr::GalleryOptions o = benchmark_gallery_options();
   o.mesh = std::make_shared<const pbr::Mesh>(pbr::merge_shapes(pbr::load_obj(obj)));
@@ -102,6 +171,9 @@ std::vector<BenchScene> all_scenes(const std::filesystem::path& shared_models) {
   scenes.push_back(gallery_scene(256, 1920, 1080));
   scenes.push_back(gallery_scene(64, 512, 512));
   scenes.push_back(fill_scene(1920, 1080));
+  scenes.push_back(textured_fill_scene(1920, 1080, "tex", {8.0f, 8.0f}, 1));
+  scenes.push_back(textured_fill_scene(1920, 1080, "aniso16", {30.0f, 4.0f}, 16));
+  scenes.push_back(textured_gallery_scene(64, 1920, 1080));
   const struct {
     const char* name;
     const char* file;

@@ -12,14 +12,26 @@
 //                  drawn back to front so the depth test passes every time: every pixel
 //                  is shaded 8 times by the same PBR equation (16 triangles).
 //   mesh_<name>    the gallery with a real mesh from ../shared/models in every cell.
+//
+// Textured (issue 13): the same scenes with benchmark_texture() as every material's base
+// colour texture (sRGB, trilinear, repeat), drawn by pbr's TexturedPbrShader:
+//   fill8x_tex     the fill planes with their UVs scaled by 8: ~2.8–3.9 texels per pixel
+//                  (λ 1.5–2, levels 1–3 read), isotropic
+//   fill8x_aniso16 the same planes with u scaled 7.5× more than v (30 × 4): 8 probes along
+//                  u (max_anisotropy 16), λ 0.4–0.9
+//   gallery64_tex  the 64-segment gallery, the texture on every sphere (uv_sphere's UVs)
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
+#include "softpbr/raster/texture.h"
 
 namespace softpbr::bench {
 
@@ -39,12 +51,28 @@ BenchScene gallery_scene(int segments, int width, int height);
 // Fill rate at width × height: `layers` full-view planes, back to front.
 BenchScene fill_scene(int width, int height, int layers = 8);
 
+// The textured scenes' base colour: a 2048² sRGB RGBA8 texture with its mip chain (12
+// levels), built once: 32 × 32 cells of 64 texels, each a colour from an integer hash of
+// the cell, darker on alternate cells (a checker), with per-texel hash noise of ±24 codes
+// and a 2-texel light line along the cells' top and left edges. Integer arithmetic only:
+// the same bytes everywhere.
+std::shared_ptr<const raster::Texture> benchmark_texture();
+
+// fill_scene() with benchmark_texture() on every plane, the planes' UVs multiplied by
+// `uv_scale`, a sampler with `max_anisotropy`; named "fill<layers>x_<tag>_<size>".
+BenchScene textured_fill_scene(int width, int height, const std::string& tag, glm::vec2 uv_scale,
+                               int max_anisotropy, int layers = 8);
+
+// gallery_scene() with benchmark_texture() on every sphere (trilinear, isotropic).
+BenchScene textured_gallery_scene(int segments, int width, int height);
+
 // The gallery with each cell showing `obj` (fitted into a 0.8 cube). Throws as load_obj.
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height);
 
 // Every scene of issue 6: gallery 64 at 1080p, 16 and 256 segments at 1080p, 64 at
-// 512×512, fill at 1080p, and the shared meshes when `shared_models` exists (skipped
-// cleanly, with a note on stderr, otherwise).
+// 512×512, fill at 1080p; issue 13's textured fill (trilinear and 16× anisotropic) and
+// textured 64-segment gallery at 1080p; and the shared meshes when `shared_models` exists
+// (skipped cleanly, with a note on stderr, otherwise).
 std::vector<BenchScene> all_scenes(const std::filesystem::path& shared_models);
 
 // Where ../shared/models is for a program run from the build tree: $SOFTPBR_SHARED_MODELS

@@ -5,12 +5,14 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "softpbr/raster/color.h"
 #include "softpbr/raster/pool.h"
+#include "softpbr/simd/isa.h"
 
 namespace softpbr::raster {
 
@@ -23,22 +25,34 @@ struct DecodeTables {
   std::array<float, 256> unorm;
 };
 
-const DecodeTables& tables() {
-  static const DecodeTables t = [] {
-    DecodeTables d{};
-    for (int k = 0; k < 256; ++k) {
-      // srgb_to_linear is the exact curve in double (basic operations only); one rounding
-      // to float.
-      d.srgb[static_cast<std::size_t>(k)] = static_cast<float>(srgb_to_linear(k / 255.0));
-      d.unorm[static_cast<std::size_t>(k)] = static_cast<float>(k) / 255.0f;
-    }
-    return d;
-  }();
+DecodeTables make_tables() {
+  DecodeTables d{};
+  for (int k = 0; k < 256; ++k) {
+    // srgb_to_linear is the exact curve in double (basic operations only); one rounding
+    // to float.
+    d.srgb[static_cast<std::size_t>(k)] = static_cast<float>(srgb_to_linear(k / 255.0));
+    d.unorm[static_cast<std::size_t>(k)] = static_cast<float>(k) / 255.0f;
+  }
+  return d;
+}
+
+// Built on first use; inline, so that a lookup pays only the guard's test.
+inline const DecodeTables& tables() {
+  static const DecodeTables t = make_tables();
   return t;
 }
 
 // x when finite, else 0 (x − x is 0 only for finite x).
 inline float finite_or_zero(float x) { return x - x == 0.0f ? x : 0.0f; }
+
+// i mod size in [0, size): a mask for powers of two (every level of a power-of-two
+// texture; two's complement makes it the non-negative remainder for negative i too), a
+// division otherwise.
+inline int repeat_index(int i, int size) {
+  if ((size & (size - 1)) == 0) return i & (size - 1);
+  const int r = i % size;
+  return r < 0 ? r + size : r;
+}
 
 // Texel index i wrapped into [0, size) (OpenGL 4.6, §8.14.2).
 inline int wrap_index(Wrap mode, int i, int size) {
@@ -47,18 +61,13 @@ inline int wrap_index(Wrap mode, int i, int size) {
       return i < 0 ? 0 : (i >= size ? size - 1 : i);
     case Wrap::MirroredRepeat: {
       // (size − 1) − mirror((i mod 2·size) − size), mirror(a) = a ≥ 0 ? a : −(1 + a).
-      const int two = 2 * size;
-      int r = i % two;
-      if (r < 0) r += two;
-      r -= size;
+      const int r = repeat_index(i, 2 * size) - size;
       const int m = r >= 0 ? r : -(1 + r);
       return size - 1 - m;
     }
     case Wrap::Repeat:
-    default: {
-      const int r = i % size;
-      return r < 0 ? r + size : r;
-    }
+    default:
+      return repeat_index(i, size);
   }
 }
 
@@ -72,7 +81,9 @@ inline float coordinate(float x) { return std::clamp(finite_or_zero(x), -kMaxCoo
 const float* srgb8_decode_table() { return tables().srgb.data(); }
 const float* unorm8_decode_table() { return tables().unorm.data(); }
 
-float lod_log2(float x) {
+namespace {
+// lod_log2(), inline for the lookups (the same operations: the same bits).
+inline float log2_of(float x) {
   if (x != x || x < 0.0f) return std::numeric_limits<float>::quiet_NaN();
   if (x == 0.0f) return -kInf;
   if (x == kInf) return kInf;
@@ -100,6 +111,9 @@ float lod_log2(float x) {
   constexpr float kTwoOverLn2 = 2.88539008f;  // 2 / ln 2
   return static_cast<float>(e) + s * p * kTwoOverLn2;
 }
+}  // namespace
+
+float lod_log2(float x) { return log2_of(x); }
 
 int mip_level_count(int width, int height) {
   int side = std::max(width, height);
@@ -282,11 +296,66 @@ Texture::Texture(const image::ImageViewF& image, const TextureOptions& options, 
 
 // ---- Lookups ---------------------------------------------------------------------------
 
+namespace detail {
+// What the eight-lane kernel (texture-inl.h) reads: an 8-bit texture whose sides are powers
+// of two, through a sampler that repeats both ways and filters linearly everywhere.
+struct LaneTexture {
+  const std::uint8_t* texels;  // RGBA8, every level
+  const float* rgb;            // colour code → linear
+  const float* alpha;          // alpha code → k/255
+  const Texture::Level* levels;
+  int q;                       // the last level
+  float width, height;         // level 0's sides
+  float lod_bias, min_lod, max_lod;
+  int max_anisotropy;
+};
+}  // namespace detail
+
+}  // namespace softpbr::raster
+
+// detail::{avx2, avx512}::sample_lanes() (the baseline copy has none unless the build
+// itself targets AVX); sample_batch() runs the AVX2 copy.
+#define SOFTPBR_TARGET_FILE "texture-inl.h"
+#include "softpbr/simd/foreach_target.h"
+
+namespace softpbr::raster {
+
 namespace {
 
 struct Rgba {
   float c[4];
 };
+
+// The samplers of the fast paths: repeat both ways, every filter linear (any anisotropy).
+inline bool repeat_trilinear(const Sampler& s) {
+  return s.wrap_u == Wrap::Repeat && s.wrap_v == Wrap::Repeat && s.mag_filter == Filter::Linear &&
+         s.min_filter == Filter::Linear && s.mip_filter == MipFilter::Linear;
+}
+inline bool power_of_two(int x) { return (x & (x - 1)) == 0; }  // for x ≥ 1
+
+// The four channels of a texel or of a filtered value in one vector (GCC/Clang vector
+// extension): every operation is element-wise, so each channel gets the IEEE operation the
+// scalar code gives it, in the same order (no contraction: -ffp-contract=off).
+typedef float Rgba4 __attribute__((vector_size(16)));
+
+inline Rgba to_rgba(const Rgba4& v) { return {{v[0], v[1], v[2], v[3]}}; }
+
+// std::floor(x) as an int and as a float, for x in (−2^31, 2^31) other than −0: the
+// truncation, one less when it lies above x. Every float of magnitude 2^23 or more is an
+// integer, so the conversions are exact and the float is floor's value; its sign is
+// floor's too (only floor(−0) is −0). The fast path's arguments qualify: x − 0.5 of a
+// clamped coordinate times a side (|x| ≤ 2^30 + 1, and a difference is −0 only for
+// −0 − +0), and λ in (0, 15). Baseline x86-64 has no floor instruction (roundss is
+// SSE4.1): this is four instructions against GCC's sixteen.
+struct Floor {
+  int i;
+  float f;
+};
+inline Floor floor_of(float x) {
+  int i = static_cast<int>(x);
+  if (static_cast<float>(i) > x) --i;
+  return {i, static_cast<float>(i)};
+}
 
 // The internals of a lookup, shared by the scalar and batch entry points.
 class Lookup {
@@ -395,7 +464,7 @@ class Lookup {
       const float limit = static_cast<float>(s.max_anisotropy);
       probes = ratio < limit ? static_cast<int>(std::ceil(ratio)) : s.max_anisotropy;
     }
-    const float lod = lod_log2(probes > 1 ? pmax / static_cast<float>(probes) : pmax);
+    const float lod = log2_of(probes > 1 ? pmax / static_cast<float>(probes) : pmax);
     return {clamp_lod(s, lod + finite_or_zero(bias)), probes};
   }
 
@@ -417,6 +486,72 @@ class Lookup {
     const float n = static_cast<float>(fp.probes);
     for (float& c : sum.c) c /= n;
     return sum;
+  }
+
+  // ---- The fast path ----
+  // An 8-bit texture read through a sampler that repeats in both directions and filters
+  // linearly everywhere (trilinear; isotropic or anisotropic): the general code's
+  // operations on the values it computes, without its per-texel branches on the format,
+  // the wrap modes and the filters, with the mask for power-of-two wraps, the second index
+  // of each pair from the first, the coordinates clamped once for both levels, the
+  // channels as one vector and log₂ inline. The same bits (tests/test_texture.cpp, the
+  // textured goldens).
+  bool fast(const Sampler& s) const { return t8_ != nullptr && repeat_trilinear(s); }
+
+  Rgba4 decode(const std::uint8_t* p) const { return Rgba4{rgb_[p[0]], rgb_[p[1]], rgb_[p[2]], alpha_[p[3]]}; }
+
+  // filter_level(s, level, Filter::Linear, u, v) with both wraps Repeat, for cu =
+  // coordinate(u), cv = coordinate(v).
+  Rgba4 bilinear_repeat(int level, float cu, float cv) const {
+    const Texture::Level& lv = levels_[static_cast<std::size_t>(level)];
+    const float x = cu * static_cast<float>(lv.width);
+    const float y = cv * static_cast<float>(lv.height);
+    const float xs = x - 0.5f, ys = y - 0.5f;
+    const Floor x0 = floor_of(xs), y0 = floor_of(ys);
+    const float ax = xs - x0.f, ay = ys - y0.f;  // exact
+    const int ia = repeat_index(x0.i, lv.width), ja = repeat_index(y0.i, lv.height);
+    const int ib = ia + 1 == lv.width ? 0 : ia + 1, jb = ja + 1 == lv.height ? 0 : ja + 1;
+    const std::size_t w = static_cast<std::size_t>(lv.width);
+    const std::uint8_t* row_a = t8_ + (lv.offset + static_cast<std::size_t>(ja) * w) * 4;
+    const std::uint8_t* row_b = t8_ + (lv.offset + static_cast<std::size_t>(jb) * w) * 4;
+    const std::size_t xa = static_cast<std::size_t>(ia) * 4, xb = static_cast<std::size_t>(ib) * 4;
+    const Rgba4 c00 = decode(row_a + xa), c10 = decode(row_a + xb);
+    const Rgba4 c01 = decode(row_b + xa), c11 = decode(row_b + xb);
+    const float bx = 1.0f - ax, by = 1.0f - ay;
+    const Rgba4 top = c00 * bx + c10 * ax;
+    const Rgba4 bottom = c01 * bx + c11 * ax;
+    return top * by + bottom * ay;
+  }
+
+  // at_lod() for the fast path's samplers.
+  Rgba4 trilinear_repeat(float lod, float u, float v) const {
+    const float cu = coordinate(u), cv = coordinate(v);
+    if (!(lod > 0.0f)) return bilinear_repeat(0, cu, cv);
+    const int q = static_cast<int>(levels_.size()) - 1;
+    if (!(lod < static_cast<float>(q))) return bilinear_repeat(q, cu, cv);
+    const Floor f = floor_of(lod);
+    const int d1 = f.i;
+    const float t = lod - f.f;  // exact
+    const Rgba4 a = bilinear_repeat(d1, cu, cv);
+    const Rgba4 b = bilinear_repeat(d1 + 1, cu, cv);
+    return a * (1.0f - t) + b * t;
+  }
+
+  // sample() for the fast path's samplers.
+  Rgba4 sample_fast(const Sampler& s, float u, float v, float dudx, float dvdx, float dudy, float dvdy,
+                    float bias) const {
+    float mu = 0.0f, mv = 0.0f;
+    const Texture::Footprint fp = footprint(s, dudx, dvdx, dudy, dvdy, bias, &mu, &mv);
+    if (fp.probes == 1) return trilinear_repeat(fp.lod, u, v);
+    u = coordinate(u);
+    v = coordinate(v);
+    const float n1 = static_cast<float>(fp.probes + 1);
+    Rgba4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (int i = 1; i <= fp.probes; ++i) {
+      const float t = static_cast<float>(i) / n1 - 0.5f;
+      sum = sum + trilinear_repeat(fp.lod, u + mu * t, v + mv * t);
+    }
+    return sum / static_cast<float>(fp.probes);
   }
 
   Rgba sample_lod(const Sampler& s, float u, float v, float lod) const {
@@ -442,7 +577,9 @@ glm::vec4 Texture::texel(int level, int x, int y) const {
 }
 
 glm::vec4 Texture::sample(const Sampler& s, glm::vec2 uv, glm::vec2 dx, glm::vec2 dy, float bias) const {
-  return to_vec4(Lookup(*this).sample(s, uv.x, uv.y, dx.x, dx.y, dy.x, dy.y, bias));
+  const Lookup lookup(*this);
+  if (lookup.fast(s)) return to_vec4(to_rgba(lookup.sample_fast(s, uv.x, uv.y, dx.x, dx.y, dy.x, dy.y, bias)));
+  return to_vec4(lookup.sample(s, uv.x, uv.y, dx.x, dx.y, dy.x, dy.y, bias));
 }
 
 glm::vec4 Texture::sample_lod(const Sampler& s, glm::vec2 uv, float lod) const {
@@ -454,7 +591,36 @@ Texture::Footprint Texture::footprint(const Sampler& s, glm::vec2 dx, glm::vec2 
 }
 
 void Texture::sample_batch(const Sampler& s, int n, const Batch& b) const {
+#if SOFTPBR_SIMD_X86_TARGETS
+  if (!is_float() && repeat_trilinear(s) && power_of_two(width()) && power_of_two(height()) &&
+      simd::cpu_isa() != simd::Isa::Baseline) {
+    const detail::LaneTexture t{texels8_.data(),
+                                rgb_table_,
+                                tables().unorm.data(),
+                                levels_.data(),
+                                static_cast<int>(levels_.size()) - 1,
+                                static_cast<float>(width()),
+                                static_cast<float>(height()),
+                                s.lod_bias,
+                                s.min_lod,
+                                s.max_lod,
+                                s.max_anisotropy};
+    // The AVX2 copy on AVX-512 CPUs too: the kernel's vectors are 256 bits wide.
+    detail::avx2::sample_lanes(t, n, b);
+    return;
+  }
+#endif
   const Lookup lookup(*this);
+  if (lookup.fast(s)) {
+    for (int i = 0; i < n; ++i) {
+      const Rgba4 c = lookup.sample_fast(s, b.u[i], b.v[i], b.dudx[i], b.dvdx[i], b.dudy[i], b.dvdy[i], 0.0f);
+      b.r[i] = c[0];
+      b.g[i] = c[1];
+      b.b[i] = c[2];
+      b.a[i] = c[3];
+    }
+    return;
+  }
   for (int i = 0; i < n; ++i) {
     const Rgba c = lookup.sample(s, b.u[i], b.v[i], b.dudx[i], b.dvdx[i], b.dudy[i], b.dvdy[i], 0.0f);
     b.r[i] = c.c[0];

@@ -22,11 +22,14 @@
 //   EXT_texture_filter_anisotropic describes it: N = min(⌈P_max/P_min⌉, max_anisotropy)
 //   trilinear probes along the major axis of the pixel's footprint at λ = log₂(P_max/N).
 //
-// Determinism: a lookup runs one out-of-line function, the same machine code for the
-// scalar form and for every lane of the packet form, so a texel value is the same bits at
-// every width, with dispatch on or off. log₂ is computed from the float's bits and a fixed
-// polynomial (no libm). Mip chains are built with a fixed order of operations per texel, so
-// they do not depend on the thread count.
+// Determinism: every lookup is computed out of line (texture.cpp), each value by the same
+// IEEE operations in the same order whatever the form, the lane width or the instruction
+// set: the packet form runs the scalar code per lane, or, on x86-64 CPUs with AVX2 and for
+// 8-bit textures with power-of-two sides through repeat, trilinear samplers, an eight-lane
+// kernel with those operations per lane (selects for branches, no FMA). So a texel value is
+// the same bits at every width, with dispatch on or off. log₂ is computed from the float's
+// bits and a fixed polynomial (no libm). Mip chains are built with a fixed order of
+// operations per texel, so they do not depend on the thread count.
 #pragma once
 
 #include <cstddef>
