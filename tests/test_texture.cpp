@@ -11,6 +11,7 @@
 #include "softpbr/raster/color.h"
 #include "softpbr/raster/pool.h"
 #include "softpbr/raster/texture.h"
+#include "texture_helpers.h"
 #include "softpbr/simd/simd.h"
 
 namespace raster = softpbr::raster;
@@ -30,15 +31,6 @@ image::ImageF float_image(int w, int h, unsigned seed) {
   return im;
 }
 
-image::Image8 byte_image(int w, int h, unsigned seed) {
-  image::Image8 im;
-  im.width = w;
-  im.height = h;
-  im.rgba.resize(static_cast<std::size_t>(w) * h * 4);
-  std::mt19937 rng(seed);
-  for (auto& x : im.rgba) x = static_cast<std::uint8_t>(rng() & 0xff);
-  return im;
-}
 
 // A w × 1 float texture whose texel i holds (i, 0, 0, 1): lookups say which texel they read.
 raster::Texture index_texture(int w, int h = 1) {
@@ -108,8 +100,8 @@ TEST_CASE("every mip level keeps the image's mean (odd sizes included)") {
       for (int ch = 0; ch < 4; ++ch) CHECK(means[l * 4 + ch] == doctest::Approx(means[ch]).epsilon(2e-6));
     // Quantized to 8 bits per level, a linear texture stays within a code of the mean,
     // and an sRGB one within a code's width of linear light.
-    const raster::Texture lin(byte_image(w, h, static_cast<unsigned>(w + h)), raster::ColorSpace::Linear);
-    const raster::Texture srgb(byte_image(w, h, static_cast<unsigned>(w + h)), raster::ColorSpace::Srgb);
+    const raster::Texture lin(softpbr::test::random_image8(w, h, static_cast<unsigned>(w + h)), raster::ColorSpace::Linear);
+    const raster::Texture srgb(softpbr::test::random_image8(w, h, static_cast<unsigned>(w + h)), raster::ColorSpace::Srgb);
     const auto lm = level_means(lin), sm = level_means(srgb);
     for (int l = 1; l < lin.level_count(); ++l)
       for (int ch = 0; ch < 4; ++ch) {
@@ -328,7 +320,7 @@ TEST_CASE("the packet form returns the scalar form's bits at 4, 8 and 16 lanes")
   samplers[2].mip_filter = raster::MipFilter::Nearest;
   samplers[3].mag_filter = samplers[3].min_filter = raster::Filter::Nearest;
   samplers[3].lod_bias = -0.7f;
-  const raster::Texture textures[] = {raster::Texture(byte_image(37, 64, 5), raster::ColorSpace::Srgb),
+  const raster::Texture textures[] = {raster::Texture(softpbr::test::random_image8(37, 64, 5), raster::ColorSpace::Srgb),
                                       raster::Texture(float_image(128, 9, 6))};
   std::mt19937 rng(13);
   std::uniform_real_distribution<float> uv(-2.0f, 3.0f), du(-0.3f, 0.3f), lod(-2.0f, 9.0f);
@@ -363,7 +355,7 @@ TEST_CASE("the packet form returns the scalar form's bits at 4, 8 and 16 lanes")
 
 TEST_CASE("a mip chain built on a pool has the same bits as one built on one thread") {
   raster::ThreadPool pool(4);
-  const image::Image8 im = byte_image(1031, 517, 9);  // big enough to be split
+  const image::Image8 im = softpbr::test::random_image8(1031, 517, 9);  // big enough to be split
   const raster::Texture a(im, raster::ColorSpace::Srgb);
   const raster::Texture b(im, raster::ColorSpace::Srgb, {}, &pool);
   CHECK(a.level_count() == b.level_count());

@@ -15,21 +15,13 @@
 #include <vector>
 
 #include "softpbr/raster/texture.h"
+#include "texture_helpers.h"
 
 namespace raster = softpbr::raster;
 namespace image = softpbr::image;
 
 namespace {
 
-image::Image8 random_image(int w, int h, unsigned seed) {
-  image::Image8 im;
-  im.width = w;
-  im.height = h;
-  im.rgba.resize(static_cast<std::size_t>(w) * h * 4);
-  std::mt19937 rng(seed);
-  for (auto& x : im.rgba) x = static_cast<std::uint8_t>(rng() & 0xff);
-  return im;
-}
 
 // Mostly ordinary values of magnitude up to `scale`, sometimes the special ones.
 float value(std::mt19937& rng, float scale) {
@@ -52,11 +44,11 @@ float value(std::mt19937& rng, float scale) {
 
 TEST_CASE("the eight-lane texture kernel returns the scalar lookup's bits") {
   const raster::Texture textures[] = {
-      raster::Texture(random_image(256, 256, 1), raster::ColorSpace::Srgb),
-      raster::Texture(random_image(64, 16, 2), raster::ColorSpace::Linear),
-      raster::Texture(random_image(1, 128, 3), raster::ColorSpace::Srgb),
-      raster::Texture(random_image(1, 1, 4), raster::ColorSpace::Srgb),
-      raster::Texture(random_image(32, 32, 5), raster::ColorSpace::Srgb, {.mipmaps = false}),
+      raster::Texture(softpbr::test::random_image8(256, 256, 1), raster::ColorSpace::Srgb),
+      raster::Texture(softpbr::test::random_image8(64, 16, 2), raster::ColorSpace::Linear),
+      raster::Texture(softpbr::test::random_image8(1, 128, 3), raster::ColorSpace::Srgb),
+      raster::Texture(softpbr::test::random_image8(1, 1, 4), raster::ColorSpace::Srgb),
+      raster::Texture(softpbr::test::random_image8(32, 32, 5), raster::ColorSpace::Srgb, {.mipmaps = false}),
   };
   std::mt19937 rng(21);
   const int anisotropies[] = {1, 2, 5, 16};

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,17 @@ namespace softpbr::test {
 
 namespace pbr = softpbr::pbr;
 namespace raster = softpbr::raster;
+
+// A w × h image of random bytes (colour and alpha), the same for the same seed.
+inline image::Image8 random_image8(int w, int h, unsigned seed) {
+  image::Image8 im;
+  im.width = w;
+  im.height = h;
+  im.rgba.resize(static_cast<std::size_t>(w) * h * 4);
+  std::mt19937 rng(seed);
+  for (auto& x : im.rgba) x = static_cast<std::uint8_t>(rng() & 0xff);
+  return im;
+}
 
 // A `size`² checkerboard of `squares`² squares in two sRGB colours, with a thin red line
 // on the first row and column of every square (so aliasing and mip levels show).
