@@ -298,12 +298,18 @@ TEST_CASE("scene textures: texels are charged to the memory budget, and an image
 TEST_CASE("scene textures: examples/scenes/textured.json loads with its textures, the ORM image shared by two slots") {
   const pbr::SceneFile f = pbr::load_scene_file(fs::path(SOFTPBR_SOURCE_DIR) / "examples/scenes/textured.json");
   CHECK(f.warnings.empty());
-  int textured = 0;
+  int textured = 0, normal_mapped = 0;
   for (const pbr::Object& o : f.scene.objects) {
     textured += o.material.textured();
     if (o.material.occlusion_texture && o.material.metallic_roughness_texture)
       CHECK(o.material.occlusion_texture.texture == o.material.metallic_roughness_texture.texture);
+    // Normal-mapped shapes get their MikkTSpace tangents at load, once, not per frame.
+    if (o.material.normal_texture) {
+      CHECK(o.mesh->tangents.size() == o.mesh->vertices.size());
+      ++normal_mapped;
+    }
   }
   CHECK(textured >= 3);
+  CHECK(normal_mapped == 2);
   CHECK(f.texture_bytes > 0);
 }

@@ -98,6 +98,9 @@ struct LoadedMesh {
   std::vector<Material> materials;     // OBJ's MTL materials
   std::shared_ptr<const Mesh> merged;  // all parts in one mesh, made when an object needs it
   std::shared_ptr<const ObjModel> obj; // kept to merge on demand
+  // Parts (or the merged mesh) with MikkTSpace tangents, made once for the objects that
+  // draw them with a normal map (keyed by the mesh they were made from).
+  std::map<const Mesh*, std::shared_ptr<const Mesh>> with_tangents;
   glm::mat4 fit{1.0f};
   bool has_fit = false;
 };

@@ -87,6 +87,19 @@ void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, Texture
     return m.has_fit ? tr * m.fit : tr;
   }();
   auto add = [&](std::shared_ptr<const Mesh> mesh, const Material& material, const Node& where) {
+    if (material.normal_texture && mesh->tangents.empty()) {
+      // A normal map needs tangents: generated once here, not by every frame's render().
+      auto& generated = m.with_tangents[mesh.get()];
+      if (!generated) {
+        auto copy = std::make_shared<Mesh>(*mesh);
+        check_at(r, where, [&] { generate_tangents(*copy); });
+        budget.charge(where, mesh_bytes(copy->vertices.size(), copy->triangle_count()) +
+                                 copy->tangents.size() * sizeof(glm::vec4),
+                      "this mesh's tangents");
+        generated = copy;
+      }
+      mesh = generated;
+    }
     if (out.scene.objects.size() >= kMaxObjects)
       r.fail(where, "too many objects to draw (the limit is " + std::to_string(kMaxObjects) + ": each is a draw call)");
     budget.charge(where, draw_bytes(mesh->vertices.size(), mesh->triangle_count()), "drawing this object");
