@@ -17,6 +17,7 @@
 #include "frames.h"
 #include "softpbr/image/write.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/raster.h"
@@ -51,6 +52,14 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--yaw", a.yaw, "glTF models: turn the automatic camera this many degrees around the vertical axis");
   c->add_option("--pitch", a.pitch, "glTF models: raise the automatic camera this many degrees (-89..89)");
   a.camera_opt = c->add_option("--camera", a.camera, "glTF models: view through camera N of the file (from 0)");
+  a.env_opt = c->add_option("--env", a.env,
+                            "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
+                            "glTF models) or \"none\"");
+  a.env_intensity_opt = c->add_option("--env-intensity", a.env_intensity, "Scale the environment's radiance (>= 0)");
+  a.env_rotation_opt = c->add_option("--env-rotation", a.env_rotation, "Turn the environment about the vertical axis, degrees");
+  a.background_opt = c->add_option("--background", a.background,
+                                   "What is seen behind the scene: environment, blur, transparent or R,G,B (linear)");
+  c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");
   a.max_memory_mib = static_cast<double>(pbr::kDefaultMemoryLimit >> 20);
@@ -93,7 +102,16 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
                                          static_cast<float>(softpbr::dmath::radians(a.yaw)),
                                          static_cast<float>(softpbr::dmath::radians(a.pitch)));
   }
-  f.scene.lights = g.lights.empty() ? pbr::default_light_rig(f.scene.camera) : std::move(g.lights);
+  // Lit by the built-in studio environment unless --env says otherwise (apply_environment);
+  // without one, by the default light rig when the file has no lights.
+  const bool lit_by_environment = !a.env_opt->count() || a.env != "none";
+  if (lit_by_environment) {
+    f.scene.environment.map = pbr::Environment::studio();
+    f.scene.background_mode = pbr::BackgroundMode::Blur;
+    f.scene.lights = std::move(g.lights);
+  } else {
+    f.scene.lights = g.lights.empty() ? pbr::default_light_rig(f.scene.camera) : std::move(g.lights);
+  }
   f.scene.ambient = glm::vec3(pbr::kDefaultAmbient);
   f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
   // Memory: the meshes and their draws (18 varyings: the textured shader's), and textures.
@@ -108,6 +126,60 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
       if (t->texture && seen.insert(t->texture.get()).second) f.mesh_bytes += t->texture->texel_bytes();
   }
   return f;
+}
+
+// --env, --env-intensity, --env-rotation and --background over the scene's settings.
+void apply_environment(const RenderArgs& a, pbr::SceneFile& f, raster::ThreadPool& pool) {
+  pbr::Scene& s = f.scene;
+  if (a.env_opt->count()) {
+    if (a.env == "none") {
+      s.environment.map = nullptr;
+      s.background_mode = pbr::BackgroundMode::Color;
+    } else {
+      if (!s.environment.map) s.background_mode = pbr::BackgroundMode::Environment;
+      if (a.env == "studio") {
+        s.environment.map = pbr::Environment::studio();
+      } else {
+        image::Limits limits;
+        try {
+          s.environment.map = pbr::load_environment(a.env, {}, &pool, a.env_cache, limits);
+        } catch (const std::invalid_argument& e) {
+          throw Error(kExitInput, std::string("--env: ") + e.what());
+        } catch (const std::runtime_error& e) {
+          throw Error(kExitInput, std::string("--env: ") + e.what());
+        }
+      }
+      f.mesh_bytes += s.environment.map->bytes();
+    }
+  }
+  if (a.env_intensity_opt->count()) {
+    if (!(a.env_intensity >= 0.0f && a.env_intensity <= 1e6f))
+      throw Error(kExitUsage, "--env-intensity: expected a number in [0, 1e6], got " + std::to_string(a.env_intensity));
+    s.environment.intensity = a.env_intensity;
+  }
+  if (a.env_rotation_opt->count()) {
+    if (!std::isfinite(a.env_rotation)) throw Error(kExitUsage, "--env-rotation: expected a finite number of degrees");
+    s.environment.rotation = a.env_rotation;
+  }
+  if (a.background_opt->count()) {
+    const std::string& b = a.background;
+    if (b == "environment" || b == "blur") {
+      if (!s.environment.map) throw Error(kExitUsage, "--background " + b + ": the scene has no environment (give --env)");
+      s.background_mode = b == "blur" ? pbr::BackgroundMode::Blur : pbr::BackgroundMode::Environment;
+    } else if (b == "transparent") {
+      s.background_mode = pbr::BackgroundMode::Color;
+      s.background = {0.0f, 0.0f, 0.0f, 0.0f};
+    } else {
+      float rgb[3];
+      char tail = 0;
+      if (std::sscanf(b.c_str(), "%f,%f,%f%c", &rgb[0], &rgb[1], &rgb[2], &tail) != 3 || !std::isfinite(rgb[0]) ||
+          !std::isfinite(rgb[1]) || !std::isfinite(rgb[2]) || rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0)
+        throw Error(kExitUsage, "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"" +
+                                    b + "\"");
+      s.background_mode = pbr::BackgroundMode::Color;
+      s.background = {rgb[0], rgb[1], rgb[2], 1.0f};
+    }
+  }
 }
 
 enum class Format { Png, Hdr, Exr };
@@ -213,15 +285,18 @@ int run_render(const RenderArgs& a) {
   pbr::SceneFile file;
   // A glTF model's images decode on a pool of the threads the render will use.
   const unsigned load_threads = a.threads_opt->count() ? static_cast<unsigned>(in_range("--threads", a.threads, 0, 1024)) : 0;
-  if (is_gltf(a.scene)) {
+  {
     raster::ThreadPool pool(load_threads);
-    file = gltf_scene(a, pool);
-  } else {
-    try {
-      file = pbr::load_scene_file(a.scene, {memory_limit});
-    } catch (const pbr::SceneFileError& e) {
-      throw Error(kExitInput, e.what());
+    if (is_gltf(a.scene)) {
+      file = gltf_scene(a, pool);
+    } else {
+      try {
+        file = pbr::load_scene_file(a.scene, {.memory_limit = memory_limit, .pool = &pool, .environment_cache = a.env_cache});
+      } catch (const pbr::SceneFileError& e) {
+        throw Error(kExitInput, e.what());
+      }
     }
+    apply_environment(a, file, pool);
   }
   if (!a.quiet)
     for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", w.c_str());

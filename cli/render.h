@@ -22,10 +22,14 @@ struct RenderArgs {
   // A glTF model given instead of a scene file: the view.
   float yaw = 0.0f, pitch = 0.0f;  // degrees
   int camera = -1;                 // a camera of the file
+  // Image-based lighting: a file, "studio" (built in) or "none"; overrides of the scene's.
+  std::string env, background, env_cache;
+  float env_intensity = 1.0f, env_rotation = 0.0f;
   // Which options were given (command-line values override the scene file's).
   CLI::Option *width_opt = nullptr, *height_opt = nullptr, *threads_opt = nullptr, *tile_opt = nullptr,
               *tonemap_opt = nullptr, *exposure_opt = nullptr, *frames_opt = nullptr, *shard_opt = nullptr,
-              *camera_opt = nullptr;
+              *camera_opt = nullptr, *env_opt = nullptr, *env_intensity_opt = nullptr, *env_rotation_opt = nullptr,
+              *background_opt = nullptr;
 };
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);

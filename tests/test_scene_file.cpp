@@ -119,7 +119,7 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
        "t.json: /lights/0/intensity: expected a number >= 0 and at most 1e+30 in magnitude, got 1e+31"},
       {R"({"lights": {}, "objects": []})", "t.json: /lights: expected an array, got an object"},
       {R"({"objects": [], "a/b~c": 1})",
-       "t.json: /a~1b~0c: unknown key \"a/b~c\" (expected one of: camera, lights, ambient, meshes, objects, render, animation)"},
+       "t.json: /a~1b~0c: unknown key \"a/b~c\" (expected one of: camera, lights, ambient, environment, meshes, objects, render, animation)"},
       {R"({"lights": []})", "t.json: (top level): missing key \"objects\""},
       {R"({"objects": [{"mesh": {"type": "cube"}}, {"mesh": {"type": "cube"}, "material": {"roughness": 0.2, "roughness": 2}}]})",
        "t.json: /objects/1/material/roughness: duplicate key \"roughness\" (each key may appear once per object)"},
@@ -130,7 +130,7 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
          return p;
        }() + ": nested deeper than 32 levels"},
       {"{\"objects\": [], \"a\\nb\": 1}",
-       "t.json: /a?b: unknown key \"a?b\" (expected one of: camera, lights, ambient, meshes, objects, render, animation)"},
+       "t.json: /a?b: unknown key \"a?b\" (expected one of: camera, lights, ambient, environment, meshes, objects, render, animation)"},
       {R"({"objects": [], "objects": []})", "t.json: /objects: duplicate key \"objects\" (each key may appear once per object)"},
       {R"([1, 2])", "t.json: (top level): expected an object, got [1,2]"},
       {R"({"objects": [}")", "t.json: invalid JSON: parse error at line 1, column 14: syntax error while parsing value - unexpected '}'; expected '[', '{', or a literal"},
@@ -168,7 +168,7 @@ TEST_CASE("scene file: the memory estimate counts each mesh's arrays and each dr
 
 TEST_CASE("scene file: the memory a mesh needs is checked against the limit before the mesh is built") {
   const std::string big = scene(R"("mesh": {"type": "uv_sphere", "segments": 4096, "rings": 4096})");
-  CHECK(error_of(big, {std::uint64_t{64} << 20}) ==
+  CHECK(error_of(big, {.memory_limit = std::uint64_t{64} << 20}) ==
         "t.json: /objects/0/mesh: this mesh brings the scene's estimated memory to 896.3 MiB, over the limit of 64.0 MiB");
   // Drawing counts too: each object that draws a shared mesh adds its draw buffers.
   const pbr::SceneFile one = parse(scene(R"("mesh": {"type": "icosphere", "subdivisions": 3})"));

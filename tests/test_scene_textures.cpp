@@ -280,7 +280,7 @@ TEST_CASE("scene textures: texels are charged to the memory budget, and an image
   // A 16384² header over one row of data: refused by its size for what the 64 MiB limit
   // leaves (decoding it would fail on the missing data instead).
   texture_test::write_bytes(dir / "big.png", texture_test::png_declaring(16384, 16384));
-  const std::string e = error_in(dir, scene_with(R"({"base_color_texture": "big.png"})"), {std::uint64_t{64} << 20});
+  const std::string e = error_in(dir, scene_with(R"({"base_color_texture": "big.png"})"), {.memory_limit = std::uint64_t{64} << 20});
   CAPTURE(e);
   CHECK(e.rfind("t.json: /objects/0/material/base_color_texture: " + (dir / "big.png").string() +
                     ": image size 16384x16384 needs 1073741824 bytes decoded, over the limit of ", 0) == 0);
@@ -290,7 +290,7 @@ TEST_CASE("scene textures: texels are charged to the memory budget, and an image
   // decoded within the bound, then refused by its exact size. The cube's arrays (912 bytes)
   // are charged before its material is read.
   image::write_png(dir / "strip.png", solid(1024, 1, 1, 2, 3));
-  CHECK(error_in(dir, scene_with(R"({"base_color_texture": "strip.png"})"), {7000}) ==
+  CHECK(error_in(dir, scene_with(R"({"base_color_texture": "strip.png"})"), {.memory_limit = 7000}) ==
         "t.json: /objects/0/material/base_color_texture: this texture brings the scene's estimated memory to 8.9 KiB, "
         "over the limit of 6.8 KiB");
 }

@@ -1,5 +1,6 @@
 // What the format files share (see formats.h).
 #include "formats.h"
+#include "softpbr/image/load.h"
 
 #include <algorithm>
 #include <climits>
@@ -104,6 +105,16 @@ std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Lim
   if (in.bad()) fail(name, "read error");
   return bytes;
 }
+
+}  // namespace softpbr::image::detail
+
+namespace softpbr::image {
+std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits) {
+  return detail::read_file(path, limits);
+}
+}  // namespace softpbr::image
+
+namespace softpbr::image::detail {
 
 namespace {
 template <class Sample>

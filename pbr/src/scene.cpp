@@ -2,12 +2,14 @@
 #include "softpbr/pbr/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "softpbr/dmath/dmath.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/pbr/textured_shading.h"
 
@@ -66,9 +68,72 @@ struct ObjectDraw {
   float distance2 = 0.0f;  // blended objects: from the eye to the centre of their bounds
 };
 
+// The background pass: one triangle over the whole target (clip x, y in {−1, 3}), no depth
+// test or write, each vertex carrying the world direction of the camera ray through it.
+// The direction is linear in screen space (w = 1), so the interpolated varying is the
+// ray through each pixel; the shader reads the environment along it.
+struct BackgroundShader {
+  struct Vertex {
+    glm::vec4 clip;
+    glm::vec3 direction;
+  };
+  struct Varyings {
+    glm::vec3 direction;
+  };
+  static constexpr bool kUsesDerivatives = false;
+
+  const PreparedEnvironment* environment = nullptr;
+  float roughness = 0.0f;
+
+  glm::vec4 vertex(const Vertex& in, Varyings& out) const {
+    out.direction = in.direction;
+    return in.clip;
+  }
+  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
+    const raster::Color<float> c = color<float>(f.v.direction.x, f.v.direction.y, f.v.direction.z);
+    return {c.r, c.g, c.b, c.a};
+  }
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    return color<F>(p.v[0], p.v[1], p.v[2]);
+  }
+
+ private:
+  template <class F>
+  raster::Color<F> color(F x, F y, F z) const {
+    const EnvVec3<F> c = env_radiance(*environment, to_environment(*environment, x, y, z), F(roughness));
+    return {c.x, c.y, c.z, F(1.0f)};
+  }
+};
+
+std::array<BackgroundShader::Vertex, 3> background_triangle(const Camera& camera, float aspect) {
+  const glm::mat3 to_world = glm::transpose(glm::mat3(camera.view()));  // the view's rotation, inverted
+  const double half = 0.5 * static_cast<double>(camera.fovy);
+  const auto ty = static_cast<float>(dmath::sin(half) / dmath::cos(half));
+  const float tx = ty * aspect;
+  std::array<BackgroundShader::Vertex, 3> v{};
+  const float corners[3][2] = {{-1.0f, -1.0f}, {3.0f, -1.0f}, {-1.0f, 3.0f}};
+  for (int i = 0; i < 3; ++i) {
+    v[static_cast<std::size_t>(i)].clip = glm::vec4(corners[i][0], corners[i][1], 0.0f, 1.0f);
+    v[static_cast<std::size_t>(i)].direction = to_world * glm::vec3(corners[i][0] * tx, corners[i][1] * ty, -1.0f);
+  }
+  return v;
+}
+
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const raster::Renderer::TileCallback& after_tile) {
   validate(scene.camera);
+  // The environment, if any, prepared once for every shader of the frame.
+  PreparedEnvironment environment;
+  const PreparedEnvironment* env = nullptr;
+  if (scene.environment.map) {
+    environment = prepare_environment(scene.environment);
+    env = &environment;
+  }
+  if (scene.background_mode != BackgroundMode::Color && env == nullptr)
+    throw std::invalid_argument("background: an environment background needs an environment");
+  if (!(scene.background_blur >= 0.0f && scene.background_blur <= 1.0f))
+    throw std::invalid_argument("background_blur must be in [0, 1]");
   // Validate and prepare everything before the frame starts.
   auto lights = std::make_shared<std::vector<PreparedLight>>();
   lights->reserve(scene.lights.size());
@@ -96,6 +161,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.eye = scene.camera.position;
       s.ambient = scene.ambient;
       s.lights = lights;
+      s.environment = env;
       opaque.push_back(std::move(d));
       continue;
     }
@@ -119,6 +185,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     s.eye = scene.camera.position;
     s.ambient = scene.ambient;
     s.lights = lights;
+    s.environment = env;
     if (o.material.double_sided) d.state.cull = raster::Cull::None;
     switch (o.material.alpha_mode) {
       case AlphaMode::Mask:
@@ -146,6 +213,17 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
 
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f});
   try {
+    if (scene.background_mode != BackgroundMode::Color) {
+      BackgroundShader bg;
+      bg.environment = env;
+      bg.roughness = scene.background_mode == BackgroundMode::Blur ? scene.background_blur : 0.0f;
+      const auto tri = background_triangle(
+          scene.camera, static_cast<float>(target.width()) / static_cast<float>(target.height()));
+      raster::DrawState state;
+      state.depth_test = raster::DepthTest::Always;
+      state.depth_write = false;
+      renderer.draw(bg, std::span<const BackgroundShader::Vertex>(tri), state);
+    }
     for (const auto* list : {&opaque, &blended})
       for (const ObjectDraw& d : *list) {
         if (d.textured)

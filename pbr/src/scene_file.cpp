@@ -31,7 +31,7 @@ using scene_file::Reader;
 
 SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& base_dir,
                const SceneLoadOptions& options) {
-  r.object(root, {"camera", "lights", "ambient", "meshes", "objects", "render", "animation"});
+  r.object(root, {"camera", "lights", "ambient", "environment", "meshes", "objects", "render", "animation"});
   SceneFile out;
   scene_file::MemoryBudget budget(r, options.memory_limit);
   scene_file::TextureLibrary textures(r, base_dir, budget);
@@ -39,6 +39,8 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   if (auto c = r.member(root, "camera")) out.scene.camera = scene_file::read_camera(r, *c);
   if (auto a = r.member(root, "ambient")) out.scene.ambient = r.vec3(*a, 0, 1e30);
   if (auto s = r.member(root, "render")) scene_file::read_render(r, *s, out);
+  // After /render: the environment's background replaces render.background.
+  if (auto e = r.member(root, "environment")) scene_file::read_environment(r, *e, base_dir, budget, options, out);
   if (auto a = r.member(root, "animation")) scene_file::read_animation(r, *a, out.animation);
   if (auto l = r.member(root, "lights")) {
     const std::size_t n = r.array(*l, kMaxLights, "every light is evaluated at every pixel");

@@ -88,6 +88,10 @@ Material read_material(const Reader& r, const Node& spec, TextureLibrary& textur
 glm::mat4 read_transform(const Reader& r, const Node& spec);
 // /render: image size, output transform, renderer options, and the scene's background.
 void read_render(const Reader& r, const Node& spec, SceneFile& out);
+// /environment: the environment map (loaded and prefiltered, charged to the budget), its
+// intensity and rotation, and the background.
+void read_environment(const Reader& r, const Node& spec, const std::filesystem::path& base_dir, MemoryBudget& budget,
+                      const SceneLoadOptions& options, SceneFile& out);
 void read_animation(const Reader& r, const Node& spec, Animation& out);
 
 // A mesh spec once loaded: a procedural shape (one part) or an OBJ model (one part per

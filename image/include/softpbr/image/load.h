@@ -17,10 +17,16 @@
 #include <filesystem>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "softpbr/image/image.h"
 
 namespace softpbr::image {
+
+// The whole of a regular file of at most limits.max_file_bytes (a device or a pipe would
+// be read without end), as the path overloads below read it. Throws std::runtime_error
+// "<path>: no such file" and the like.
+std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits = {});
 
 // PNG as RGBA: grey and RGB get alpha 255, grey is replicated, 16-bit samples are reduced
 // to 8 bits, palettes expanded. Refuses every other format by its first bytes (.hdr: stb

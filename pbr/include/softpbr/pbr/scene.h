@@ -1,6 +1,7 @@
 // softpbr/pbr/scene.h — a scene (camera, objects, lights) and rendering it with the PBR shader.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include <glm/vec4.hpp>
 
 #include "softpbr/pbr/camera.h"
+#include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
@@ -24,17 +26,30 @@ struct Object {
   glm::mat4 transform{1.0f};  // model → world
 };
 
+// What is seen where no object is: the colour `background` (alpha 0 for a transparent
+// image), the environment itself, or the environment blurred (its prefiltered radiance at
+// roughness background_blur).
+enum class BackgroundMode : std::uint8_t { Color, Environment, Blur };
+
 struct Scene {
   Camera camera;
   std::vector<Object> objects;
   std::vector<Light> lights;
-  glm::vec3 ambient{0.03f, 0.03f, 0.03f};  // ambient light: adds ambient · base colour · ao
+  // Ambient light: adds ambient · base colour · ao — when there is no environment.
+  glm::vec3 ambient{0.03f, 0.03f, 0.03f};
   glm::vec4 background{0.0f, 0.0f, 0.0f, 1.0f};  // linear clear colour
+  // Image-based lighting (environment.h): with a map, every object is lit by it besides
+  // the lights, and the ambient term is not added.
+  EnvironmentLighting environment;
+  BackgroundMode background_mode = BackgroundMode::Color;
+  float background_blur = 0.3f;  // roughness of BackgroundMode::Blur, [0, 1]
 };
 
-// Clears the target to the background (depth to 1) and draws every object with
-// PbrShader, back faces culled, in one frame of `renderer`. Throws std::invalid_argument
-// naming the object or light and field when a value is invalid; nothing is drawn then.
+// Clears the target to the background (depth to 1), draws the environment as the
+// background when background_mode asks for it, then every object with PbrShader (or
+// TexturedPbrShader), back faces culled, in one frame of `renderer`. Throws
+// std::invalid_argument naming the object, light or field when a value is invalid
+// (a background mode other than Color without an environment included); nothing is drawn then.
 void render(const Scene& scene, raster::Renderer& renderer, raster::Target& target);
 
 // render(), then the output transform into `image` (resized to the target): each tile is

@@ -64,6 +64,10 @@ struct SceneLoadOptions {
   // (checked before a procedural mesh is generated and before an image is decoded, from its
   // header; after an OBJ file is read, since its size is only then known).
   std::uint64_t memory_limit = kDefaultMemoryLimit;
+  // Where an environment is prefiltered (none: on the calling thread), and the folder of
+  // its disk cache (empty: none; see load_environment).
+  raster::ThreadPool* pool = nullptr;
+  std::filesystem::path environment_cache{};
 };
 
 // Reads and validates a scene file. Relative mesh and image paths resolve against the file's folder.

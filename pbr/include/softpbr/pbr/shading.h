@@ -27,6 +27,7 @@
 #include <glm/vec4.hpp>
 
 #include "softpbr/pbr/brdf.h"
+#include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
@@ -89,12 +90,13 @@ struct MaterialLanes {
   F k;      // (roughness + 1)² / 8
   F ao;
   Vec3L<F> emissive;
+  F roughness;  // perceptual, clamped (what the environment's lookups read)
 };
 
 template <class F>
 inline MaterialLanes<F> lanes(const ShadingMaterial& m) {
   return {lanes<F>(m.albedo), lanes<F>(m.f0), F(1.0f - m.metallic), F(m.alpha), F(m.k), F(m.ao),
-          lanes<F>(m.emissive)};
+          lanes<F>(m.emissive), F(m.roughness)};
 }
 
 // The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v.
@@ -124,12 +126,59 @@ inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F
   return kD * m.albedo * Fd_Lambert<F>() + specular;
 }
 
+// The light of an environment (split sum, Karis 2013) reflected at unit normal n toward
+// unit v: diffuse irradiance(n) and specular prefiltered(r, roughness) · (kS·A + B), with
+// r = reflect(−v, n), kS = F0 + (max(1 − roughness, F0) − F0)(1 − n·v)⁵ (Fresnel with
+// roughness) and (A, B) = dfg_table(n·v, roughness). With multiple scattering (Fdez-Agüera
+// 2019): Ess = A + B, Ems = 1 − Ess, Favg = F0 + (1 − F0)/21,
+//   specular  = prefiltered · FssEss,   FssEss = kS·A + B
+//   diffuse   = irradiance · (FmsEms + c_diff · (1 − FssEss − FmsEms)),
+//               FmsEms = Ems · FssEss · Favg / (1 − Favg · Ems),  c_diff = base · (1 − metallic)
+// without it: diffuse = irradiance · (1 − kS)(1 − metallic) · base. Both times ao.
+template <class F>
+inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, const Vec3L<F>& n, const Vec3L<F>& v) {
+  const F zero(0.0f), one(1.0f);
+  const F n_dot_v = simd::dot(n, v);
+  const F NoV = simd::clamp(n_dot_v, F(kMinNoV), one);
+  const Vec3L<F> r = n * (n_dot_v + n_dot_v) - v;
+  const EnvVec3<F> irr = env_irradiance(e, to_environment(e, n.x, n.y, n.z));
+  const EnvVec3<F> pre = env_radiance(e, to_environment(e, r.x, r.y, r.z), m.roughness);
+  F A, B;
+  env_dfg(NoV, m.roughness, A, B);
+  const F c = one - NoV, c2 = c * c;
+  const F c5 = c2 * c2 * c;
+  const F smooth = one - m.roughness;
+  const Vec3L<F> ks(m.f0.x + (simd::max(smooth, m.f0.x) - m.f0.x) * c5, m.f0.y + (simd::max(smooth, m.f0.y) - m.f0.y) * c5,
+                    m.f0.z + (simd::max(smooth, m.f0.z) - m.f0.z) * c5);
+  const Vec3L<F> fss_ess = ks * A + Vec3L<F>(B);
+  auto max0 = [&](const Vec3L<F>& a) {
+    return Vec3L<F>(simd::max(a.x, zero), simd::max(a.y, zero), simd::max(a.z, zero));
+  };
+  Vec3L<F> diffuse;
+  if (e.multiscatter) {
+    const F ems = one - (A + B);
+    const Vec3L<F> favg = m.f0 + (Vec3L<F>(one) - m.f0) * F(1.0f / 21.0f);
+    // 1 − Favg·Ems stays positive for F0 ≤ 1 (Ems < 1); the floor keeps a base colour
+    // above 1 (accepted, see prepare_material) finite.
+    const F floor(1e-3f);
+    const Vec3L<F> fe = favg * ems;
+    const Vec3L<F> fms_ems(fss_ess.x * fe.x / simd::max(one - fe.x, floor), fss_ess.y * fe.y / simd::max(one - fe.y, floor),
+                           fss_ess.z * fe.z / simd::max(one - fe.z, floor));
+    diffuse = fms_ems + m.albedo * m.one_minus_metallic * max0(Vec3L<F>(one) - (fss_ess + fms_ems));
+  } else {
+    diffuse = max0(Vec3L<F>(one) - ks) * m.one_minus_metallic * m.albedo;
+  }
+  return (Vec3L<F>(irr.x, irr.y, irr.z) * diffuse + Vec3L<F>(pre.x, pre.y, pre.z) * fss_ess) * m.ao;
+}
+
 // Outgoing radiance at `position` with normal n (need not be unit) and unit direction to
-// the eye v: the reflectance equation over all lights, plus ambient and emission. Lights
+// the eye v: the reflectance equation over all lights, plus emission, plus the
+// environment's light (ibl) when `env` is given and the constant ambient otherwise. Lights
 // with n·l ≤ 0 add nothing.
 template <class F>
 inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
-                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v) {
+                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v,
+                      const PreparedEnvironment* env = nullptr) {
   const Vec3L<F> n = normalize_or(n_in, v);
   Vec3L<F> lo(F(0.0f));
   for (const PreparedLight& light : lights) {
@@ -139,6 +188,7 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> 
     if (!simd::any(lit)) continue;
     lo = simd::select(lit, lo + brdf(m, n, s.to_light, v) * s.radiance * NoL, lo);
   }
+  if (env != nullptr) return ibl(m, *env, n, v) + lo + m.emissive;
   return lanes<F>(ambient) * m.albedo * m.ao + lo + m.emissive;
 }
 
@@ -148,8 +198,9 @@ inline Vec3L<F> brdf(const ShadingMaterial& m, const Vec3L<F>& n, const Vec3L<F>
 }
 template <class F>
 inline Vec3L<F> shade(const ShadingMaterial& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
-                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v) {
-  return shade(lanes<F>(m), lights, ambient, position, n_in, v);
+                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v,
+                      const PreparedEnvironment* env = nullptr) {
+  return shade(lanes<F>(m), lights, ambient, position, n_in, v, env);
 }
 
 // --- The same for one point with glm vectors. ---
@@ -165,8 +216,9 @@ inline glm::vec3 brdf(const ShadingMaterial& m, const glm::vec3& n, const glm::v
 }
 
 inline glm::vec3 shade(const ShadingMaterial& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
-                       const glm::vec3& position, const glm::vec3& n, const glm::vec3& v) {
-  return to_glm(shade(m, lights, ambient, lanes<float>(position), lanes<float>(n), lanes<float>(v)));
+                       const glm::vec3& position, const glm::vec3& n, const glm::vec3& v,
+                       const PreparedEnvironment* env = nullptr) {
+  return to_glm(shade(m, lights, ambient, lanes<float>(position), lanes<float>(n), lanes<float>(v), env));
 }
 
 // The PBR shader for softpbr::raster: world-space position and normal as varyings, the
@@ -189,6 +241,8 @@ struct PbrShader {
   glm::vec3 ambient{0.0f};
   ShadingMaterial material{};
   std::shared_ptr<const std::vector<PreparedLight>> lights;
+  // The environment's light instead of `ambient`, when set (it outlives the frame).
+  const PreparedEnvironment* environment = nullptr;
 
   glm::vec4 vertex(const Vertex& in, Varyings& out) const {
     const glm::vec4 world = model * glm::vec4(in.position, 1.0f);
@@ -199,7 +253,7 @@ struct PbrShader {
   // One pixel.
   glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
     const glm::vec3 v = normalize_or(eye - f.v.world_position, glm::vec3(0.0f, 0.0f, 1.0f));
-    const glm::vec3 color = shade(material, *lights, ambient, f.v.world_position, f.v.normal, v);
+    const glm::vec3 color = shade(material, *lights, ambient, f.v.world_position, f.v.normal, v, environment);
     return glm::vec4(color, 1.0f);
   }
 
@@ -211,7 +265,7 @@ struct PbrShader {
     const Vec3L<F> position(p.v[kPosition], p.v[kPosition + 1], p.v[kPosition + 2]);
     const Vec3L<F> normal(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
     const Vec3L<F> v = normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
-    const Vec3L<F> c = shade(material, *lights, ambient, position, normal, v);
+    const Vec3L<F> c = shade(material, *lights, ambient, position, normal, v, environment);
     return {c.x, c.y, c.z, F(1.0f)};
   }
 };

@@ -102,6 +102,7 @@ struct TexturedPbrShader {
   glm::vec3 ambient{0.0f};
   std::shared_ptr<const TexturedMaterial> material;
   std::shared_ptr<const std::vector<PreparedLight>> lights;
+  const PreparedEnvironment* environment = nullptr;  // as PbrShader's
 
   glm::vec4 vertex(const Vertex& in, Varyings& out) const {
     const glm::vec4 world = model * glm::vec4(in.position, 1.0f);
@@ -177,6 +178,7 @@ struct TexturedPbrShader {
     ml.one_minus_metallic = F(1.0f) - metallic;
     ml.alpha = roughness * roughness;
     ml.k = k_direct(roughness);
+    ml.roughness = roughness;
     ml.ao = F(m.base.ao);
     if (m.occlusion.texture != nullptr) {
       const raster::Color<F> c = lookup(m.occlusion);
@@ -210,7 +212,7 @@ struct TexturedPbrShader {
       const Vec3L<F> mapped = t * x + b * y + n * z;
       n = normalize_or(mapped, n);
     }
-    return output(m, shade(ml, *lights, ambient, position, n, v), alpha);
+    return output(m, shade(ml, *lights, ambient, position, n, v, environment), alpha);
   }
 
  private:

@@ -1,0 +1,242 @@
+// softpbr/pbr/environment.h — image-based lighting: an HDR environment prefiltered for the
+// split-sum approximation (Karis 2013), and its lookups in lane form.
+//
+// An Environment is built once from an equirectangular linear image (an .hdr or .exr)
+// and is then immutable, shared between frames, renders and threads:
+//   - diffuse: the irradiance as 9 spherical-harmonic coefficients (Ramamoorthi & Hanrahan
+//     2001), already convolved with the clamped cosine and divided by π, so irradiance(n)
+//     is the radiance a white Lambertian surface with normal n reflects;
+//   - specular: kLevels octahedral maps of the radiance prefiltered with the GGX lobe for
+//     perceptual roughness i / (kLevels − 1) (level 0 is the map itself), importance-sampled
+//     with a fixed Hammersley set and filtered importance sampling (Křivánek & Colbert
+//     2008), so a sun of radiance in the thousands gives a smooth highlight;
+//   - dfg_table(): the BRDF integration table (A, B) of the split sum, computed by the
+//     library, with Smith–Schlick-GGX visibility at k = α/2 (α = roughness²).
+// docs/design.md, "Image-based lighting", has the maths, the conventions and the
+// measured errors.
+//
+// Conventions: +Y is up. Direction d = (x, y, z) reads the equirectangular image at
+//   u = 1/2 + atan2(x, −z) / 2π,   v = atan2(√(x² + z²), y) / π   (v = 0 the top row),
+// so the image's centre column is seen looking down −Z (the default camera's view) and
+// +X is to its right. A rotation θ turns the environment about +Y, counter-clockwise
+// seen from above: what was at −Z appears toward −X after 90°.
+//
+// Everything is computed with IEEE basic operations and dmath in a fixed order, the work
+// split by rows over the pool: the same bits for any thread count and on every platform.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "softpbr/image/image.h"
+#include "softpbr/raster/pool.h"
+#include "softpbr/raster/texture.h"
+#include "softpbr/simd/simd.h"
+
+namespace softpbr::pbr {
+
+struct EnvironmentOptions {
+  // Side of the octahedral map the equirectangular image is resampled to (level 0, the
+  // mirror reflection and the background): a power of two in [8, 2048]; 0 chooses from
+  // the image, the largest power of two ≤ √(width × height), at most 1024.
+  int size = 0;
+  // GGX samples per texel of prefiltered level 1 (roughness 0.2); each next level takes
+  // twice as many, up to 8×: [8, 4096].
+  int samples = 64;
+
+  bool operator==(const EnvironmentOptions&) const = default;
+};
+
+// Throws std::invalid_argument naming the field.
+void validate(const EnvironmentOptions& options);
+
+class Environment {
+ public:
+  static constexpr int kLevels = 6;  // prefiltered levels: roughness 0, 0.2, …, 1
+  static constexpr int kShCount = 9;
+
+  // Prefilters an equirectangular linear RGB image (alpha is ignored) of any size from
+  // 1×1. Throws std::invalid_argument naming `name` for non-finite or negative values or
+  // a bad size; the work runs on `pool` when given (the same bits either way).
+  Environment(const image::ImageViewF& equirect, std::string name, const EnvironmentOptions& options = {},
+              raster::ThreadPool* pool = nullptr);
+
+  // A studio: a soft grey dome, a darker floor and three softboxes (key, fill, rim),
+  // built procedurally (no file, the same bits everywhere). What `softpbr render
+  // model.glb` lights a model with when no environment is given.
+  static std::shared_ptr<const Environment> studio();
+
+  // The equirectangular image studio() prefilters (width × height, linear).
+  static image::ImageF studio_image(int width = 512, int height = 256);
+
+  const std::string& name() const { return name_; }
+  const EnvironmentOptions& options() const { return options_; }
+  int size() const { return size_; }
+
+  // Irradiance coefficients, in the order of sh_basis(): irradiance(n) = Σ c_i · Y_i(n).
+  const std::array<glm::vec3, kShCount>& irradiance_sh() const { return sh_; }
+  // Level i: the octahedral map prefiltered at roughness i / (kLevels − 1), stored with a
+  // one-texel border (size + 2 texels a side) so that bilinear lookups wrap as the sphere
+  // does; lookups go through raster::sample_lod with level_sampler().
+  const raster::Texture& level(int i) const { return *levels_[static_cast<std::size_t>(i)]; }
+  int level_size(int i) const { return level(i).width() - 2; }
+  static const raster::Sampler& level_sampler();
+
+  // Bytes held (the levels' texels).
+  std::size_t bytes() const;
+
+  // The serialized form (a versioned binary blob: header, options, SH, levels) for a disk
+  // cache, and back. from_bytes throws std::invalid_argument naming `name` when the blob
+  // is truncated, of another version or its sizes disagree.
+  std::vector<std::uint8_t> to_bytes() const;
+  static std::shared_ptr<const Environment> from_bytes(std::span<const std::uint8_t> bytes, std::string name);
+
+ private:
+  Environment() = default;
+  std::string name_;
+  EnvironmentOptions options_;
+  int size_ = 0;
+  std::array<glm::vec3, kShCount> sh_{};
+  std::vector<std::shared_ptr<const raster::Texture>> levels_;
+};
+
+// Loads an .hdr or .exr (by content) and prefilters it. Cached in memory by the file's
+// content hash and the options: the same file gives the same shared Environment across
+// renders. With a non-empty `cache_dir`, the prefiltered result is also stored there (and
+// read back) as <hash>-<options>.spenv, written atomically. Throws std::runtime_error /
+// std::invalid_argument naming the file.
+std::shared_ptr<const Environment> load_environment(const std::filesystem::path& path,
+                                                    const EnvironmentOptions& options = {},
+                                                    raster::ThreadPool* pool = nullptr,
+                                                    const std::filesystem::path& cache_dir = {},
+                                                    const image::Limits& limits = {});
+
+// The split-sum BRDF table: kDfgSize² texels, u = n·v, v = perceptual roughness, at texel
+// centres; r = A, g = B (specular = F0·A + B), b = A + B (the single-scattering energy).
+// Computed once, on first use, in double.
+inline constexpr int kDfgSize = 32;
+const raster::Texture& dfg_table();
+// The table's value (A, B) for one point, by the same integration in double with
+// `samples` Hammersley samples (the tests' reference).
+glm::dvec2 dfg_reference(double NoV, double roughness, int samples);
+
+// The real spherical harmonics of bands 0–2 at a unit direction, in irradiance_sh()'s order.
+std::array<double, Environment::kShCount> sh_basis(const glm::dvec3& d);
+
+// Direction ↔ octahedral coordinates in [0, 1]² (+Y at the centre, −Y at the corners).
+glm::dvec2 octahedral_encode(const glm::dvec3& d);
+glm::dvec3 octahedral_decode(const glm::dvec2& uv);  // unit length
+// The equirectangular coordinates of a direction (see the header comment).
+glm::dvec2 equirect_uv(const glm::dvec3& d);
+
+// The environment as the shaders see it: the map with its rotation and intensity.
+struct EnvironmentLighting {
+  std::shared_ptr<const Environment> map;
+  float intensity = 1.0f;
+  float rotation = 0.0f;      // degrees about +Y
+  bool multiscatter = true;   // Fdez-Agüera 2019 energy compensation
+};
+
+// What the shaders read, prepared once per frame.
+struct PreparedEnvironment {
+  const Environment* map = nullptr;
+  float cos_r = 1.0f, sin_r = 0.0f;  // the rotation, by dmath
+  float intensity = 1.0f;
+  bool multiscatter = true;
+};
+
+// Throws std::invalid_argument naming the field (non-finite or negative intensity,
+// non-finite rotation).
+PreparedEnvironment prepare_environment(const EnvironmentLighting& e);
+
+// --- Lookups in lane form (F = float or simd lanes; the same bits per lane at any width). ---
+
+template <class F>
+struct EnvVec3 {
+  F x, y, z;
+};
+
+// World direction → the environment's own frame (the inverse rotation).
+template <class F>
+inline EnvVec3<F> to_environment(const PreparedEnvironment& e, F x, F y, F z) {
+  const F c(e.cos_r), s(e.sin_r);
+  return {c * x - s * z, y, s * x + c * z};
+}
+
+// Irradiance / π at unit direction d (environment frame), times the intensity; never negative.
+template <class F>
+inline EnvVec3<F> env_irradiance(const PreparedEnvironment& e, const EnvVec3<F>& d) {
+  const auto& c = e.map->irradiance_sh();
+  const F b[Environment::kShCount] = {F(1.0f), d.y, d.z, d.x, d.x * d.y, d.y * d.z,
+                                      F(3.0f) * d.z * d.z - F(1.0f), d.x * d.z, d.x * d.x - d.y * d.y};
+  F r(c[0].x), g(c[0].y), bl(c[0].z);
+  for (int i = 1; i < Environment::kShCount; ++i) {
+    r = r + F(c[static_cast<std::size_t>(i)].x) * b[i];
+    g = g + F(c[static_cast<std::size_t>(i)].y) * b[i];
+    bl = bl + F(c[static_cast<std::size_t>(i)].z) * b[i];
+  }
+  const F k(e.intensity), zero(0.0f);
+  return {simd::max(r, zero) * k, simd::max(g, zero) * k, simd::max(bl, zero) * k};
+}
+
+// Octahedral texture coordinates of direction d (any non-zero length) on a level of side
+// `size` with its one-texel border.
+template <class F>
+inline void env_octahedral(const EnvVec3<F>& d, int size, F& u, F& v) {
+  const F zero(0.0f), one(1.0f);
+  auto abs = [&](F a) { return simd::max(a, zero - a); };
+  auto sign = [&](F a) { return simd::select(a < zero, F(-1.0f), one); };
+  const F l1 = abs(d.x) + abs(d.y) + abs(d.z);
+  const F inv = one / simd::select(l1 > zero, l1, one);
+  F px = d.x * inv, pz = d.z * inv;
+  const auto lower = d.y < zero;
+  const F fx = (one - abs(pz)) * sign(px), fz = (one - abs(px)) * sign(pz);
+  px = simd::select(lower, fx, px);
+  pz = simd::select(lower, fz, pz);
+  // [−1, 1] → texels [1, size + 1] of size + 2.
+  const F scale(0.5f * static_cast<float>(size)), offset(0.5f * static_cast<float>(size) + 1.0f);
+  const F inv_full(1.0f / static_cast<float>(size + 2));
+  u = (px * scale + offset) * inv_full;
+  v = (pz * scale + offset) * inv_full;
+}
+
+// The prefiltered radiance along d (environment frame) at perceptual roughness in [0, 1],
+// times the intensity: the two levels around roughness · (kLevels − 1), blended linearly.
+template <class F>
+inline EnvVec3<F> env_radiance(const PreparedEnvironment& e, const EnvVec3<F>& d, F roughness) {
+  const F zero(0.0f), one(1.0f);
+  const F lod = simd::clamp(roughness, zero, one) * F(static_cast<float>(Environment::kLevels - 1));
+  F r = zero, g = zero, b = zero;
+  for (int l = 0; l < Environment::kLevels; ++l) {
+    const F dl = lod - F(static_cast<float>(l));
+    const F w = simd::max(one - simd::max(dl, zero - dl), zero);
+    if (!simd::any(w > zero)) continue;
+    F u, v;
+    env_octahedral(d, e.map->level_size(l), u, v);
+    const raster::Color<F> c = raster::sample_lod(e.map->level(l), Environment::level_sampler(), u, v, zero);
+    r = r + w * c.r;
+    g = g + w * c.g;
+    b = b + w * c.b;
+  }
+  const F k(e.intensity);
+  return {r * k, g * k, b * k};
+}
+
+// The split-sum table at (n·v, roughness): A and B.
+template <class F>
+inline void env_dfg(F NoV, F roughness, F& a, F& b) {
+  const raster::Color<F> c = raster::sample_lod(dfg_table(), Environment::level_sampler(), NoV, roughness, F(0.0f));
+  a = c.r;
+  b = c.g;
+}
+
+}  // namespace softpbr::pbr

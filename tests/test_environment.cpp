@@ -1,0 +1,454 @@
+// Image-based lighting (environment.h): the octahedral maps, the spherical-harmonic
+// irradiance against brute-force integration, the prefiltered lobe against a Monte-Carlo
+// reference, the split-sum table, the white furnace, rotation, the caches, bad files, and
+// the same bits for every thread count.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include <glm/geometric.hpp>
+
+#include "softpbr/dmath/dmath.h"
+#include "softpbr/image/load.h"
+#include "softpbr/image/write.h"
+#include "softpbr/pbr/environment.h"
+#include "softpbr/pbr/shading.h"
+
+namespace pbr = softpbr::pbr;
+namespace image = softpbr::image;
+namespace raster = softpbr::raster;
+namespace dmath = softpbr::dmath;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = dmath::kPi;
+
+// A w×h equirectangular image of f(direction) at texel centres.
+template <class Fn>
+image::ImageF equirect(int w, int h, Fn&& f) {
+  image::ImageF im{w, h, std::vector<float>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4)};
+  for (int y = 0; y < h; ++y) {
+    const double theta = kPi * (y + 0.5) / h;
+    for (int x = 0; x < w; ++x) {
+      const double phi = 2.0 * kPi * ((x + 0.5) / w - 0.5);
+      const glm::dvec3 d(dmath::sin(theta) * dmath::sin(phi), dmath::cos(theta), -dmath::sin(theta) * dmath::cos(phi));
+      const glm::dvec3 c = f(d);
+      float* p = &im.rgba[(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4];
+      p[0] = static_cast<float>(c.x);
+      p[1] = static_cast<float>(c.y);
+      p[2] = static_cast<float>(c.z);
+      p[3] = 1.0f;
+    }
+  }
+  return im;
+}
+
+// A smooth, non-band-limited sky: a bright lobe toward `sun` over a gradient.
+image::ImageF lobe_sky(int w, int h, glm::dvec3 sun = {0.3, 0.8, -0.5}) {
+  sun = glm::normalize(sun);
+  return equirect(w, h, [&](const glm::dvec3& d) {
+    const double c = std::max(0.0, glm::dot(d, sun));
+    const double lobe = 6.0 * c * c * c * c * c * c * c * c;
+    return glm::dvec3(0.3 + 0.2 * d.y + lobe, 0.35 + 0.15 * d.y + 0.8 * lobe, 0.5 + 0.3 * d.y + 0.5 * lobe);
+  });
+}
+
+// E(n)/π by summing every texel of the image, each with its solid angle, in double.
+glm::dvec3 brute_irradiance(const image::ImageF& im, const glm::dvec3& n) {
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < im.height; ++y) {
+    const double theta = kPi * (y + 0.5) / im.height;
+    const double solid = (2.0 * kPi / im.width) * (std::cos(kPi * y / im.height) - std::cos(kPi * (y + 1) / im.height));
+    for (int x = 0; x < im.width; ++x) {
+      const double phi = 2.0 * kPi * ((x + 0.5) / im.width - 0.5);
+      const glm::dvec3 d(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+      const double c = glm::dot(d, n);
+      if (c <= 0.0) continue;
+      const float* p = &im.rgba[(static_cast<std::size_t>(y) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(x)) * 4];
+      sum += glm::dvec3(p[0], p[1], p[2]) * (c * solid);
+    }
+  }
+  return sum / kPi;
+}
+
+glm::dvec3 irradiance(const pbr::Environment& env, const glm::dvec3& n, float rotation = 0.0f, float intensity = 1.0f) {
+  pbr::EnvironmentLighting l;
+  l.map = std::shared_ptr<const pbr::Environment>(&env, [](const pbr::Environment*) {});
+  l.rotation = rotation;
+  l.intensity = intensity;
+  const pbr::PreparedEnvironment e = pbr::prepare_environment(l);
+  const auto d = pbr::to_environment(e, static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z));
+  const auto c = pbr::env_irradiance(e, d);
+  return {c.x, c.y, c.z};
+}
+
+glm::dvec3 radiance(const pbr::Environment& env, const glm::dvec3& d, float roughness) {
+  pbr::EnvironmentLighting l;
+  l.map = std::shared_ptr<const pbr::Environment>(&env, [](const pbr::Environment*) {});
+  const pbr::PreparedEnvironment e = pbr::prepare_environment(l);
+  const auto c = pbr::env_radiance(
+      e, pbr::EnvVec3<float>{static_cast<float>(d.x), static_cast<float>(d.y), static_cast<float>(d.z)}, roughness);
+  return {c.x, c.y, c.z};
+}
+
+std::vector<glm::dvec3> test_directions() {
+  std::vector<glm::dvec3> dirs = {{0, 1, 0}, {0, -1, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 0, 1}, {0, 0, -1}};
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  for (int i = 0; i < 14; ++i) dirs.push_back(glm::normalize(glm::dvec3(g(rng), g(rng), g(rng))));
+  return dirs;
+}
+
+double max_component(const glm::dvec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+fs::path shared_envmaps() { return fs::path(SOFTPBR_SOURCE_DIR) / ".." / "shared" / "envmaps"; }
+
+}  // namespace
+
+TEST_CASE("octahedral coordinates: decode inverts encode, and the border continues across each edge") {
+  for (const glm::dvec3& d : test_directions()) {
+    CAPTURE(d.x);
+    CAPTURE(d.y);
+    CAPTURE(d.z);
+    const glm::dvec3 back = pbr::octahedral_decode(pbr::octahedral_encode(d));
+    CHECK(glm::length(back - d) < 1e-12);
+  }
+  // Each border texel of a level holds an interior texel; its direction must be next to
+  // the direction just across the edge (the interior neighbour's), within two texels.
+  const image::ImageF sky = lobe_sky(64, 32);
+  const pbr::Environment env(sky, "sky", {.size = 16, .samples = 8});
+  const raster::Texture& t = env.level(0);
+  const int s = env.level_size(0);
+  REQUIRE(t.width() == s + 2);
+  auto dir_of = [&](int x, int y) { return pbr::octahedral_decode({(x + 0.5) / s, (y + 0.5) / s}); };
+  const double texel = 2.0 * kPi / (2.0 * s);  // about one texel's angle
+  for (int i = 0; i < s; ++i) {
+    // left border (0, i + 1) holds interior (0, s − 1 − i); its neighbour is interior (0, i).
+    const struct {
+      int bx, by, sx, sy, nx, ny;
+    } cases[] = {{0, i + 1, 0, s - 1 - i, 0, i},
+                 {s + 1, i + 1, s - 1, s - 1 - i, s - 1, i},
+                 {i + 1, 0, s - 1 - i, 0, i, 0},
+                 {i + 1, s + 1, s - 1 - i, s - 1, i, s - 1}};
+    for (const auto& c : cases) {
+      CAPTURE(i);
+      CHECK(t.texel(0, c.bx, c.by) == t.texel(0, c.sx + 1, c.sy + 1));
+      CHECK(dmath::angle_between(dir_of(c.sx, c.sy), dir_of(c.nx, c.ny)) < 2.5 * texel);
+    }
+  }
+}
+
+TEST_CASE("SH irradiance equals brute-force integration for a band-limited sky, within 1e-4") {
+  // Radiance of bands 0–2 only: its irradiance is exactly what 9 coefficients hold, so the
+  // only error is the quadrature's.
+  const image::ImageF sky = equirect(256, 128, [](const glm::dvec3& d) {
+    return glm::dvec3(1.0 + 0.5 * d.y + 0.3 * d.x * d.z, 0.8 - 0.2 * d.x + 0.4 * d.y * d.y, 0.6 + 0.3 * d.z);
+  });
+  const pbr::Environment env(sky, "band-limited", {.size = 16, .samples = 8});
+  for (const glm::dvec3& n : test_directions()) {
+    const glm::dvec3 ref = brute_irradiance(sky, n), got = irradiance(env, n);
+    CAPTURE(n.x);
+    CAPTURE(n.y);
+    CAPTURE(n.z);
+    CHECK(max_component(got - ref) < 1e-4 * max_component(ref) + 1e-5);
+  }
+}
+
+TEST_CASE("SH irradiance of a sky with a bright lobe: within 3% of the mean radiance of brute-force integration") {
+  const image::ImageF sky = lobe_sky(256, 128);
+  const pbr::Environment env(sky, "lobe", {.size = 16, .samples = 8});
+  double mean = 0.0;
+  for (const glm::dvec3& n : test_directions()) mean += max_component(brute_irradiance(sky, n));
+  mean /= static_cast<double>(test_directions().size());
+  double worst = 0.0;
+  for (const glm::dvec3& n : test_directions())
+    worst = std::max(worst, max_component(irradiance(env, n) - brute_irradiance(sky, n)) / mean);
+  MESSAGE("worst SH irradiance error, lobe sky: " << worst * 100.0 << "% of the mean");
+  CHECK(worst < 0.03);
+}
+
+TEST_CASE("the shared environments' SH irradiance against brute force (error bound stated in docs/design.md)") {
+  for (const char* file : {"studio_small_03_1k.hdr", "venice_sunset_1k.hdr"}) {
+    const fs::path p = shared_envmaps() / file;
+    if (!fs::exists(p)) {
+      MESSAGE("skipped: " << p << " is absent");
+      continue;
+    }
+    CAPTURE(file);
+    const image::ImageF sky = image::load_hdr(p);
+    const pbr::Environment env(sky, file, {.size = 16, .samples = 8});
+    double mean = 0.0, worst = 0.0;
+    for (const glm::dvec3& n : test_directions()) mean += max_component(brute_irradiance(sky, n));
+    mean /= static_cast<double>(test_directions().size());
+    for (const glm::dvec3& n : test_directions())
+      worst = std::max(worst, max_component(irradiance(env, n) - brute_irradiance(sky, n)) / mean);
+    MESSAGE(std::string(file) << ": worst SH irradiance error " << worst * 100.0 << "% of the mean irradiance");
+    CHECK(worst < 0.25);
+  }
+}
+
+TEST_CASE("the prefiltered lobe matches a Monte-Carlo reference in double") {
+  const image::ImageF sky = lobe_sky(512, 256);
+  const pbr::Environment env(sky, "lobe", {.size = 128, .samples = 64});
+  // The reference: the split-sum lobe (n = v = r) by 16384 GGX samples read from the image.
+  auto reference = [&](const glm::dvec3& r, double roughness) {
+    const double a2 = roughness * roughness * roughness * roughness;
+    glm::dvec3 t = std::fabs(r.y) < 0.9 ? glm::normalize(glm::cross(glm::dvec3(0, 1, 0), r))
+                                         : glm::normalize(glm::cross(glm::dvec3(1, 0, 0), r));
+    const glm::dvec3 b = glm::cross(r, t);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    glm::dvec3 sum(0.0);
+    double weight = 0.0;
+    for (int i = 0; i < 16384; ++i) {
+      const double xi1 = u01(rng), xi2 = u01(rng);
+      const double ct = std::sqrt((1.0 - xi1) / (1.0 + (a2 - 1.0) * xi1)), st = std::sqrt(1.0 - ct * ct);
+      const glm::dvec3 h = t * (st * std::cos(2 * kPi * xi2)) + b * (st * std::sin(2 * kPi * xi2)) + r * ct;
+      const glm::dvec3 l = h * (2.0 * glm::dot(r, h)) - r;
+      const double nl = glm::dot(r, l);
+      if (nl <= 0.0) continue;
+      const glm::dvec2 uv = pbr::equirect_uv(l);
+      const int x = std::min(sky.width - 1, static_cast<int>(uv.x * sky.width));
+      const int y = std::min(sky.height - 1, static_cast<int>(uv.y * sky.height));
+      const float* p = &sky.rgba[(static_cast<std::size_t>(y) * static_cast<std::size_t>(sky.width) + static_cast<std::size_t>(x)) * 4];
+      sum += glm::dvec3(p[0], p[1], p[2]) * nl;
+      weight += nl;
+    }
+    return sum / weight;
+  };
+  for (const double roughness : {0.4, 0.6, 1.0})
+    for (const glm::dvec3& r : {glm::dvec3(0.3, 0.8, -0.5), glm::dvec3(0, 1, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, -0.6, 0.8)}) {
+      const glm::dvec3 rn = glm::normalize(r);
+      const glm::dvec3 ref = reference(rn, roughness), got = radiance(env, rn, static_cast<float>(roughness));
+      CAPTURE(roughness);
+      CAPTURE(rn.x);
+      CAPTURE(rn.y);
+      CAPTURE(rn.z);
+      CHECK(max_component(got - ref) < 0.04 * max_component(ref));
+    }
+}
+
+TEST_CASE("a sun in the map gives a smooth highlight at every roughness: no level has a sparkle") {
+  // A 2-texel sun of radiance 5000 over a dark sky: in each prefiltered level, no texel
+  // may exceed its 8 neighbours' mean by much (a sparkle), except where the lobe peaks.
+  const glm::dvec3 sun = glm::normalize(glm::dvec3(0.4, 0.5, -0.7));
+  const image::ImageF sky = equirect(1024, 512, [&](const glm::dvec3& d) {
+    return dmath::angle_between(d, sun) < 0.006 ? glm::dvec3(5000.0) : glm::dvec3(0.2);
+  });
+  const pbr::Environment env(sky, "sun", {});
+  for (int level = 1; level < pbr::Environment::kLevels; ++level) {
+    CAPTURE(level);
+    const raster::Texture& t = env.level(level);
+    const int s = env.level_size(level);
+    double worst = 0.0;
+    for (int y = 2; y < s; ++y)
+      for (int x = 2; x < s; ++x) {
+        const double c = t.texel(0, x, y).r;
+        double mean = 0.0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx)
+            if (dx != 0 || dy != 0) mean += t.texel(0, x + dx, y + dy).r;
+        mean /= 8.0;
+        worst = std::max(worst, c / mean);
+      }
+    MESSAGE("level " << level << ": largest texel / neighbours' mean " << worst);
+    CHECK(worst < 2.0);
+  }
+}
+
+TEST_CASE("the split-sum table: range, an independent quadrature, Karis's fit, and the reference integration") {
+  const raster::Texture& t = pbr::dfg_table();
+  REQUIRE(t.width() == pbr::kDfgSize);
+  for (int y = 0; y < pbr::kDfgSize; ++y)
+    for (int x = 0; x < pbr::kDfgSize; ++x) {
+      const glm::vec4 c = t.texel(0, x, y);
+      CAPTURE(x);
+      CAPTURE(y);
+      CHECK(c.r >= 0.0f);
+      CHECK(c.g >= 0.0f);
+      CHECK(c.r + c.g <= 1.0f + 1e-5f);
+      CHECK(c.b == doctest::Approx(c.r + c.g).epsilon(1e-6));  // A + B stored
+    }
+  // The same integrals by midpoint quadrature over the hemisphere of l (no importance
+  // sampling): A = ∫ (1 − Fc) f cos θ dω, B = ∫ Fc f cos θ dω with f = D·G / (4 n·l n·v),
+  // Fc = (1 − v·h)⁵, G Smith–Schlick-GGX at k = α/2. Rough enough lobes for the grid.
+  auto quadrature = [](double NoV, double r) {
+    const double alpha = r * r, a2 = alpha * alpha, k = alpha / 2.0;
+    const glm::dvec3 v(std::sqrt(1.0 - NoV * NoV), 0.0, NoV);
+    const int nt = 768, np = 1536;
+    double a = 0.0, b = 0.0;
+    for (int i = 0; i < nt; ++i) {
+      const double theta = (i + 0.5) * (kPi / 2) / nt;
+      const double st = std::sin(theta), ct = std::cos(theta);
+      for (int j = 0; j < np; ++j) {
+        const double phi = (j + 0.5) * 2 * kPi / np;
+        const glm::dvec3 l(st * std::cos(phi), st * std::sin(phi), ct);
+        const glm::dvec3 h = glm::normalize(l + v);
+        const double NoH = h.z, VoH = glm::dot(v, h), NoL = ct;
+        const double d = NoH * NoH * (a2 - 1.0) + 1.0;
+        const double D = a2 / (kPi * d * d);
+        const double G = (NoV / (NoV * (1 - k) + k)) * (NoL / (NoL * (1 - k) + k));
+        const double f = D * G / (4.0 * NoL * NoV);
+        const double fc = std::pow(1.0 - VoH, 5.0);
+        const double w = f * NoL * st * (kPi / 2 / nt) * (2 * kPi / np);
+        a += (1.0 - fc) * w;
+        b += fc * w;
+      }
+    }
+    return glm::dvec2(a, b);
+  };
+  for (const double r : {0.4, 0.6, 0.8, 1.0})
+    for (const double NoV : {0.2, 0.5, 0.9}) {
+      const glm::dvec2 q = quadrature(NoV, r), ref = pbr::dfg_reference(NoV, r, 4096);
+      CAPTURE(r);
+      CAPTURE(NoV);
+      CHECK(std::fabs(q.x - ref.x) < 0.01);
+      CHECK(std::fabs(q.y - ref.y) < 0.01);
+    }
+  // Karis 2014's analytic fit ("Physically based shading on mobile") is rough (up to 0.17
+  // off) but catches a table that is upside down or transposed.
+  auto karis = [](double NoV, double r) {
+    const double c0[4] = {-1.0, -0.0275, -0.572, 0.022}, c1[4] = {1.0, 0.0425, 1.04, -0.04};
+    double v[4];
+    for (int i = 0; i < 4; ++i) v[i] = r * c0[i] + c1[i];
+    const double a004 = std::min(v[0] * v[0], std::exp2(-9.28 * NoV)) * v[0] + v[1];
+    return glm::dvec2(a004 * -1.04 + v[2], a004 * 1.04 + v[3]);
+  };
+  for (int y = 0; y < pbr::kDfgSize; y += 3)
+    for (int x = 3; x < pbr::kDfgSize; x += 3) {
+      const glm::vec4 c = t.texel(0, x, y);
+      const glm::dvec2 k = karis((x + 0.5) / pbr::kDfgSize, (y + 0.5) / pbr::kDfgSize);
+      CAPTURE(x);
+      CAPTURE(y);
+      CHECK(std::fabs(c.r - k.x) < 0.2);
+      CHECK(std::fabs(c.g - k.y) < 0.2);
+    }
+  // A smooth mirror seen head-on reflects everything: A → 1, B → 0.
+  const glm::dvec2 mirror = pbr::dfg_reference(1.0, 0.0, 256);
+  CHECK(mirror.x == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(mirror.y == doctest::Approx(0.0));
+  // The table is the reference integration at its texel centres.
+  const glm::dvec2 ab = pbr::dfg_reference(10.5 / pbr::kDfgSize, 20.5 / pbr::kDfgSize, 1024);
+  CHECK(t.texel(0, 10, 20).r == static_cast<float>(ab.x));
+  CHECK(t.texel(0, 10, 20).g == static_cast<float>(ab.y));
+}
+
+TEST_CASE("white furnace: a uniform white environment returns 1 with energy compensation") {
+  const image::ImageF white = equirect(64, 32, [](const glm::dvec3&) { return glm::dvec3(1.0); });
+  const auto env = std::make_shared<const pbr::Environment>(white, "white", pbr::EnvironmentOptions{.size = 32, .samples = 32});
+  double worst_on = 0.0, lowest_off = 1.0, highest_off = 0.0;
+  for (const bool multiscatter : {true, false})
+    for (const float metallic : {0.0f, 1.0f})
+      for (const float roughness : {0.05f, 0.25f, 0.5f, 0.75f, 1.0f})
+        for (const float NoV : {0.1f, 0.5f, 0.9f, 1.0f}) {
+          pbr::Material m;
+          m.base_color = {1.0f, 1.0f, 1.0f};
+          m.metallic = metallic;
+          m.roughness = roughness;
+          const pbr::ShadingMaterial sm = pbr::prepare_material(m);
+          pbr::EnvironmentLighting l;
+          l.map = env;
+          l.multiscatter = multiscatter;
+          const pbr::PreparedEnvironment e = pbr::prepare_environment(l);
+          const glm::vec3 n(0, 1, 0), v(std::sqrt(1.0f - NoV * NoV), NoV, 0.0f);
+          const auto c = pbr::ibl(pbr::lanes<float>(sm), e, pbr::lanes<float>(n), pbr::lanes<float>(v));
+          CAPTURE(multiscatter);
+          CAPTURE(metallic);
+          CAPTURE(roughness);
+          CAPTURE(NoV);
+          for (const float ch : {c.x, c.y, c.z}) {
+            if (multiscatter) worst_on = std::max(worst_on, std::fabs(ch - 1.0));
+            else lowest_off = std::min(lowest_off, static_cast<double>(ch));
+            if (multiscatter) CHECK(ch <= 1.0f + 0.02f);
+            else highest_off = std::max(highest_off, static_cast<double>(ch));
+          }
+        }
+  MESSAGE("white furnace: largest |1 − result| with compensation " << worst_on << "; without it from " << lowest_off
+                                                                    << " to " << highest_off);
+  CHECK(worst_on < 0.002);
+  // Without it, rough metals lose energy and grazing dielectrics gain some (the
+  // roughness-Fresnel kD is not energy conserving): what docs/design.md reports.
+  CHECK(lowest_off < 0.5);
+  CHECK(highest_off > 1.1);
+}
+
+TEST_CASE("rotation: a sun toward +X lights +X; turned 90° it lights −Z") {
+  const image::ImageF sky = lobe_sky(128, 64, {1.0, 0.0, 0.0});
+  const pbr::Environment env(sky, "sun+x", {.size = 16, .samples = 8});
+  const glm::dvec3 px(1, 0, 0), nx(-1, 0, 0), nz(0, 0, -1), pz(0, 0, 1);
+  CHECK(irradiance(env, px).x > 2.0 * irradiance(env, nx).x);
+  CHECK(irradiance(env, px).x > 1.5 * irradiance(env, nz).x);
+  CHECK(irradiance(env, nz, 90.0f).x > 2.0 * irradiance(env, pz, 90.0f).x);
+  CHECK(irradiance(env, nz, 90.0f).x > 1.5 * irradiance(env, px, 90.0f).x);
+  CHECK(radiance(env, px, 0.0f).x > 2.0 * radiance(env, nx, 0.0f).x);
+  // Intensity scales linearly.
+  CHECK(irradiance(env, px, 0.0f, 2.0f).x == doctest::Approx(2.0 * irradiance(env, px).x).epsilon(1e-6));
+}
+
+TEST_CASE("prefiltering gives the same bits on any thread count, and survives its serialized form") {
+  const image::ImageF sky = lobe_sky(256, 128);
+  const pbr::Environment one(sky, "a", {.size = 64, .samples = 16});
+  const std::vector<std::uint8_t> bytes = one.to_bytes();
+  for (const unsigned threads : {2u, 3u}) {
+    raster::ThreadPool pool(threads);
+    const pbr::Environment other(sky, "b", {.size = 64, .samples = 16}, &pool);
+    CHECK(other.to_bytes() == bytes);
+  }
+  const auto back = pbr::Environment::from_bytes(bytes, "cache");
+  CHECK(back->to_bytes() == bytes);
+  CHECK(back->irradiance_sh() == one.irradiance_sh());
+  // Damaged blobs are refused with the name.
+  std::vector<std::uint8_t> cut(bytes.begin(), bytes.end() - 5);
+  CHECK_THROWS_WITH_AS(pbr::Environment::from_bytes(cut, "c.spenv"), doctest::Contains("c.spenv: "), std::invalid_argument);
+  std::vector<std::uint8_t> other = bytes;
+  other[3] = 'X';
+  CHECK_THROWS_WITH_AS(pbr::Environment::from_bytes(other, "d.spenv"), doctest::Contains("d.spenv: "), std::invalid_argument);
+}
+
+TEST_CASE("load_environment: cached in memory and on disk; bad files are refused naming the file") {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "environment-test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const image::ImageF sky = lobe_sky(64, 32);
+  image::write_hdr(dir / "sky.hdr", sky);
+  const pbr::EnvironmentOptions o{.size = 16, .samples = 8};
+  const auto a = pbr::load_environment(dir / "sky.hdr", o, nullptr, dir / "cache");
+  const auto b = pbr::load_environment(dir / "sky.hdr", o, nullptr, dir / "cache");
+  CHECK(a.get() == b.get());  // the same shared environment
+  int cached = 0;
+  for (const auto& e : fs::directory_iterator(dir / "cache")) {
+    ++cached;
+    CHECK(e.path().extension() == ".spenv");
+    const auto c = pbr::Environment::from_bytes(image::read_file(e.path()), "x");
+    CHECK(c->to_bytes() == a->to_bytes());
+  }
+  CHECK(cached == 1);
+  // Other options: another environment.
+  const auto d = pbr::load_environment(dir / "sky.hdr", {.size = 32, .samples = 8});
+  CHECK(d.get() != a.get());
+  CHECK(d->size() == 32);
+
+  std::ofstream(dir / "junk.hdr") << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X banana";
+  CHECK_THROWS_WITH(pbr::load_environment(dir / "junk.hdr"), doctest::Contains("junk.hdr"));
+  CHECK_THROWS_WITH(pbr::load_environment(dir / "missing.hdr"), doctest::Contains("missing.hdr"));
+  std::ofstream(dir / "text.exr") << "not an image";
+  CHECK_THROWS_WITH(pbr::load_environment(dir / "text.exr"), doctest::Contains("text.exr"));
+  // Radiance must be finite and non-negative.
+  image::ImageF bad = sky;
+  bad.rgba[4 * 70 + 1] = -1.0f;
+  CHECK_THROWS_WITH_AS(pbr::Environment(bad, "neg.exr"), doctest::Contains("neg.exr: pixel (6, 1)"), std::invalid_argument);
+  bad.rgba[4 * 70 + 1] = std::numeric_limits<float>::quiet_NaN();
+  CHECK_THROWS_AS(pbr::Environment(bad, "nan.exr"), std::invalid_argument);
+  CHECK_THROWS_AS(pbr::Environment(sky, "opts", {.size = 24}), std::invalid_argument);
+  CHECK_THROWS_AS(pbr::Environment(sky, "opts", {.samples = 2}), std::invalid_argument);
+  pbr::EnvironmentLighting l;
+  l.map = a;
+  l.intensity = -1.0f;
+  CHECK_THROWS_AS(pbr::prepare_environment(l), std::invalid_argument);
+}
