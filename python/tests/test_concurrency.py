@@ -14,7 +14,7 @@ import numpy
 import softpbr
 
 
-def slow_scene(width=224, height=224, lights=160):
+def slow_scene(width=192, height=192, lights=128):
     """A sphere filling the frame under many lights: every light is evaluated at every pixel."""
     return {"camera": {"position": [0, 0, 2.2], "target": [0, 0, 0], "fov": 45},
             "lights": [{"type": "point", "position": [3 * ((i % 7) - 3) / 3, 2 + (i % 5) * 0.1, 3], "intensity": 0.5}

@@ -100,3 +100,13 @@ def test_a_scene_built_in_python_renders_as_the_same_scene_file(tmp_path):
     scene.width, scene.height = 80, 60
     assert numpy.array_equal(softpbr.render(scene), softpbr.render(spec))
     assert numpy.array_equal(scene.objects[0].transform, move)
+
+
+def test_the_readme_example_draws_its_image(source_dir, tmp_path, monkeypatch):
+    readme = (source_dir / "README.md").read_text()
+    start = readme.index("```python\n", readme.index("## From Python")) + len("```python\n")
+    code = readme[start:readme.index("```\n", start)]
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, "README.md (From Python)", "exec"), {})
+    image = softpbr.load_image(tmp_path / "spheres.png")
+    softpbr.testing.assert_image_matches(image, source_dir / "docs" / "images" / "python_spheres.png")
