@@ -5,6 +5,7 @@ by environment variable."""
 from __future__ import annotations
 
 import math
+import os
 import shutil
 import subprocess
 import sys
@@ -90,6 +91,7 @@ def test_a_changed_scene_fails_its_golden_and_writes_the_images(source_dir, scen
 
 
 def test_update_mode_rewrites_the_golden(monkeypatch, tmp_path):
+    monkeypatch.delenv("SOFTPBR_UPDATE_GOLDENS", raising=False)  # also when the suite runs in update mode
     golden = tmp_path / "new.png"
     image = gradient()
     with pytest.raises(ImageMismatch, match="new.png"):
@@ -108,8 +110,9 @@ def test_the_pytest_option_updates_goldens(tmp_path):
         def test_image():
             assert_image_matches(numpy.full((2, 2, 4), 7, numpy.uint8), "golden.png")
     """))
+    env = {k: v for k, v in os.environ.items() if k != "SOFTPBR_UPDATE_GOLDENS"}
     run = lambda *args: subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args],
-                                       cwd=tmp_path, capture_output=True, text=True)
+                                       cwd=tmp_path, env=env, capture_output=True, text=True)
     failed = run()
     assert failed.returncode == 1 and "golden.png" in failed.stdout, failed.stdout + failed.stderr
     updated = run("--softpbr-update-goldens")
