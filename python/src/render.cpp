@@ -81,6 +81,14 @@ pbr::RenderSettings settings_for(const PyScene& s, const Overrides& o) {
   return r;
 }
 
+bool is_finalizing() {
+#if PY_VERSION_HEX >= 0x030D0000
+  return Py_IsFinalizing() != 0;
+#else
+  return _Py_IsFinalizing() != 0;
+#endif
+}
+
 // RendererOptions::cancel for a render called from Python (see the top of this file).
 class Interrupt {
  public:
@@ -90,6 +98,10 @@ class Interrupt {
     const auto now = std::chrono::steady_clock::now();
     if (now < next_) return false;
     next_ = now + std::chrono::milliseconds(10);
+    // A thread that takes the GIL while the interpreter finalizes is ended by Python
+    // (pthread_exit), which must not unwind through the renderer's pool. Python only
+    // finalizes with this render running when a join() was interrupted (CPython < 3.13).
+    if (is_finalizing()) return false;
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) stop_.store(true, std::memory_order_relaxed);  // the exception stays set
     return stop_.load(std::memory_order_relaxed);
