@@ -86,3 +86,20 @@ def test_ctrl_c_stops_a_long_render_and_is_raised_by_it():
     # The module renders normally afterwards.
     small = softpbr.Scene.from_dict(slow_scene(width=32, height=32, lights=2))
     assert numpy.array_equal(softpbr.render(small), softpbr.render(small, threads=2))
+
+
+def test_a_scene_changed_while_it_renders_does_not_change_that_render():
+    scene = softpbr.Scene.from_dict(slow_scene())
+    expected = softpbr.render(scene)
+    result = []
+    worker = threading.Thread(target=lambda: result.append(softpbr.render(scene)))
+    worker.start()
+    while softpbr.active_renders() == 0 and worker.is_alive():
+        time.sleep(0.0005)
+    # The render took its copy of the scene before entering C++.
+    for _ in range(50):
+        scene.add(softpbr.Mesh.cube(0.2), softpbr.Material.preset("gold"))
+        scene.lights = []
+    worker.join()
+    assert numpy.array_equal(result[0], expected)
+    assert not numpy.array_equal(softpbr.render(scene), expected)
