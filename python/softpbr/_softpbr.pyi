@@ -13,8 +13,11 @@ _Vec3 = Union[Sequence[float], npt.ArrayLike]
 
 class Mesh:
     """A triangle mesh; Mesh(positions (N, 3) float32, indices (M, 3) integer, *, normals, uvs)."""
-    def __init__(self, positions: npt.NDArray[numpy.float32], indices: npt.NDArray[numpy.integer[Any]], *,
-                 normals: Optional[npt.NDArray[numpy.float32]] = ..., uvs: Optional[npt.NDArray[numpy.float32]] = ...) -> None: ...
+    # numpy arrays: float32 (indices: any integer dtype), checked; nested lists are converted.
+    def __init__(self, positions: Union[npt.NDArray[numpy.float32], Sequence[Sequence[float]]],
+                 indices: Union[npt.NDArray[numpy.integer[Any]], Sequence[Sequence[int]]], *,
+                 normals: Optional[Union[npt.NDArray[numpy.float32], Sequence[Sequence[float]]]] = ...,
+                 uvs: Optional[Union[npt.NDArray[numpy.float32], Sequence[Sequence[float]]]] = ...) -> None: ...
     @staticmethod
     def uv_sphere(radius: float = ..., segments: int = ..., rings: int = ...) -> Mesh: ...
     @staticmethod

@@ -47,15 +47,20 @@ std::vector<float> float_rows(const py::array& a, const char* what, py::ssize_t 
   return out;
 }
 
+// A numpy array as it is (its dtype is checked), or a nested list converted to float32 or
+// int64 (a list has no dtype to be wrong).
+template <class T>
 py::array as_array(const py::object& o, const char* what) {
-  py::array a = py::array::ensure(o);
+  if (py::isinstance<py::array>(o)) return py::reinterpret_borrow<py::array>(o);
+  py::array a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(o);
   if (!a) type_error(std::string("Mesh: ") + what + ": expected a numpy array, got " + std::string(py::str(o.get_type().attr("__name__"))));
   return a;
 }
 
-std::shared_ptr<pbr::Mesh> mesh_from_arrays(const py::array& positions, const py::array& indices, const py::object& normals,
-                                             const py::object& uvs) {
-  const std::vector<float> p = float_rows(positions, "positions", 3);
+std::shared_ptr<pbr::Mesh> mesh_from_arrays(const py::object& positions_in, const py::object& indices_in,
+                                             const py::object& normals, const py::object& uvs) {
+  const std::vector<float> p = float_rows(as_array<float>(positions_in, "positions"), "positions", 3);
+  const py::array indices = as_array<std::int64_t>(indices_in, "indices");
   const std::size_t n = p.size() / 3;
   if (n > std::size_t{0xFFFFFFFFu}) value_error("Mesh: positions: more than 2^32 - 1 vertices");
   if (indices.ndim() != 2 || indices.shape(1) != 3)
@@ -83,13 +88,13 @@ std::shared_ptr<pbr::Mesh> mesh_from_arrays(const py::array& positions, const py
   mesh->vertices.resize(n);
   for (std::size_t i = 0; i < n; ++i) mesh->vertices[i].position = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
   if (!uvs.is_none()) {
-    const std::vector<float> t = float_rows(as_array(uvs, "uvs"), "uvs", 2, static_cast<py::ssize_t>(n));
+    const std::vector<float> t = float_rows(as_array<float>(uvs, "uvs"), "uvs", 2, static_cast<py::ssize_t>(n));
     for (std::size_t i = 0; i < n; ++i) mesh->vertices[i].uv = {t[2 * i], t[2 * i + 1]};
   }
   if (normals.is_none()) {
     pbr::compute_smooth_normals(*mesh);
   } else {
-    const std::vector<float> v = float_rows(as_array(normals, "normals"), "normals", 3, static_cast<py::ssize_t>(n));
+    const std::vector<float> v = float_rows(as_array<float>(normals, "normals"), "normals", 3, static_cast<py::ssize_t>(n));
     for (std::size_t i = 0; i < n; ++i) {
       // Normalised in double, as the OBJ loader normalises given normals.
       const glm::dvec3 d(v[3 * i], v[3 * i + 1], v[3 * i + 2]);

@@ -116,3 +116,10 @@ def test_procedural_meshes_and_bad_parameters():
     assert softpbr.Mesh.torus().vertex_count > 0
     with pytest.raises(ValueError):
         softpbr.Mesh.uv_sphere(-1, 8, 4)
+
+
+def test_nested_lists_are_converted():
+    mesh = softpbr.Mesh(POSITIONS.tolist(), INDICES.tolist(), uvs=UVS.tolist())
+    assert numpy.array_equal(mesh.positions, POSITIONS) and numpy.array_equal(mesh.indices, INDICES)
+    with pytest.raises(TypeError, match="Mesh: positions: expected a numpy array, got str"):
+        softpbr.Mesh("not a mesh", INDICES)
