@@ -32,12 +32,14 @@ def test_render_is_bit_identical_to_the_command(cli, scenes, tmp_path):
 
 
 def test_overrides_are_the_command_options(cli, scenes, tmp_path):
-    png = tmp_path / "lights.png"
-    run_cli(cli, scenes / "lights.json", "-o", png, "--width", 96, "--height", 64, "--tonemap", "aces",
+    png, exr = tmp_path / "lights.png", tmp_path / "lights.exr"
+    run_cli(cli, scenes / "lights.json", "-o", png, "-o", exr, "--width", 96, "--height", 64, "--tonemap", "aces",
             "--exposure", 1.5, "--threads", 1, "--tile-size", 8)
     image = softpbr.render(scenes / "lights.json", width=96, height=64, tonemap="aces", exposure=1.5, threads=3,
                            tile_size=32)
     assert numpy.array_equal(image, softpbr.load_image(png))
+    hdr = softpbr.render_hdr(scenes / "lights.json", width=96, height=64, exposure=1.5, threads=2, tile_size=16)
+    assert numpy.array_equal(hdr.view(numpy.uint32), softpbr.load_image(exr).view(numpy.uint32))
 
 
 def test_a_dict_scene_renders_as_its_file(scenes):
