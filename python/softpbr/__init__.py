@@ -58,14 +58,20 @@ def _scene_from_dict(scene: Mapping[str, Any], base_dir: Union[str, "os.PathLike
 Scene.from_dict = staticmethod(_scene_from_dict)  # type: ignore[attr-defined]
 
 
-def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", None] = None) -> Scene:
-    """A Scene from a path, a dict (see Scene.from_dict) or a Scene (returned as is)."""
+def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", None] = None,
+               width: Optional[int] = None, height: Optional[int] = None) -> Scene:
+    """A Scene from a path, a dict (see Scene.from_dict) or a Scene (returned as is). A glTF
+    model (.gltf, .glb) is framed for a width x height image (default 1280x720) as the
+    command frames it (Scene.load_gltf)."""
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):
         return _scene_from_dict(scene, base_dir)
     if isinstance(scene, (str, os.PathLike)):
-        return Scene.load(os.fspath(scene))
+        path = os.fspath(scene)
+        if path.lower().endswith((".gltf", ".glb")):
+            return Scene.load_gltf(path, width=width or 1280, height=height or 720)
+        return Scene.load(path)
     raise TypeError(f"scene: expected a path, a dict or a softpbr.Scene, got {type(scene).__name__}")
 
 
@@ -74,7 +80,9 @@ def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[in
            gamma: Optional[float] = None, frame: int = 0,
            base_dir: Union[str, "os.PathLike[str]", None] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) uint8 array: tone mapped, sRGB (or gamma)
-    encoded, the bytes ``softpbr render scene.json -o out.png`` writes.
+    encoded, the bytes ``softpbr render scene.json -o out.png`` writes. ``scene`` is a scene
+    file's path, a glTF model's (framed automatically), a dict with the scene-file schema or
+    a Scene.
 
     Keyword arguments override the scene's render block as the command's options do:
     width, height (1..16384), threads (0 = all cores; the image is the same for any),
@@ -82,7 +90,7 @@ def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[in
     (0 = exact sRGB). ``frame`` picks a frame of the scene's turntable animation.
     The GIL is released while rendering; Ctrl-C raises KeyboardInterrupt from here.
     """
-    return _softpbr.render(load_scene(scene, base_dir=base_dir), width=width, height=height, threads=threads,
+    return _softpbr.render(load_scene(scene, base_dir=base_dir, width=width, height=height), width=width, height=height, threads=threads,
                            tile_size=tile_size, tonemap=tonemap, exposure=exposure, gamma=gamma, frame=frame)
 
 
@@ -91,7 +99,7 @@ def render_hdr(scene: SceneLike, *, width: Optional[int] = None, height: Optiona
                base_dir: Union[str, "os.PathLike[str]", None] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) float32 array of linear colour x 2^exposure
     (what ``.exr`` output holds), without a copy of the render target's colour buffer."""
-    return _softpbr.render_hdr(load_scene(scene, base_dir=base_dir), width=width, height=height, threads=threads,
+    return _softpbr.render_hdr(load_scene(scene, base_dir=base_dir, width=width, height=height), width=width, height=height, threads=threads,
                                tile_size=tile_size, exposure=exposure, frame=frame)
 
 

@@ -2,16 +2,18 @@
 // for the Python signatures). Angles are in degrees, as in scene files; colours are linear.
 #include <cmath>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include "bindings.h"
 #include <glm/geometric.hpp>
 
+#include "bindings.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/raster/renderer.h"
@@ -150,6 +152,55 @@ const char* light_type_name(pbr::LightType t) {
 }
 
 pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
+
+// A glTF model as a scene, as `softpbr render model.glb` makes it (cli/render.cpp, docs/
+// scene-format.md "glTF models"): its objects and lights, one of its cameras or
+// pbr::framing_camera for the image's aspect, the default light rig when it has no lights.
+std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
+                                    std::optional<int> camera) {
+  require_readable(path);
+  if (width < 1 || width > raster::kMaxTargetSize || height < 1 || height > raster::kMaxTargetSize)
+    value_error("Scene.load_gltf: width and height: expected values in [1, 16384], got " + std::to_string(width) + "x" +
+                std::to_string(height));
+  if (!camera && !(pitch >= -89.0 && pitch <= 89.0 && std::isfinite(yaw)))
+    value_error("Scene.load_gltf: pitch: expected degrees in [-89, 89]; yaw: a finite number of degrees");
+  auto s = std::make_shared<PyScene>();
+  pbr::SceneFile& f = s->file;
+  {
+    py::gil_scoped_release unlocked;
+    raster::ThreadPool pool(0);
+    pbr::GltfScene g = pbr::load_gltf(path, {.pool = &pool});
+    f.warnings = std::move(g.warnings);
+    f.scene.objects = std::move(g.objects);
+    f.triangles = g.triangles;
+    f.render.width = width;
+    f.render.height = height;
+    if (camera) {
+      if (*camera < 0 || static_cast<std::size_t>(*camera) >= g.cameras.size())
+        value_error("Scene.load_gltf: camera: " + path.string() + " has " + std::to_string(g.cameras.size()) +
+                    " cameras, no camera " + std::to_string(*camera));
+      f.scene.camera = g.cameras[static_cast<std::size_t>(*camera)].camera;
+    } else {
+      f.scene.camera = pbr::framing_camera(pbr::world_bounds(f.scene.objects),
+                                           static_cast<float>(width) / static_cast<float>(height),
+                                           static_cast<float>(dmath::radians(yaw)), static_cast<float>(dmath::radians(pitch)));
+    }
+    f.scene.lights = g.lights.empty() ? pbr::default_light_rig(f.scene.camera) : std::move(g.lights);
+    f.scene.ambient = glm::vec3(pbr::kDefaultAmbient);
+    f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
+    // Memory: the meshes and their draws (18 varyings: the textured shader's), and textures.
+    std::set<const void*> seen;
+    for (const pbr::Object& o : f.scene.objects) {
+      f.mesh_bytes += raster::draw_geometry_bytes(o.mesh->vertices.size(), o.mesh->triangle_count(), 18);
+      if (seen.insert(o.mesh.get()).second)
+        f.mesh_bytes += o.mesh->vertices.size() * sizeof(pbr::MeshVertex) + o.mesh->indices.size() * 4;
+      for (const pbr::TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
+                                        &o.material.normal_texture, &o.material.occlusion_texture, &o.material.emissive_texture})
+        if (t->texture && seen.insert(t->texture.get()).second) f.mesh_bytes += t->texture->texel_bytes();
+    }
+  }
+  return s;
+}
 
 }  // namespace
 
@@ -324,6 +375,11 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
           },
           py::arg("path"),
           "Reads a scene file. OSError if it cannot be read; ValueError with the file and JSON pointer if it is invalid.")
+      .def_static("load_gltf", &gltf_scene, py::arg("path"), py::kw_only(), py::arg("width") = 1280, py::arg("height") = 720,
+                  py::arg("yaw") = 0.0, py::arg("pitch") = 0.0, py::arg("camera") = py::none(),
+                  "A glTF 2.0 model (.gltf, .glb) as `softpbr render model.glb` shows it: framed for a width x height "
+                  "image, turned by yaw and raised by pitch (degrees), or through camera N of the file; the default light "
+                  "rig when the file has no lights. OSError if unreadable, ValueError naming the JSON pointer if invalid.")
       .def_static(
           "from_json",
           [](const std::string& text, const std::string& name, const std::filesystem::path& base_dir) {

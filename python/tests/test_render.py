@@ -112,3 +112,16 @@ def test_the_readme_example_draws_its_image(source_dir, tmp_path, monkeypatch):
     exec(compile(code, "README.md (From Python)", "exec"), {})
     image = softpbr.load_image(tmp_path / "spheres.png")
     softpbr.testing.assert_image_matches(image, source_dir / "docs" / "images" / "python_spheres.png")
+
+
+def test_a_gltf_model_renders_as_the_command_frames_it(cli, source_dir, tmp_path):
+    model = source_dir / "fuzz" / "corpus" / "gltf" / "triangle.gltf"  # the hand-written fixture: textured, MASK, double-sided
+    for args, scene in [((), lambda: model),
+                        (("--yaw", 30, "--pitch", 15), lambda: softpbr.Scene.load_gltf(model, width=72, height=40, yaw=30, pitch=15))]:
+        png = tmp_path / "model.png"
+        run_cli(cli, model, "-o", png, "--width", 72, "--height", 40, *args)
+        image = softpbr.render(scene(), width=72, height=40)
+        assert image[..., :3].max() > 20
+        assert numpy.array_equal(image, softpbr.load_image(png)), args
+    with pytest.raises(ValueError, match="has 0 cameras, no camera 2"):
+        softpbr.Scene.load_gltf(model, camera=2)
