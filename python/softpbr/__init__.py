@@ -40,6 +40,7 @@ from ._softpbr import (
     write_png,
 )
 from . import _softpbr
+from . import testing
 from ._scene_dict import scene_json
 
 __version__ = "0.1.0"
