@@ -1,7 +1,7 @@
 // python/src/bindings.h — what the parts of the Python module (softpbr._softpbr) share:
-// the Scene wrapper, numpy conversions and the errors they raise (python/README in
-// docs/python.md: ValueError for bad values, TypeError for a wrong dtype, OSError for a
-// file that cannot be read).
+// the Scene wrapper, numpy conversions and the errors they raise (docs/python.md, "Errors":
+// ValueError for bad values, TypeError for a wrong dtype, OSError for a file that cannot be
+// read).
 #pragma once
 
 #include <cstdint>
