@@ -3,6 +3,7 @@
 // under ThreadSanitizer (softpbr_tsan_tests, built by .ci/fuzz), which must report nothing.
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <cstdint>
 #include <thread>
 #include <vector>
@@ -72,5 +73,27 @@ TEST_CASE("one renderer used from different threads in turn gives the same image
     std::uint64_t hash = 0;
     std::thread([&] { hash = render_hash(scene, renderer); }).join();  // join orders the frames
     CHECK(hash == first);
+  }
+}
+
+TEST_CASE("a cancelled frame throws Cancelled and the renderer's next frame has the uncancelled bits") {
+  const pbr::Scene scene = small_gallery();
+  raster::Renderer reference({.threads = 1, .tile_size = 16});
+  const std::uint64_t expected = render_hash(scene, reference);
+  for (const unsigned threads : {1u, 2u, 3u}) {
+    CAPTURE(threads);
+    // Polled from every thread: cancels from the fourth tile on until `armed` is cleared.
+    std::atomic<int> polls{0};
+    std::atomic<bool> armed{true};
+    raster::Renderer renderer({.threads = threads,
+                               .tile_size = 16,
+                               .cancel = [&] { return polls.fetch_add(1, std::memory_order_relaxed) >= 3 && armed.load(); }});
+    raster::Target target(kWidth, kHeight);
+    CHECK_THROWS_AS(pbr::render(scene, renderer, target), raster::Cancelled);
+    // 30 tiles: polling stopped once a thread saw the cancellation (at most one poll per thread after it).
+    CHECK(polls.load() < 3 + 2 * static_cast<int>(threads));
+    armed = false;
+    pbr::render(scene, renderer, target);  // the same target: its cleared-tile record must not lie
+    CHECK((raster::hash_colors(target) ^ (raster::hash_depths(target) * 31)) == expected);
   }
 }

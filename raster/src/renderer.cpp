@@ -5,6 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "softpbr/check.h"
 
@@ -52,7 +53,8 @@ Renderer::Renderer(RendererOptions options)
       tile_size_(checked_tile_size(options.tile_size)),
       isa_(options.dispatch ? simd::cpu_isa() : simd::Isa::Baseline),
       lanes_(checked_lanes(options.lanes, isa_)),
-      geometry_budget_(options.geometry_budget) {}
+      geometry_budget_(options.geometry_budget),
+      cancel_(std::move(options.cancel)) {}
 
 Renderer::~Renderer() = default;
 
@@ -64,6 +66,7 @@ void Renderer::begin_frame(Target& target) {
   clear_.reset();
   pending_bytes_ = 0;
   cleared_ = false;
+  cancelled_.store(false, std::memory_order_relaxed);
   touched_.assign(grid_.count(), 0);
   // The frame may write any pixel: the target knows nothing until end_frame() says again.
   known_clear_ = detail::FrameAccess::take_cleared_tiles(target);
@@ -93,6 +96,13 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   Target& target = *target_;
   target_ = nullptr;
   rasterize_pending(target, after_tile ? &after_tile : nullptr);
+  if (cancelled_.load(std::memory_order_relaxed)) {
+    // Skipped tiles hold anything: the target knows of no cleared tile.
+    cancelled_.store(false, std::memory_order_relaxed);
+    known_clear_ = {};
+    clear_.reset();
+    throw Cancelled();
+  }
   // Tell the target which tiles hold only clear values now: the untouched ones, if this
   // frame cleared (to its values), else those that did before and stayed untouched.
   detail::ClearedTiles& known = known_clear_;
@@ -119,6 +129,10 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
   const TargetPixels pixels = detail::FrameAccess::pixels(target);
   if (!draws_.empty() || clear_now || after_tile) {
     pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
+      if (cancel_ && (cancelled_.load(std::memory_order_relaxed) || cancel_())) {
+        cancelled_.store(true, std::memory_order_relaxed);
+        return;
+      }
       const TileRect rect = grid_.rect(tile);
       bool touched = false;
       for (const auto& draw : draws_) touched = touched || draw->geometry.touches(tile);

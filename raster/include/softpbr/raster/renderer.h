@@ -12,6 +12,7 @@
 // The image is bit-identical for every thread count and tile size.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -48,6 +49,18 @@ struct RendererOptions {
   // their memory, so peak memory stays bounded however many triangles a frame has. The
   // same bits either way (each tile still applies every draw in order). 0: no limit.
   std::size_t geometry_budget = std::size_t{8} << 20;
+  // Polled before each tile of a frame is rasterized, on the thread about to draw it (so
+  // calls may run at the same time): once it returns true, the frame's remaining tiles are
+  // skipped and end_frame() throws Cancelled — the target's pixels are then unspecified and
+  // the renderer is ready for another frame. For stopping long renders (Ctrl-C in the
+  // Python module). Empty: never polled. A frame it lets finish has the same bits.
+  std::function<bool()> cancel = nullptr;
+};
+
+// end_frame() stopped early because RendererOptions::cancel returned true.
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("render cancelled") {}
 };
 
 // What begin_frame() clears the target to.
@@ -182,6 +195,8 @@ class Renderer {
   std::optional<ClearValues> clear_;
   std::vector<DrawGeometry> spare_;  // geometry of past draws, kept for their memory
   std::size_t geometry_budget_;
+  std::function<bool()> cancel_;
+  std::atomic<bool> cancelled_{false};  // the frame's cancel_ returned true (set by any tile's thread)
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
   bool cleared_ = false;                // the frame's clear is done (by an earlier pass)
   std::vector<std::uint8_t> touched_;   // per tile: a triangle was rasterized into it

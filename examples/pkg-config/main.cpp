@@ -1,0 +1,23 @@
+// A one-file program built without CMake, through pkg-config (the pkgconfig_consumer test):
+//   c++ main.cpp -o gallery $(pkg-config --cflags --libs softpbr)
+// It renders a small gallery with softpbr::pbr and checks its golden hash with softpbr::golden.
+#include <cstdio>
+
+#include "softpbr/golden/compare.h"
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/scene.h"
+
+int main() {
+  softpbr::pbr::GalleryOptions options;
+  options.segments = 16;
+  const softpbr::pbr::Scene scene = softpbr::pbr::make_gallery(options);
+  softpbr::raster::Renderer renderer({.threads = 2, .tile_size = 16});
+  softpbr::raster::Target target(64, 36);
+  softpbr::raster::Image8 image;
+  softpbr::pbr::render_rgba8(scene, renderer, target, {}, image);
+  int lit = 0;  // pixels brighter than the background: the spheres
+  for (std::size_t i = 0; i < image.rgba.size(); i += 4) lit += image.rgba[i] + image.rgba[i + 1] + image.rgba[i + 2] > 30;
+  std::printf("pkg-config consumer: %d of %d pixels lit, content hash %s\n", lit, 64 * 36,
+              softpbr::golden::hash_hex(softpbr::golden::content_hash(image)).c_str());
+  return lit > 64 * 36 / 10 ? 0 : 1;
+}

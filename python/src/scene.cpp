@@ -1,0 +1,449 @@
+// softpbr.Scene, Mesh, Material, Light, Camera and Object (see python/softpbr/_softpbr.pyi
+// for the Python signatures). Angles are in degrees, as in scene files; colours are linear.
+#include <cmath>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <glm/geometric.hpp>
+
+#include "bindings.h"
+#include "softpbr/dmath/dmath.h"
+#include "softpbr/pbr/gltf.h"
+#include "softpbr/pbr/mesh.h"
+#include "softpbr/pbr/obj.h"
+#include "softpbr/raster/renderer.h"
+
+namespace softpbr::python {
+
+namespace {
+
+using Vec3 = std::array<float, 3>;
+glm::vec3 to_glm(const Vec3& v) { return {v[0], v[1], v[2]}; }
+Vec3 from_glm(const glm::vec3& v) { return {v.x, v.y, v.z}; }
+float radians(double degrees) { return static_cast<float>(dmath::radians(degrees)); }
+double degrees(float radians) { return static_cast<double>(radians) * (180.0 / dmath::kPi); }
+
+// ---- Meshes from numpy arrays ---------------------------------------------------------------
+// A (rows, columns) float32 array, rows checked finite. Errors name the argument and the row.
+std::vector<float> float_rows(const py::array& a, const char* what, py::ssize_t columns, py::ssize_t rows = -1) {
+  if (a.ndim() != 2 || a.shape(1) != columns)
+    value_error(std::string("Mesh: ") + what + ": expected an array of shape (N, " + std::to_string(columns) + "), got " +
+                shape_text(a));
+  if (rows >= 0 && a.shape(0) != rows)
+    value_error(std::string("Mesh: ") + what + ": expected " + std::to_string(rows) + " rows (one per position), got " +
+                std::to_string(a.shape(0)));
+  if (!a.dtype().is(py::dtype::of<float>()))
+    type_error(std::string("Mesh: ") + what + ": expected dtype float32, got " + std::string(py::str(a.dtype())) +
+               " (convert with .astype(numpy.float32))");
+  const auto c = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+  std::vector<float> out(c.data(), c.data() + c.size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (!std::isfinite(out[i]))
+      value_error(std::string("Mesh: ") + what + "[" + std::to_string(i / static_cast<std::size_t>(columns)) + "]: " +
+                  "expected finite numbers, got " + (std::isnan(out[i]) ? "nan" : out[i] > 0 ? "inf" : "-inf"));
+  return out;
+}
+
+// A numpy array as it is (its dtype is checked), or a nested list converted to float32 or
+// int64 (a list has no dtype to be wrong).
+template <class T>
+py::array as_array(const py::object& o, const char* what) {
+  if (py::isinstance<py::array>(o)) return py::reinterpret_borrow<py::array>(o);
+  py::array a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(o);
+  if (!a) type_error(std::string("Mesh: ") + what + ": expected a numpy array, got " + std::string(py::str(o.get_type().attr("__name__"))));
+  return a;
+}
+
+std::shared_ptr<pbr::Mesh> mesh_from_arrays(const py::object& positions_in, const py::object& indices_in,
+                                             const py::object& normals, const py::object& uvs) {
+  const std::vector<float> p = float_rows(as_array<float>(positions_in, "positions"), "positions", 3);
+  const py::array indices = as_array<std::int64_t>(indices_in, "indices");
+  const std::size_t n = p.size() / 3;
+  if (n > std::size_t{0xFFFFFFFFu}) value_error("Mesh: positions: more than 2^32 - 1 vertices");
+  if (indices.ndim() != 2 || indices.shape(1) != 3)
+    value_error("Mesh: indices: expected an array of shape (M, 3), one row per triangle, got " + shape_text(indices));
+  if (indices.dtype().kind() != 'i' && indices.dtype().kind() != 'u')
+    type_error("Mesh: indices: expected an integer dtype (uint32), got " + std::string(py::str(indices.dtype())));
+  const auto idx = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(indices);
+  if (indices.dtype().kind() == 'u' && indices.dtype().itemsize() == 8) {
+    // uint64 values above 2^63 would wrap to negatives in the int64 copy: check the originals.
+    const auto u = py::array_t<std::uint64_t, py::array::c_style | py::array::forcecast>::ensure(indices);
+    for (py::ssize_t i = 0; i < u.size(); ++i)
+      if (u.data()[i] >= n)
+        value_error("Mesh: indices[" + std::to_string(i / 3) + "]: index " + std::to_string(u.data()[i]) +
+                    " is out of range (" + std::to_string(n) + " vertices)");
+  }
+  auto mesh = std::make_shared<pbr::Mesh>();
+  mesh->indices.resize(static_cast<std::size_t>(idx.size()));
+  for (py::ssize_t i = 0; i < idx.size(); ++i) {
+    const std::int64_t v = idx.data()[i];
+    if (v < 0 || static_cast<std::uint64_t>(v) >= n)
+      value_error("Mesh: indices[" + std::to_string(i / 3) + "]: index " + std::to_string(v) + " is out of range (" +
+                  std::to_string(n) + " vertices)");
+    mesh->indices[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(v);
+  }
+  mesh->vertices.resize(n);
+  for (std::size_t i = 0; i < n; ++i) mesh->vertices[i].position = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
+  if (!uvs.is_none()) {
+    const std::vector<float> t = float_rows(as_array<float>(uvs, "uvs"), "uvs", 2, static_cast<py::ssize_t>(n));
+    for (std::size_t i = 0; i < n; ++i) mesh->vertices[i].uv = {t[2 * i], t[2 * i + 1]};
+  }
+  if (normals.is_none()) {
+    pbr::compute_smooth_normals(*mesh);
+  } else {
+    const std::vector<float> v = float_rows(as_array<float>(normals, "normals"), "normals", 3, static_cast<py::ssize_t>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      // Normalised in double, as the OBJ loader normalises given normals.
+      const glm::dvec3 d(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+      const double n2 = glm::dot(d, d);
+      if (!(n2 > 0.0)) value_error("Mesh: normals[" + std::to_string(i) + "]: expected a non-zero vector, got (0, 0, 0)");
+      mesh->vertices[i].normal = glm::vec3(d / std::sqrt(n2));
+    }
+  }
+  return mesh;
+}
+
+template <class F>
+py::array_t<float> columns(const pbr::Mesh& m, py::ssize_t k, F&& get) {
+  py::array_t<float> out({static_cast<py::ssize_t>(m.vertices.size()), k});
+  float* o = out.mutable_data();
+  for (const pbr::MeshVertex& v : m.vertices) o = get(v, o);
+  return out;
+}
+
+std::shared_ptr<pbr::Mesh> shared(pbr::Mesh&& m) { return std::make_shared<pbr::Mesh>(std::move(m)); }
+
+// ---- Transforms: numpy (4, 4) row-major ↔ glm's column-major ---------------------------------
+glm::mat4 matrix_from(const py::object& o) {
+  if (o.is_none()) return glm::mat4(1.0f);
+  const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(o);
+  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4)
+    value_error("transform: expected a 4x4 matrix (numpy rows), got " + (a ? shape_text(a) : std::string("another type")));
+  glm::mat4 m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      const float v = a.at(r, c);
+      if (!std::isfinite(v)) value_error("transform: expected finite numbers, got " + std::to_string(v));
+      m[c][r] = v;
+    }
+  return m;
+}
+py::array_t<float> matrix_to(const glm::mat4& m) {
+  py::array_t<float> a({4, 4});
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) a.mutable_at(r, c) = m[c][r];
+  return a;
+}
+
+pbr::Material preset_or_error(const std::string& name) {
+  if (auto m = pbr::material_preset(name)) return *m;
+  std::string names;
+  for (const pbr::NamedMaterial& p : pbr::material_presets()) names += (names.empty() ? "" : ", ") + std::string(p.name);
+  value_error("Material.preset: unknown preset \"" + name + "\" (expected one of " + names + ")");
+}
+
+const char* light_type_name(pbr::LightType t) {
+  return t == pbr::LightType::Point ? "point" : t == pbr::LightType::Directional ? "directional" : "spot";
+}
+
+pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
+
+// A glTF model as a scene, as `softpbr render model.glb` makes it (cli/render.cpp, docs/
+// scene-format.md "glTF models"): its objects and lights, one of its cameras or
+// pbr::framing_camera for the image's aspect, the default light rig when it has no lights.
+std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
+                                    std::optional<int> camera) {
+  require_readable(path);
+  if (width < 1 || width > raster::kMaxTargetSize || height < 1 || height > raster::kMaxTargetSize)
+    value_error("Scene.load_gltf: width and height: expected values in [1, 16384], got " + std::to_string(width) + "x" +
+                std::to_string(height));
+  if (!camera && !(pitch >= -89.0 && pitch <= 89.0 && std::isfinite(yaw)))
+    value_error("Scene.load_gltf: pitch: expected degrees in [-89, 89]; yaw: a finite number of degrees");
+  auto s = std::make_shared<PyScene>();
+  pbr::SceneFile& f = s->file;
+  {
+    py::gil_scoped_release unlocked;
+    raster::ThreadPool pool(0);
+    pbr::GltfScene g = pbr::load_gltf(path, {.pool = &pool});
+    f.warnings = std::move(g.warnings);
+    f.scene.objects = std::move(g.objects);
+    f.triangles = g.triangles;
+    f.render.width = width;
+    f.render.height = height;
+    if (camera) {
+      if (*camera < 0 || static_cast<std::size_t>(*camera) >= g.cameras.size())
+        value_error("Scene.load_gltf: camera: " + path.string() + " has " + std::to_string(g.cameras.size()) +
+                    " cameras, no camera " + std::to_string(*camera));
+      f.scene.camera = g.cameras[static_cast<std::size_t>(*camera)].camera;
+    } else {
+      f.scene.camera = pbr::framing_camera(pbr::world_bounds(f.scene.objects),
+                                           static_cast<float>(width) / static_cast<float>(height),
+                                           static_cast<float>(dmath::radians(yaw)), static_cast<float>(dmath::radians(pitch)));
+    }
+    f.scene.lights = g.lights.empty() ? pbr::default_light_rig(f.scene.camera) : std::move(g.lights);
+    f.scene.ambient = glm::vec3(pbr::kDefaultAmbient);
+    f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
+    // Memory: the meshes and their draws (18 varyings: the textured shader's), and textures.
+    std::set<const void*> seen;
+    for (const pbr::Object& o : f.scene.objects) {
+      f.mesh_bytes += raster::draw_geometry_bytes(o.mesh->vertices.size(), o.mesh->triangle_count(), 18);
+      if (seen.insert(o.mesh.get()).second)
+        f.mesh_bytes += o.mesh->vertices.size() * sizeof(pbr::MeshVertex) + o.mesh->indices.size() * 4;
+      for (const pbr::TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
+                                        &o.material.normal_texture, &o.material.occlusion_texture, &o.material.emissive_texture})
+        if (t->texture && seen.insert(t->texture.get()).second) f.mesh_bytes += t->texture->texel_bytes();
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+  py::class_<pbr::Mesh, std::shared_ptr<pbr::Mesh>>(m, "Mesh", R"(A triangle mesh: positions, normals, texture coordinates and indices.
+
+Mesh(positions, indices, *, normals=None, uvs=None) builds one from numpy arrays:
+positions (N, 3) float32, indices (M, 3) of an integer dtype (uint32 usually), one row per
+counter-clockwise triangle, normals (N, 3) float32 (normalised; smooth normals are computed
+when omitted), uvs (N, 2) float32. Raises TypeError for a wrong dtype, ValueError for a wrong
+shape, a NaN or infinite value, a zero normal or an index out of range (naming the row).)")
+      .def(py::init(&mesh_from_arrays), py::arg("positions"), py::arg("indices"), py::kw_only(),
+           py::arg("normals") = py::none(), py::arg("uvs") = py::none())
+      .def_static("uv_sphere", [](float radius, int segments, int rings) { return shared(pbr::uv_sphere(radius, segments, rings)); },
+                  py::arg("radius") = 1.0f, py::arg("segments") = 64, py::arg("rings") = 32, "A UV sphere centred at the origin.")
+      .def_static("icosphere", [](float radius, int subdivisions) { return shared(pbr::icosphere(radius, subdivisions)); },
+                  py::arg("radius") = 1.0f, py::arg("subdivisions") = 3, "A subdivided icosahedron.")
+      .def_static("cube", [](float size) { return shared(pbr::cube(size)); }, py::arg("size") = 1.0f,
+                  "An axis-aligned cube with flat faces.")
+      .def_static("plane", [](float width, float depth, int subdivisions) { return shared(pbr::plane(width, depth, subdivisions)); },
+                  py::arg("width") = 1.0f, py::arg("depth") = 1.0f, py::arg("subdivisions") = 1, "A plane in y = 0 facing +y.")
+      .def_static("torus", [](float major, float minor, int segments, int sides) { return shared(pbr::torus(major, minor, segments, sides)); },
+                  py::arg("major") = 1.0f, py::arg("minor") = 0.25f, py::arg("segments") = 48, py::arg("sides") = 24,
+                  "A torus around the y axis.")
+      .def_static(
+          "load_obj",
+          [](const std::filesystem::path& path) {
+            require_readable(path);
+            py::gil_scoped_release unlocked;
+            return shared(pbr::merge_shapes(pbr::load_obj(path, {.textures = false})));
+          },
+          py::arg("path"),
+          "All shapes of an OBJ file as one mesh (materials dropped). OSError if it cannot be read, ValueError "
+          "naming the file and line if it is invalid.")
+      .def_property_readonly("positions", [](const pbr::Mesh& me) {
+        return columns(me, 3, [](const pbr::MeshVertex& v, float* o) { *o++ = v.position.x; *o++ = v.position.y; *o++ = v.position.z; return o; });
+      }, "(N, 3) float32 copy of the positions.")
+      .def_property_readonly("normals", [](const pbr::Mesh& me) {
+        return columns(me, 3, [](const pbr::MeshVertex& v, float* o) { *o++ = v.normal.x; *o++ = v.normal.y; *o++ = v.normal.z; return o; });
+      }, "(N, 3) float32 copy of the normals.")
+      .def_property_readonly("uvs", [](const pbr::Mesh& me) {
+        return columns(me, 2, [](const pbr::MeshVertex& v, float* o) { *o++ = v.uv.x; *o++ = v.uv.y; return o; });
+      }, "(N, 2) float32 copy of the texture coordinates.")
+      .def_property_readonly("indices", [](const pbr::Mesh& me) {
+        py::array_t<std::uint32_t> a({static_cast<py::ssize_t>(me.triangle_count()), py::ssize_t{3}});
+        std::copy(me.indices.begin(), me.indices.end(), a.mutable_data());
+        return a;
+      }, "(M, 3) uint32 copy of the triangles' indices.")
+      .def_property_readonly("vertex_count", [](const pbr::Mesh& me) { return me.vertices.size(); })
+      .def_property_readonly("triangle_count", &pbr::Mesh::triangle_count)
+      .def("__repr__", [](const pbr::Mesh& me) {
+        return "<softpbr.Mesh " + std::to_string(me.vertices.size()) + " vertices, " + std::to_string(me.triangle_count()) + " triangles>";
+      });
+
+  py::class_<pbr::Material>(m, "Material", R"(A metal/roughness material (glTF's model). Values are checked when rendered.)")
+      .def(py::init([](Vec3 base_color, float metallic, float roughness, float ao, Vec3 emissive) {
+             pbr::Material mat;
+             mat.base_color = to_glm(base_color);
+             mat.metallic = metallic;
+             mat.roughness = roughness;
+             mat.ao = ao;
+             mat.emissive = to_glm(emissive);
+             return mat;
+           }),
+           py::kw_only(), py::arg("base_color") = Vec3{0.8f, 0.8f, 0.8f}, py::arg("metallic") = 0.0f,
+           py::arg("roughness") = 0.5f, py::arg("ao") = 1.0f, py::arg("emissive") = Vec3{0.0f, 0.0f, 0.0f})
+      .def_static("preset", &preset_or_error, py::arg("name"),
+                  "A named preset (gold, copper, …, see preset_names()); ValueError for an unknown name.")
+      .def_static("preset_names", [] {
+        std::vector<std::string> names;
+        for (const pbr::NamedMaterial& p : pbr::material_presets()) names.emplace_back(p.name);
+        return names;
+      })
+      .def_property("base_color", [](const pbr::Material& x) { return from_glm(x.base_color); },
+                    [](pbr::Material& x, Vec3 v) { x.base_color = to_glm(v); }, "Linear RGB (a metal's F0).")
+      .def_readwrite("metallic", &pbr::Material::metallic)
+      .def_readwrite("roughness", &pbr::Material::roughness, "Perceptual roughness in [0, 1].")
+      .def_readwrite("ao", &pbr::Material::ao)
+      .def_property("emissive", [](const pbr::Material& x) { return from_glm(x.emissive); },
+                    [](pbr::Material& x, Vec3 v) { x.emissive = to_glm(v); })
+      .def_readwrite("alpha", &pbr::Material::alpha)
+      .def_readwrite("double_sided", &pbr::Material::double_sided)
+      .def_readwrite("unlit", &pbr::Material::unlit)
+      .def_property_readonly("textured", &pbr::Material::textured)
+      .def("__repr__", [](const pbr::Material& x) {
+        return "<softpbr.Material base_color=(" + std::to_string(x.base_color.x) + ", " + std::to_string(x.base_color.y) + ", " +
+               std::to_string(x.base_color.z) + ") metallic=" + std::to_string(x.metallic) +
+               " roughness=" + std::to_string(x.roughness) + ">";
+      });
+
+  py::class_<pbr::Light>(m, "Light", R"(A punctual light (glTF KHR_lights_punctual falloff). Build one with
+Light.point(), Light.directional() or Light.spot(); cone angles are in degrees.)")
+      .def_static("point", [](Vec3 position, Vec3 color, float intensity, float range) {
+        pbr::Light l;
+        l.type = pbr::LightType::Point;
+        l.position = to_glm(position);
+        l.color = to_glm(color);
+        l.intensity = intensity;
+        l.range = range;
+        return l;
+      }, py::arg("position"), py::kw_only(), py::arg("color") = Vec3{1, 1, 1}, py::arg("intensity") = 1.0f, py::arg("range") = 0.0f)
+      .def_static("directional", [](Vec3 direction, Vec3 color, float intensity) {
+        pbr::Light l;
+        l.type = pbr::LightType::Directional;
+        l.direction = to_glm(direction);
+        l.color = to_glm(color);
+        l.intensity = intensity;
+        return l;
+      }, py::arg("direction"), py::kw_only(), py::arg("color") = Vec3{1, 1, 1}, py::arg("intensity") = 1.0f)
+      .def_static("spot", [](Vec3 position, Vec3 direction, Vec3 color, float intensity, float range, double inner, double outer) {
+        pbr::Light l;
+        l.type = pbr::LightType::Spot;
+        l.position = to_glm(position);
+        l.direction = to_glm(direction);
+        l.color = to_glm(color);
+        l.intensity = intensity;
+        l.range = range;
+        l.inner_cone = radians(inner);
+        l.outer_cone = radians(outer);
+        return l;
+      }, py::arg("position"), py::arg("direction"), py::kw_only(), py::arg("color") = Vec3{1, 1, 1}, py::arg("intensity") = 1.0f,
+         py::arg("range") = 0.0f, py::arg("inner_cone") = 0.0, py::arg("outer_cone") = 45.0)
+      .def_property_readonly("type", [](const pbr::Light& l) { return light_type_name(l.type); })
+      .def_property("position", [](const pbr::Light& l) { return from_glm(l.position); }, [](pbr::Light& l, Vec3 v) { l.position = to_glm(v); })
+      .def_property("direction", [](const pbr::Light& l) { return from_glm(l.direction); }, [](pbr::Light& l, Vec3 v) { l.direction = to_glm(v); })
+      .def_property("color", [](const pbr::Light& l) { return from_glm(l.color); }, [](pbr::Light& l, Vec3 v) { l.color = to_glm(v); })
+      .def_readwrite("intensity", &pbr::Light::intensity)
+      .def_readwrite("range", &pbr::Light::range)
+      .def_property_readonly("inner_cone", [](const pbr::Light& l) { return degrees(l.inner_cone); })
+      .def_property_readonly("outer_cone", [](const pbr::Light& l) { return degrees(l.outer_cone); })
+      .def("__repr__", [](const pbr::Light& l) { return std::string("<softpbr.Light ") + light_type_name(l.type) + ">"; });
+
+  py::class_<pbr::Camera>(m, "Camera", "A perspective look-at camera; fov is the vertical field of view in degrees.")
+      .def(py::init([](Vec3 position, Vec3 target, Vec3 up, double fov, float near, float far) {
+             pbr::Camera c;
+             c.position = to_glm(position);
+             c.target = to_glm(target);
+             c.up = to_glm(up);
+             c.fovy = radians(fov);
+             c.near = near;
+             c.far = far;
+             return c;
+           }),
+           py::kw_only(), py::arg("position") = Vec3{0, 0, 3}, py::arg("target") = Vec3{0, 0, 0}, py::arg("up") = Vec3{0, 1, 0},
+           py::arg("fov") = 45.0, py::arg("near") = 0.1f, py::arg("far") = 100.0f)
+      .def_property("position", [](const pbr::Camera& c) { return from_glm(c.position); }, [](pbr::Camera& c, Vec3 v) { c.position = to_glm(v); })
+      .def_property("target", [](const pbr::Camera& c) { return from_glm(c.target); }, [](pbr::Camera& c, Vec3 v) { c.target = to_glm(v); })
+      .def_property("up", [](const pbr::Camera& c) { return from_glm(c.up); }, [](pbr::Camera& c, Vec3 v) { c.up = to_glm(v); })
+      .def_property("fov", [](const pbr::Camera& c) { return degrees(c.fovy); }, [](pbr::Camera& c, double f) { c.fovy = radians(f); })
+      .def_readwrite("near", &pbr::Camera::near)
+      .def_readwrite("far", &pbr::Camera::far);
+
+  py::class_<pbr::Object>(m, "Object", "One object of a scene: a mesh drawn with a material and a model-to-world transform.")
+      .def_property_readonly("mesh", [](const pbr::Object& o) { return std::const_pointer_cast<pbr::Mesh>(o.mesh); })
+      .def_readonly("material", &pbr::Object::material)
+      .def_property_readonly("transform", [](const pbr::Object& o) { return matrix_to(o.transform); },
+                             "4x4 float32 matrix (numpy rows: a point p maps to transform @ [p, 1]).");
+
+  py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene", R"(A scene: camera, objects, lights, and the render settings of a scene file.
+
+Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads a scene file
+(docs/scene-format.md), Scene.from_dict(d) the same schema as a dict.)")
+      .def(py::init([] { return std::make_shared<PyScene>(); }))
+      .def_static(
+          "load",
+          [](const std::filesystem::path& path) {
+            require_readable(path);
+            auto s = std::make_shared<PyScene>();
+            py::gil_scoped_release unlocked;
+            s->file = pbr::load_scene_file(path);
+            return s;
+          },
+          py::arg("path"),
+          "Reads a scene file. OSError if it cannot be read; ValueError with the file and JSON pointer if it is invalid.")
+      .def_static("load_gltf", &gltf_scene, py::arg("path"), py::kw_only(), py::arg("width") = 1280, py::arg("height") = 720,
+                  py::arg("yaw") = 0.0, py::arg("pitch") = 0.0, py::arg("camera") = py::none(),
+                  "A glTF 2.0 model (.gltf, .glb) as `softpbr render model.glb` shows it: framed for a width x height "
+                  "image, turned by yaw and raised by pitch (degrees), or through camera N of the file; the default light "
+                  "rig when the file has no lights. OSError if unreadable, ValueError naming the JSON pointer if invalid.")
+      .def_static(
+          "from_json",
+          [](const std::string& text, const std::string& name, const std::filesystem::path& base_dir) {
+            auto s = std::make_shared<PyScene>();
+            py::gil_scoped_release unlocked;
+            s->file = pbr::parse_scene_file(text, name, base_dir);
+            return s;
+          },
+          py::arg("text"), py::arg("name") = "<json>", py::arg("base_dir") = std::filesystem::path("."),
+          "A scene from scene-file text; `name` starts error messages, `base_dir` resolves relative paths.")
+      .def(
+          "add",
+          [](PyScene& s, const std::shared_ptr<pbr::Mesh>& mesh, const std::optional<pbr::Material>& material,
+             const py::object& transform) {
+            if (!mesh) value_error("Scene.add: mesh is None");
+            if (s.file.scene.objects.size() >= pbr::kMaxObjects)
+              value_error("Scene.add: a scene has at most " + std::to_string(pbr::kMaxObjects) + " objects");
+            s.file.scene.objects.push_back({mesh, material.value_or(pbr::Material{}), matrix_from(transform)});
+            s.file.mesh_bytes += raster::draw_geometry_bytes(mesh->vertices.size(), mesh->triangle_count(), 18) +
+                                 mesh->vertices.size() * sizeof(pbr::MeshVertex) + mesh->indices.size() * 4;
+            s.file.triangles += mesh->triangle_count();
+          },
+          py::arg("mesh"), py::arg("material") = py::none(), py::arg("transform") = py::none(),
+          "Adds an object: `mesh` with `material` (default: grey, roughness 0.5) placed by `transform` (4x4, default identity).")
+      .def("add_light", [](PyScene& s, const pbr::Light& l) {
+        if (s.file.scene.lights.size() >= pbr::kMaxLights)
+          value_error("Scene.add_light: a scene has at most " + std::to_string(pbr::kMaxLights) + " lights");
+        s.file.scene.lights.push_back(l);
+      }, py::arg("light"))
+      .def_property_readonly("objects", [](const PyScene& s) { return s.file.scene.objects; })
+      .def_property("lights", [](const PyScene& s) { return s.file.scene.lights; },
+                    [](PyScene& s, const std::vector<pbr::Light>& l) {
+                      if (l.size() > pbr::kMaxLights) value_error("Scene.lights: at most " + std::to_string(pbr::kMaxLights) + " lights");
+                      s.file.scene.lights = l;
+                    })
+      .def_property("camera", [](const PyScene& s) { return s.file.scene.camera; },
+                    [](PyScene& s, const pbr::Camera& c) { s.file.scene.camera = c; })
+      .def_property("ambient", [](const PyScene& s) { return from_glm(s.file.scene.ambient); },
+                    [](PyScene& s, Vec3 v) { s.file.scene.ambient = to_glm(v); })
+      .def_property("background", [](const PyScene& s) {
+        const glm::vec4& b = s.file.scene.background;
+        return std::array<float, 4>{b.r, b.g, b.b, b.a};
+      }, [](PyScene& s, std::array<float, 4> v) { s.file.scene.background = {v[0], v[1], v[2], v[3]}; }, "Linear RGBA clear colour.")
+      .def_property("width", [](PyScene& s) { return settings(s).width; }, [](PyScene& s, int v) { settings(s).width = v; })
+      .def_property("height", [](PyScene& s) { return settings(s).height; }, [](PyScene& s, int v) { settings(s).height = v; })
+      .def_property("tonemap", [](PyScene& s) { return std::string(pbr::tone_map_name(settings(s).output.tone_map)); },
+                    [](PyScene& s, const std::string& name) {
+                      const auto op = pbr::tone_map_from_name(name);
+                      if (!op) value_error("tonemap: expected one of none, reinhard, aces, neutral, got \"" + name + "\"");
+                      settings(s).output.tone_map = *op;
+                    })
+      .def_property("exposure", [](PyScene& s) { return settings(s).output.exposure; },
+                    [](PyScene& s, float v) { settings(s).output.exposure = v; })
+      .def_property("gamma", [](PyScene& s) { return settings(s).output.gamma; }, [](PyScene& s, float v) { settings(s).output.gamma = v; },
+                    "0: the exact sRGB curve; > 0: a power law.")
+      .def_property("threads", [](PyScene& s) { return settings(s).threads; }, [](PyScene& s, unsigned v) { settings(s).threads = v; })
+      .def_property("tile_size", [](PyScene& s) { return settings(s).tile_size; }, [](PyScene& s, int v) { settings(s).tile_size = v; })
+      .def_property_readonly("warnings", [](const PyScene& s) { return s.file.warnings; })
+      .def_property_readonly("triangles", [](const PyScene& s) { return s.file.triangles; })
+      .def("__repr__", [](const PyScene& s) {
+        return "<softpbr.Scene " + std::to_string(s.file.scene.objects.size()) + " objects, " +
+               std::to_string(s.file.scene.lights.size()) + " lights, " + std::to_string(s.file.render.width) + "x" +
+               std::to_string(s.file.render.height) + ">";
+      });
+}
+
+}  // namespace softpbr::python
