@@ -76,56 +76,32 @@ bool is_gltf(const std::string& path) {
   return ext == ".gltf" || ext == ".glb";
 }
 
-// A glTF model as a scene (docs/scene-format.md, "glTF models"): its objects and lights, a
-// camera of the file or pbr::framing_camera, the default light rig when it has no lights.
+// A glTF model as a scene (docs/scene-format.md, "glTF models"): pbr::gltf_scene_file with
+// the command's view (--yaw, --pitch, --camera; --env none for the light rig).
 pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
-  pbr::SceneFile f;
   pbr::GltfScene g;
   try {
     g = pbr::load_gltf(a.scene, {.pool = &pool});
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
   }
-  f.warnings = g.warnings;
-  f.scene.objects = std::move(g.objects);
-  f.triangles = g.triangles;
-  const int w = a.width_opt->count() ? a.width : f.render.width, h = a.height_opt->count() ? a.height : f.render.height;
-  if (a.camera_opt->count()) {
-    if (a.camera < 0 || static_cast<std::size_t>(a.camera) >= g.cameras.size())
-      throw Error(kExitUsage, "--camera: " + a.scene + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
-                                  std::to_string(a.camera));
-    f.scene.camera = g.cameras[static_cast<std::size_t>(a.camera)].camera;
-  } else {
-    if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
-      throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
-    f.scene.camera = pbr::framing_camera(pbr::world_bounds(f.scene.objects), static_cast<float>(w) / static_cast<float>(h),
-                                         static_cast<float>(softpbr::dmath::radians(a.yaw)),
-                                         static_cast<float>(softpbr::dmath::radians(a.pitch)));
+  pbr::GltfView view;
+  view.width = a.width_opt->count() ? a.width : view.width;
+  view.height = a.height_opt->count() ? a.height : view.height;
+  view.width = std::clamp(view.width, 1, raster::kMaxTargetSize);  // checked with the other options later
+  view.height = std::clamp(view.height, 1, raster::kMaxTargetSize);
+  view.yaw = a.yaw;
+  view.pitch = a.pitch;
+  view.camera = a.camera_opt->count() ? std::max(a.camera, 0) : -1;
+  if (a.camera_opt->count() && a.camera < 0)
+    throw Error(kExitUsage, "--camera: " + a.scene + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
+                                std::to_string(a.camera));
+  view.environment = !a.env_opt->count() || a.env != "none";
+  try {
+    return pbr::gltf_scene_file(std::move(g), view, a.scene);
+  } catch (const std::invalid_argument& e) {
+    throw Error(kExitUsage, std::string("--") + e.what());
   }
-  // Lit by the built-in studio environment unless --env says otherwise (apply_environment);
-  // without one, by the default light rig when the file has no lights.
-  const bool lit_by_environment = !a.env_opt->count() || a.env != "none";
-  if (lit_by_environment) {
-    f.scene.environment.map = pbr::Environment::studio();
-    f.scene.background_mode = pbr::BackgroundMode::Blur;
-    f.scene.lights = std::move(g.lights);
-  } else {
-    f.scene.lights = g.lights.empty() ? pbr::default_light_rig(f.scene.camera) : std::move(g.lights);
-  }
-  f.scene.ambient = glm::vec3(pbr::kDefaultAmbient);
-  f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
-  // Memory: the meshes and their draws (18 varyings: the textured shader's), and textures.
-  std::set<const void*> seen;
-  for (const pbr::Object& o : f.scene.objects) {
-    f.mesh_bytes += raster::draw_geometry_bytes(o.mesh->vertices.size(), o.mesh->triangle_count(), 18);
-    if (seen.insert(o.mesh.get()).second)
-      f.mesh_bytes += o.mesh->vertices.size() * sizeof(pbr::MeshVertex) + o.mesh->indices.size() * 4;
-    for (const pbr::TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
-                                      &o.material.normal_texture, &o.material.occlusion_texture,
-                                      &o.material.emissive_texture})
-      if (t->texture && seen.insert(t->texture.get()).second) f.mesh_bytes += t->texture->texel_bytes();
-  }
-  return f;
 }
 
 // --env, --env-intensity, --env-rotation and --background over the scene's settings.

@@ -153,50 +153,31 @@ const char* light_type_name(pbr::LightType t) {
 
 pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
 
-// A glTF model as a scene, as `softpbr render model.glb` makes it (cli/render.cpp, docs/
-// scene-format.md "glTF models"): its objects and lights, one of its cameras or
-// pbr::framing_camera for the image's aspect, the default light rig when it has no lights.
+// A glTF model as a scene, as `softpbr render model.glb` makes it: pbr::gltf_scene_file
+// (docs/scene-format.md, "glTF models") with the same view.
 std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
                                     std::optional<int> camera) {
   require_readable(path);
   if (width < 1 || width > raster::kMaxTargetSize || height < 1 || height > raster::kMaxTargetSize)
     value_error("Scene.load_gltf: width and height: expected values in [1, 16384], got " + std::to_string(width) + "x" +
                 std::to_string(height));
-  if (!camera && !(pitch >= -89.0 && pitch <= 89.0 && std::isfinite(yaw)))
-    value_error("Scene.load_gltf: pitch: expected degrees in [-89, 89]; yaw: a finite number of degrees");
+  if (camera && *camera < 0) value_error("Scene.load_gltf: camera: expected an index >= 0, got " + std::to_string(*camera));
   auto s = std::make_shared<PyScene>();
-  pbr::SceneFile& f = s->file;
+  pbr::GltfView view;
+  view.width = width;
+  view.height = height;
+  view.yaw = static_cast<float>(yaw);
+  view.pitch = static_cast<float>(pitch);
+  view.camera = camera ? *camera : -1;
   {
     py::gil_scoped_release unlocked;
     raster::ThreadPool pool(0);
     pbr::GltfScene g = pbr::load_gltf(path, {.pool = &pool});
-    f.warnings = std::move(g.warnings);
-    f.scene.objects = std::move(g.objects);
-    f.triangles = g.triangles;
-    f.render.width = width;
-    f.render.height = height;
-    if (camera) {
-      if (*camera < 0 || static_cast<std::size_t>(*camera) >= g.cameras.size())
-        value_error("Scene.load_gltf: camera: " + path.string() + " has " + std::to_string(g.cameras.size()) +
-                    " cameras, no camera " + std::to_string(*camera));
-      f.scene.camera = g.cameras[static_cast<std::size_t>(*camera)].camera;
-    } else {
-      f.scene.camera = pbr::framing_camera(pbr::world_bounds(f.scene.objects),
-                                           static_cast<float>(width) / static_cast<float>(height),
-                                           static_cast<float>(dmath::radians(yaw)), static_cast<float>(dmath::radians(pitch)));
-    }
-    f.scene.lights = g.lights.empty() ? pbr::default_light_rig(f.scene.camera) : std::move(g.lights);
-    f.scene.ambient = glm::vec3(pbr::kDefaultAmbient);
-    f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
-    // Memory: the meshes and their draws (18 varyings: the textured shader's), and textures.
-    std::set<const void*> seen;
-    for (const pbr::Object& o : f.scene.objects) {
-      f.mesh_bytes += raster::draw_geometry_bytes(o.mesh->vertices.size(), o.mesh->triangle_count(), 18);
-      if (seen.insert(o.mesh.get()).second)
-        f.mesh_bytes += o.mesh->vertices.size() * sizeof(pbr::MeshVertex) + o.mesh->indices.size() * 4;
-      for (const pbr::TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
-                                        &o.material.normal_texture, &o.material.occlusion_texture, &o.material.emissive_texture})
-        if (t->texture && seen.insert(t->texture.get()).second) f.mesh_bytes += t->texture->texel_bytes();
+    try {
+      s->file = pbr::gltf_scene_file(std::move(g), view, path.string());
+    } catch (const std::invalid_argument& e) {
+      py::gil_scoped_acquire locked;
+      value_error(std::string("Scene.load_gltf: ") + e.what());
     }
   }
   return s;

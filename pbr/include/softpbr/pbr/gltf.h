@@ -40,6 +40,7 @@
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/pbr/scene_file.h"
 
 namespace softpbr::raster {
 class ThreadPool;
@@ -87,11 +88,29 @@ Bounds world_bounds(const std::vector<Object>& objects);
 // cosines from dmath. Empty bounds give the default Camera.
 Camera framing_camera(const Bounds& b, float aspect, float yaw = 0.0f, float pitch = 0.0f);
 
-// The light rig a model without lights is shown under until image-based lighting exists:
+// The light rig a model without lights is shown under when it is not lit by an environment
+// (`softpbr render model.glb --env none`):
 // a key light from the upper left in front (white, 2.5), a fill from the right (0.8) and a
 // rim light from behind (1.5), all directional, fixed relative to the camera's view
 // direction (so any yaw/pitch lights the model the same way), plus ambient 0.15.
 std::vector<Light> default_light_rig(const Camera& camera);
 inline constexpr float kDefaultAmbient = 0.15f;
+
+// How `softpbr render model.glb` (and Python's Scene.load_gltf) shows a model.
+struct GltfView {
+  int width = 1280, height = 720;  // the image, for the framing camera's aspect
+  float yaw = 0.0f, pitch = 0.0f;  // degrees, framing_camera's; pitch in [−89, 89]
+  int camera = -1;                 // a camera of the file (from 0); −1: framing_camera
+  // Lit by the built-in studio environment (Environment::studio(), its blurred
+  // background) and the file's own lights; false: the file's lights, or default_light_rig
+  // when it has none, with kDefaultAmbient and a dark grey background.
+  bool environment = true;
+};
+
+// The scene of a loaded model as the command renders it, with its memory estimate (the
+// meshes, their draws with the textured shader's 18 varyings, and the textures). Throws
+// std::invalid_argument ("camera: … has N cameras, no camera K", "pitch: …") for a view
+// the model does not have.
+SceneFile gltf_scene_file(GltfScene model, const GltfView& view, const std::string& name);
 
 }  // namespace softpbr::pbr
