@@ -17,6 +17,7 @@
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
 #include "softpbr/pbr/environment.h"
+#include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/shading.h"
 
 namespace pbr = softpbr::pbr;
@@ -451,4 +452,61 @@ TEST_CASE("load_environment: cached in memory and on disk; bad files are refused
   l.map = a;
   l.intensity = -1.0f;
   CHECK_THROWS_AS(pbr::prepare_environment(l), std::invalid_argument);
+}
+
+TEST_CASE("scene files: /environment loads a map or the studio; bad values name the JSON pointer") {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "environment-scene-test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  image::write_hdr(dir / "sky.hdr", lobe_sky(64, 32));
+  const std::string objects = R"("objects": [{"mesh": {"type": "uv_sphere"}, "material": "gold"}])";
+  auto load = [&](const std::string& env) {
+    return pbr::parse_scene_file("{" + objects + R"(, "environment": )" + env + "}", "s.json", dir);
+  };
+  auto error = [&](const std::string& env) {
+    try {
+      load(env);
+    } catch (const pbr::SceneFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const pbr::SceneFile studio = load("{}");
+  CHECK(studio.scene.environment.map == pbr::Environment::studio());
+  CHECK(studio.scene.background_mode == pbr::BackgroundMode::Environment);
+  const pbr::SceneFile f = load(R"({"file": "sky.hdr", "intensity": 2, "rotation": 90, "background": "blur", "blur": 0.5,
+                                    "multiscatter": false, "size": 16, "samples": 8})");
+  REQUIRE(f.scene.environment.map != nullptr);
+  CHECK(f.scene.environment.map->size() == 16);
+  CHECK(f.scene.environment.intensity == 2.0f);
+  CHECK(f.scene.environment.rotation == 90.0f);
+  CHECK_FALSE(f.scene.environment.multiscatter);
+  CHECK(f.scene.background_mode == pbr::BackgroundMode::Blur);
+  CHECK(f.scene.background_blur == 0.5f);
+  CHECK(f.mesh_bytes >= f.scene.environment.map->bytes());  // charged to the budget
+  const pbr::SceneFile t = load(R"({"background": "transparent"})");
+  CHECK(t.scene.background_mode == pbr::BackgroundMode::Color);
+  CHECK(t.scene.background.a == 0.0f);
+  const pbr::SceneFile c = load(R"({"background": [0.1, 0.2, 0.3]})");
+  CHECK(c.scene.background == glm::vec4(0.1f, 0.2f, 0.3f, 1.0f));
+
+  CHECK(error(R"({"file": "missing.hdr"})").rfind("s.json: /environment/file: ", 0) == 0);
+  CHECK(error(R"({"file": "missing.hdr"})").find("missing.hdr: no such file") != std::string::npos);
+  CHECK(error(R"({"intensity": -1})") == "s.json: /environment/intensity: expected a number in [0, 1000000], got -1");
+  CHECK(error(R"({"background": "sky"})").rfind("s.json: /environment/background: expected one of", 0) == 0);
+  CHECK(error(R"({"background": 3})").rfind("s.json: /environment/background: expected \"environment\"", 0) == 0);
+  CHECK(error(R"({"blur": 2})").rfind("s.json: /environment/blur: ", 0) == 0);
+  CHECK(error(R"({"size": 24, "file": "sky.hdr"})").rfind("s.json: /environment/size: ", 0) == 0);
+  CHECK(error(R"({"size": 16})").rfind("s.json: /environment/size: ", 0) == 0);  // the studio has its own
+  CHECK(error(R"({"fiel": "sky.hdr"})").rfind("s.json: /environment/fiel: unknown key", 0) == 0);
+  std::ofstream(dir / "bad.hdr") << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 99999 +X 99999\n";
+  CHECK(error(R"({"file": "bad.hdr"})").rfind("s.json: /environment/file: ", 0) == 0);
+  // A map larger than the memory budget left is refused before it is decoded.
+  try {
+    pbr::parse_scene_file("{" + objects + R"(, "environment": {"file": "sky.hdr"}})", "s.json", dir,
+                          {.memory_limit = 4096});
+    FAIL("no error");
+  } catch (const pbr::SceneFileError& e) {
+    CHECK(std::string(e.what()).rfind("s.json: /environment", 0) == 0);
+  }
 }

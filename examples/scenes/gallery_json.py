@@ -1,5 +1,6 @@
 # examples/scenes/gallery_json.py — writes gallery.json and gallery_spot.json: make_gallery()
-# (pbr/src/gallery.cpp) as scene files. Roughness is computed in float32 exactly as
+# (pbr/src/gallery.cpp) as scene files; and gallery_ibl.json, the same spheres lit by the
+# built-in studio environment alone (no point lights), ACES tone mapped. Roughness is computed in float32 exactly as
 # gallery.cpp does and written with the fewest digits that give back the same float, so
 # the files render the library gallery bit for bit (tested by ctest -R cli_scenes).
 # Run from this folder: python3 gallery_json.py
@@ -50,5 +51,13 @@ def dump(obj):
             lines.append('  "%s": %s%s' % (k, json.dumps(v), comma))
     lines.append("}")
     return "\n".join(lines) + "\n"
+def ibl():
+    s = scene(False)
+    del s["lights"], s["ambient"]
+    s["environment"] = {"background": "environment"}
+    s["render"] = {"width": 1280, "height": 720, "tonemap": "aces"}
+    order = ["camera", "environment", "meshes", "objects", "render"]
+    return {k: s[k] for k in order}
 open("gallery.json", "w").write(dump(scene(False)))
+open("gallery_ibl.json", "w").write(dump(ibl()))
 open("gallery_spot.json", "w").write(dump(scene(True)))
