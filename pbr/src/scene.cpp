@@ -101,7 +101,7 @@ struct BackgroundShader {
  private:
   template <class F>
   raster::Color<F> color(F x, F y, F z) const {
-    const EnvVec3<F> c = env_radiance(*environment, to_environment(*environment, x, y, z), F(roughness));
+    const EnvVec3<F> c = env_radiance_uniform(*environment, to_environment(*environment, x, y, z), roughness);
     return {c.x, c.y, c.z, F(1.0f)};
   }
 };

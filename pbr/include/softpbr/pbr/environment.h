@@ -86,7 +86,8 @@ class Environment {
   const std::array<glm::vec3, kShCount>& irradiance_sh() const { return sh_; }
   // Level i: the octahedral map prefiltered at roughness i / (kLevels − 1), stored with a
   // one-texel border (size + 2 texels a side) so that bilinear lookups wrap as the sphere
-  // does; lookups go through raster::sample_lod with level_sampler().
+  // does; lookups go through env_bilinear (the same filter as raster::sample_lod with
+  // level_sampler(): bilinear, clamp to edge).
   const raster::Texture& level(int i) const { return *levels_[static_cast<std::size_t>(i)]; }
   int level_size(int i) const { return level(i).width() - 2; }
   static const raster::Sampler& level_sampler();
@@ -209,8 +210,52 @@ inline void env_octahedral(const EnvVec3<F>& d, int size, F& u, F& v) {
   v = (pz * scale + offset) * inv_full;
 }
 
+// A bilinear, clamp-to-edge lookup of a single-level float texture (the environment's
+// levels and the DFG table), RGB: per lane, x = clamp(u·W − ½, 0, W − 1) and likewise y,
+// the four texels around it weighted (1 − fx, fx) then (1 − fy, fy) — the same float
+// operations for each lane at every width. Non-finite coordinates read texel 0.
+template <class F>
+inline EnvVec3<F> env_bilinear(const raster::Texture& t, F u, F v) {
+  constexpr int N = simd::LaneCount<F>::value;
+  const int w = t.width(), h = t.height();
+  const float fw = static_cast<float>(w), fh = static_cast<float>(h);
+  const F x = simd::clamp(u * F(fw) - F(0.5f), F(0.0f), F(fw - 1.0f));
+  const F y = simd::clamp(v * F(fh) - F(0.5f), F(0.0f), F(fh - 1.0f));
+  alignas(64) float xs[N], ys[N], out[3][N];
+  if constexpr (N == 1) {
+    xs[0] = x;
+    ys[0] = y;
+  } else {
+    x.store(xs);
+    y.store(ys);
+  }
+  const float* texels = t.texels_f().data();
+  const auto row = static_cast<std::size_t>(w) * 4;
+  for (int i = 0; i < N; ++i) {
+    const float xi = xs[i] >= 0.0f ? xs[i] : 0.0f, yi = ys[i] >= 0.0f ? ys[i] : 0.0f;  // NaN → 0
+    const int x0 = static_cast<int>(xi), y0 = static_cast<int>(yi);
+    const float fx = xi - static_cast<float>(x0), fy = yi - static_cast<float>(y0);
+    const int x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
+    const float* r0 = texels + static_cast<std::size_t>(y0) * row;
+    const float* r1 = texels + static_cast<std::size_t>(y1) * row;
+    const float* c00 = r0 + 4 * x0;
+    const float* c10 = r0 + 4 * x1;
+    const float* c01 = r1 + 4 * x0;
+    const float* c11 = r1 + 4 * x1;
+    for (int c = 0; c < 3; ++c) {
+      const float top = c00[c] * (1.0f - fx) + c10[c] * fx;
+      const float bottom = c01[c] * (1.0f - fx) + c11[c] * fx;
+      out[c][i] = top * (1.0f - fy) + bottom * fy;
+    }
+  }
+  if constexpr (N == 1) return {out[0][0], out[1][0], out[2][0]};
+  else return {F::load(out[0]), F::load(out[1]), F::load(out[2])};
+}
+
 // The prefiltered radiance along d (environment frame) at perceptual roughness in [0, 1],
 // times the intensity: the two levels around roughness · (kLevels − 1), blended linearly.
+// Each lane adds w · c for its own two levels only (w = 1 − |lod − l|), so a lane has the
+// same bits whatever the other lanes' roughness.
 template <class F>
 inline EnvVec3<F> env_radiance(const PreparedEnvironment& e, const EnvVec3<F>& d, F roughness) {
   const F zero(0.0f), one(1.0f);
@@ -222,10 +267,31 @@ inline EnvVec3<F> env_radiance(const PreparedEnvironment& e, const EnvVec3<F>& d
     if (!simd::any(w > zero)) continue;
     F u, v;
     env_octahedral(d, e.map->level_size(l), u, v);
-    const raster::Color<F> c = raster::sample_lod(e.map->level(l), Environment::level_sampler(), u, v, zero);
-    r = r + w * c.r;
-    g = g + w * c.g;
-    b = b + w * c.b;
+    const EnvVec3<F> c = env_bilinear(e.map->level(l), u, v);
+    r = r + w * c.x;
+    g = g + w * c.y;
+    b = b + w * c.z;
+  }
+  const F k(e.intensity);
+  return {r * k, g * k, b * k};
+}
+
+// The same for a roughness shared by every lane (an untextured material, the background):
+// the levels and weights are found once, not per lane — the same bits as the lane form.
+template <class F>
+inline EnvVec3<F> env_radiance_uniform(const PreparedEnvironment& e, const EnvVec3<F>& d, float roughness) {
+  const float lod = simd::clamp(roughness, 0.0f, 1.0f) * static_cast<float>(Environment::kLevels - 1);
+  F r(0.0f), g(0.0f), b(0.0f);
+  for (int l = 0; l < Environment::kLevels; ++l) {
+    const float dl = lod - static_cast<float>(l);
+    const float w = simd::max(1.0f - simd::max(dl, 0.0f - dl), 0.0f);
+    if (!(w > 0.0f)) continue;
+    F u, v;
+    env_octahedral(d, e.map->level_size(l), u, v);
+    const EnvVec3<F> c = env_bilinear(e.map->level(l), u, v);
+    r = r + F(w) * c.x;
+    g = g + F(w) * c.y;
+    b = b + F(w) * c.z;
   }
   const F k(e.intensity);
   return {r * k, g * k, b * k};
@@ -234,9 +300,9 @@ inline EnvVec3<F> env_radiance(const PreparedEnvironment& e, const EnvVec3<F>& d
 // The split-sum table at (n·v, roughness): A and B.
 template <class F>
 inline void env_dfg(F NoV, F roughness, F& a, F& b) {
-  const raster::Color<F> c = raster::sample_lod(dfg_table(), Environment::level_sampler(), NoV, roughness, F(0.0f));
-  a = c.r;
-  b = c.g;
+  const EnvVec3<F> c = env_bilinear(dfg_table(), NoV, roughness);
+  a = c.x;
+  b = c.y;
 }
 
 }  // namespace softpbr::pbr

@@ -91,12 +91,15 @@ struct MaterialLanes {
   F ao;
   Vec3L<F> emissive;
   F roughness;  // perceptual, clamped (what the environment's lookups read)
+  // The roughness when every lane has the same (an untextured material), else −1: lets
+  // the environment's lookups pick their levels once (the same bits either way).
+  float uniform_roughness = -1.0f;
 };
 
 template <class F>
 inline MaterialLanes<F> lanes(const ShadingMaterial& m) {
   return {lanes<F>(m.albedo), lanes<F>(m.f0), F(1.0f - m.metallic), F(m.alpha), F(m.k), F(m.ao),
-          lanes<F>(m.emissive), F(m.roughness)};
+          lanes<F>(m.emissive), F(m.roughness), m.roughness};
 }
 
 // The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v.
@@ -142,7 +145,9 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
   const F NoV = simd::clamp(n_dot_v, F(kMinNoV), one);
   const Vec3L<F> r = n * (n_dot_v + n_dot_v) - v;
   const EnvVec3<F> irr = env_irradiance(e, to_environment(e, n.x, n.y, n.z));
-  const EnvVec3<F> pre = env_radiance(e, to_environment(e, r.x, r.y, r.z), m.roughness);
+  const EnvVec3<F> rl = to_environment(e, r.x, r.y, r.z);
+  const EnvVec3<F> pre = m.uniform_roughness >= 0.0f ? env_radiance_uniform(e, rl, m.uniform_roughness)
+                                                     : env_radiance(e, rl, m.roughness);
   F A, B;
   env_dfg(NoV, m.roughness, A, B);
   const F c = one - NoV, c2 = c * c;
