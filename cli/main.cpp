@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -16,6 +17,20 @@
 #include "diff.h"
 #include "info.h"
 #include "render.h"
+
+namespace {
+// Every error is one bounded line: control characters (a newline or a NUL in a name the
+// input gave) become '?', and a line over kMaxLine bytes is cut.
+void print_error(const std::string& what) {
+  constexpr std::size_t kMaxLine = 2000;
+  std::string line = what.substr(0, kMaxLine);
+  while (!line.empty() && (line.back() == '\n' || line.back() == '\r' || line.back() == ' ')) line.pop_back();
+  for (char& c : line)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  if (what.size() > kMaxLine) line += "...";
+  std::fprintf(stderr, "%s\n", line.c_str());
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace softpbr::cli;
@@ -31,8 +46,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);  // prints the help or the error
-    return rc == 0 ? kExitOk : kExitUsage;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    // CLI11's own output is two lines ("…\nRun with --help for more information."): one here.
+    print_error(std::string("softpbr: ") + e.what() + " (see --help)");
+    return kExitUsage;
   }
   const bool diffing = diff_cmd->parsed();
   try {
@@ -40,13 +57,13 @@ int main(int argc, char** argv) {
     if (info_cmd->parsed()) return run_info(info);
     return run_diff(diff);
   } catch (const Error& e) {
-    std::fprintf(stderr, "%s\n", e.what());
+    print_error(e.what());
     return diffing && e.code() != kExitDifferent ? kExitUsage : e.code();
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "softpbr: out of memory\n");
     return diffing ? kExitUsage : kExitInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "softpbr: internal error: %s\n", e.what());
+    print_error(std::string("softpbr: internal error: ") + e.what());
     return diffing ? kExitUsage : kExitInternal;
   }
 }

@@ -38,6 +38,9 @@ namespace {
 // Files over 1 GiB are refused before reading: tinyobjloader keeps the text, its parse and
 // our meshes in memory at once, several times the file size.
 constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t{1} << 30;
+// Vertices of one face: tinyobjloader's ear clipping takes time quadratic in them (a
+// 200000-vertex face took a minute); 4096 take milliseconds.
+constexpr std::size_t kMaxFaceVertices = 4096;
 
 // ---- Reading files and lines ----------------------------------------------------------------
 
@@ -155,7 +158,8 @@ long long parse_index(const fs::path& path, std::size_t line, std::string_view c
 // before this line and `total` in the file; returns the 0-based index or −1 if out of range.
 long long resolve(long long index, std::size_t so_far, std::size_t total) {
   if (index > 0) return index <= static_cast<long long>(total) ? index - 1 : -1;
-  if (index < 0) return -index <= static_cast<long long>(so_far) ? static_cast<long long>(so_far) + index : -1;
+  // Compared without negating: −index overflows for −2^63.
+  if (index < 0) return index >= -static_cast<long long>(so_far) ? static_cast<long long>(so_far) + index : -1;
   return -1;
 }
 
@@ -228,6 +232,9 @@ ObjScan validate_obj(const fs::path& path, std::string_view text) {
     if (tok[0] == "vt") ++vt;
     if (tok[0] == "vn") ++vn;
     if (tok[0] != "f") return;
+    if (tok.size() - 1 > kMaxFaceVertices)
+      fail(path, line, "a face of " + std::to_string(tok.size() - 1) + " vertices (the limit is " +
+                           std::to_string(kMaxFaceVertices) + ": polygons are triangulated by ear clipping, quadratic in their size)");
     for (std::size_t k = 1; k < tok.size(); ++k) {
       const std::string_view corner = tok[k];
       std::string_view parts[3];
@@ -308,6 +315,11 @@ constexpr std::pair<std::string_view, detail::MtlMap> kMapKeywords[] = {
     {"map_Bump", detail::kMapBump}, {"map_bump", detail::kMapBump}, {"bump", detail::kMapBump},
     {"map_d", detail::kMapD}};
 
+// The MTL keys whose values are all numbers (Kd/Ka/Ks/Ke take 1 or 3; "Kd spectral …" and
+// "Kd xyz …", which tinyobjloader would read as 0, are refused too; Tf is not used).
+constexpr std::string_view kMtlNumberKeys[] = {"Ka", "Kd", "Ks", "Ke", "Ns",  "Ni",     "d",     "Tr",
+                                               "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "illum"};
+
 // Reads mtllib files next to the OBJ file. Warnings and errors are kept here (errors for
 // load_obj to throw once tinyobjloader returns, rather than thrown through it).
 class MtlReader final : public tinyobj::MaterialReader {
@@ -320,6 +332,7 @@ class MtlReader final : public tinyobj::MaterialReader {
     (void)err;
     const fs::path path = dir_ / name;
     std::string text;
+    files.push_back(path.string());
     if (std::string problem = read_text(path, text); !problem.empty()) {
       warnings.push_back(describe(path) + ": " + problem);
       return false;
@@ -332,12 +345,26 @@ class MtlReader final : public tinyobj::MaterialReader {
     // (lines are trimmed at both ends first); text before the first one only becomes a
     // material when there is no `newmtl` at all.
     std::vector<MtlInfo> blocks(1, MtlInfo{path});
+    std::string bad_number;
     for_each_line(text, [&](std::size_t number, std::string_view line) {
       while (!line.empty() && is_space(line.back())) line.remove_suffix(1);
       while (!line.empty() && is_space(line.front())) line.remove_prefix(1);
       auto starts = [&](std::string_view key) {
         return line.size() > key.size() && line.substr(0, key.size()) == key && is_space(line[key.size()]);
       };
+      // tinyobjloader reads "banana", "inf" or "nan" as a number without a word: every value
+      // of a numeric key must be a finite number (up to a # comment), as in OBJ files.
+      if (bad_number.empty())
+        for (const std::string_view key : kMtlNumberKeys)
+          if (starts(key)) {
+            std::vector<std::string_view> tok = tokens(line);
+            if (key == "d" && tok.size() > 1 && tok[1] == "-halo") tok.erase(tok.begin() + 1);
+            try {
+              check_numbers(path, number, tok, 1, tok.size(), (std::string(key) + " value").c_str());
+            } catch (const LoadError& e) {
+              bad_number = e.what();
+            }
+          }
       if (starts("newmtl")) blocks.push_back(MtlInfo{path});
       MtlInfo& b = blocks.back();
       if (starts("Pr")) b.has_pr = true;
@@ -351,6 +378,10 @@ class MtlReader final : public tinyobj::MaterialReader {
           b.keyword[map] = keyword;
         }
     });
+    if (!bad_number.empty()) {
+      if (error_.empty()) error_ = bad_number;
+      return false;
+    }
     if (blocks.size() > 1) blocks.erase(blocks.begin());
 
     const std::size_t before = materials->size();
@@ -368,6 +399,7 @@ class MtlReader final : public tinyobj::MaterialReader {
 
   std::vector<MtlInfo> info;  // parallel to tinyobjloader's materials
   std::vector<std::string> warnings;
+  std::vector<std::string> files;  // every MTL file named
   const std::string& error() const { return error_; }
 
  private:
@@ -590,6 +622,8 @@ ObjModel detail::load_obj(const fs::path& path, const ObjOptions& options, Textu
     fail(path, 0, "the parser and the validation pass disagree on the number of vertices");
 
   ObjModel model;
+  model.files.push_back(path.string());
+  model.files.insert(model.files.end(), mtl.files.begin(), mtl.files.end());
   model.warnings = std::move(scan.warnings);
   model.warnings.insert(model.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
   add_warnings(path, warn, model.warnings);

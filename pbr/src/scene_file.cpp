@@ -51,12 +51,17 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   out.texture_bytes = textures.bytes();
   out.mesh_bytes = budget.bytes() - out.texture_bytes;
   out.warnings = std::move(meshes.warnings());
+  out.inputs = std::move(meshes.files());
+  for (std::string& f : textures.cache().files()) out.inputs.push_back(std::move(f));
   return out;
 }
 
 SceneFile parse(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
                 const SceneLoadOptions& options) {
   const Reader reader(name);
+  // nlohmann's parser stops at a NUL byte, accepting whatever follows: none is allowed.
+  if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos)
+    throw SceneFileError(name + ": a NUL byte at byte " + std::to_string(nul) + " (a scene file is UTF-8 JSON text)");
   if (const auto problem = json_reader::find_structure_problem(text)) reader.fail(problem->pointer, problem->message);
   Json root;
   try {
@@ -105,7 +110,9 @@ SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOpti
                            " (meshes belong in OBJ files)");
   }
   if (in.bad()) throw SceneFileError(name + ": cannot read the scene file");
-  return parse_scene_file(text, name, path.parent_path(), options);
+  SceneFile file = parse_scene_file(text, name, path.parent_path(), options);
+  file.inputs.insert(file.inputs.begin(), name);
+  return file;
 }
 
 std::uint64_t image_memory(int width, int height) {

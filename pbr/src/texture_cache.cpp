@@ -62,6 +62,17 @@ std::string TextureCache::key(const fs::path& path, std::string_view how) {
   return key;
 }
 
+std::vector<std::string> TextureCache::files() const {
+  std::vector<std::string> out;
+  for (const auto& [key, texture] : textures_)  // NUL-separated paths and tags
+    for (std::size_t at = 0; at < key.size();) {
+      const std::size_t end = std::min(key.find('\0', at), key.size());
+      if (key[at] == '/') out.push_back(key.substr(at, end - at));
+      at = end + 1;
+    }
+  return out;
+}
+
 std::shared_ptr<const raster::Texture> TextureCache::load(const fs::path& path, raster::ColorSpace space,
                                                           std::uint64_t max_bytes) {
   const bool is_float = is_float_image_path(path);

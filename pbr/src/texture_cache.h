@@ -13,6 +13,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "softpbr/image/image.h"
 #include "softpbr/raster/texture.h"
@@ -71,6 +72,9 @@ class TextureCache {
 
   // Texels of every texture made, each once.
   std::uint64_t bytes() const { return bytes_; }
+  // The image files named by the keys so far (canonical paths), for a caller that must
+  // not overwrite its inputs.
+  std::vector<std::string> files() const;
 
  private:
   std::map<std::string, std::shared_ptr<const raster::Texture>> textures_;

@@ -123,6 +123,8 @@ class MeshLibrary {
   LoadedMesh& mesh(const Node& spec);
   // Warnings of the OBJ files read so far.
   std::vector<std::string>& warnings() { return warnings_; }
+  // The model files read so far (OBJ and MTL, glTF).
+  std::vector<std::string>& files() { return files_; }
 
  private:
   LoadedMesh build(const Node& spec);
@@ -136,6 +138,7 @@ class MeshLibrary {
   std::optional<Node> named_;
   std::map<std::string, LoadedMesh> cache_;  // by name ("#name") or by the spec's JSON text
   std::vector<std::string> warnings_;
+  std::vector<std::string> files_;
 };
 
 // One entry of /objects: appended to out.scene.objects, one object per drawn part.

@@ -144,6 +144,8 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
     check_at(r_, file, [&] { model = std::make_shared<ObjModel>(detail::load_obj(path, options, textures_.cache())); });
   }
   for (const std::string& w : model->warnings) warnings_.push_back(w);
+  files_.push_back(path.string());
+  files_.insert(files_.end(), model->files.begin(), model->files.end());
   LoadedMesh out;
   std::uint64_t v = 0, t = 0;
   for (const ObjShape& s : model->shapes) {

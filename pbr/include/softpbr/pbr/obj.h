@@ -40,6 +40,7 @@ struct ObjModel {
   std::vector<std::pair<std::string, Material>> materials;    // every material of every mtllib
   std::vector<std::string> warnings;                          // tinyobjloader's and ours, one per line
   std::uint64_t texture_bytes = 0;  // texels of the materials' textures, mip levels included, each once
+  std::vector<std::string> files;   // the OBJ and MTL files read (not the texture images)
 };
 
 struct ObjOptions {

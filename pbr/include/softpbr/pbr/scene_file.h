@@ -57,6 +57,7 @@ struct SceneFile {
   std::uint64_t texture_bytes = 0;  // texels of its textures, mip levels included (a shared image counts once)
   std::uint64_t triangles = 0;    // drawn per frame (a shared mesh counts once per object)
   std::vector<std::string> warnings;  // e.g. from OBJ files, one line each, naming the file
+  std::vector<std::string> inputs;    // the files read: the scene, models, MTL files, images
 };
 
 struct SceneLoadOptions {
