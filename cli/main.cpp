@@ -19,17 +19,8 @@
 #include "render.h"
 
 namespace {
-// Every error is one bounded line: control characters (a newline or a NUL in a name the
-// input gave) become '?', and a line over kMaxLine bytes is cut.
-void print_error(const std::string& what) {
-  constexpr std::size_t kMaxLine = 2000;
-  std::string line = what.substr(0, kMaxLine);
-  while (!line.empty() && (line.back() == '\n' || line.back() == '\r' || line.back() == ' ')) line.pop_back();
-  for (char& c : line)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  if (what.size() > kMaxLine) line += "...";
-  std::fprintf(stderr, "%s\n", line.c_str());
-}
+// Every error is one bounded line (cli_error.h's printable_line).
+void print_error(const std::string& what) { std::fprintf(stderr, "%s\n", softpbr::cli::printable_line(what).c_str()); }
 }  // namespace
 
 int main(int argc, char** argv) {

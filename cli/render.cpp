@@ -57,6 +57,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");
   a.max_memory_mib = static_cast<double>(pbr::kDefaultMemoryLimit >> 20);
   c->add_option("--max-memory", a.max_memory_mib, "Refuse renders estimated to need more than this many MiB")->capture_default_str();
+  c->add_option("--root", a.roots,
+                 "Read the scene's models, MTL files and images only from inside this folder (repeat for several; "
+                 "symbolic links and .. resolved). Default: anywhere. Recommended for scenes from others")
+      ->allow_extra_args(false);
   c->footer(kExitCodesHelp);
   return c;
 }
@@ -75,7 +79,8 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
   pbr::SceneFile f;
   pbr::GltfScene g;
   try {
-    g = pbr::load_gltf(a.scene, {.pool = &pool});
+    std::vector<fs::path> roots(a.roots.begin(), a.roots.end());
+    g = pbr::load_gltf(a.scene, {.pool = &pool, .roots = roots});
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
   }
@@ -227,6 +232,10 @@ int run_render(const RenderArgs& a) {
   if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
     throw Error(kExitUsage, "--max-memory: expected a number of MiB in (0, 1e9], got " + show_value(a.max_memory_mib));
   const auto memory_limit = static_cast<std::uint64_t>(a.max_memory_mib * 1048576.0);
+  for (const std::string& r : a.roots) {
+    std::error_code ec;
+    if (!fs::is_directory(r, ec)) throw Error(kExitUsage, "--root: " + r + " is not a folder");
+  }
   std::vector<Format> formats;
   std::set<std::string> distinct;
   for (const std::string& o : a.outputs) {
@@ -265,7 +274,7 @@ int run_render(const RenderArgs& a) {
     file = gltf_scene(a, pool);
   } else {
     try {
-      file = pbr::load_scene_file(a.scene, {memory_limit});
+      file = pbr::load_scene_file(a.scene, {memory_limit, std::vector<fs::path>(a.roots.begin(), a.roots.end())});
     } catch (const pbr::SceneFileError& e) {
       throw Error(kExitInput, e.what());
     }
@@ -274,7 +283,7 @@ int run_render(const RenderArgs& a) {
     if (const auto id = file_id(f)) inputs.emplace(*id, f);
   for (const std::string& o : a.outputs) check_not_input(frame_path(o, range.first), inputs);
   if (!a.quiet)
-    for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", w.c_str());
+    for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", printable_line(w).c_str());
   pbr::RenderSettings s = file.render;
   if (a.width_opt->count()) s.width = a.width;
   if (a.height_opt->count()) s.height = a.height;

@@ -3,8 +3,11 @@
 #include <doctest/doctest.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
+#include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene_file.h"
 
 namespace pbr = softpbr::pbr;
@@ -111,4 +114,49 @@ TEST_CASE("the documented fov range (0, 180) is the real one, to float precision
       CHECK(error_of(text) == "");
   }
   CHECK(error_of(R"({"camera": {"fov": 180}, "objects": []})") == "hostile.json: /camera/fov: expected a number in (0, 180), got 180");
+}
+
+TEST_CASE("with roots, every file a scene reads must lie inside them, symbolic links and .. resolved") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_hostile_roots";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "inside");
+  std::ofstream(dir / "outside.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(dir / "inside" / "ok.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  fs::create_symlink(dir / "outside.obj", dir / "inside" / "link.obj");
+  std::ofstream(dir / "inside" / "escape.mtl") << "newmtl m\nmap_Kd ../outside.png\n";
+  std::ofstream(dir / "inside" / "mtl.obj") << "mtllib escape.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n";
+  pbr::SceneLoadOptions options;
+  options.roots = {dir / "inside"};
+  auto error_in = [&](const std::string& mesh) {
+    try {
+      pbr::parse_scene_file(R"({"objects": [{"mesh": {"file": ")" + mesh + R"("}}]})", "s.json", dir / "inside", options);
+    } catch (const pbr::SceneFileError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string outside = "outside the folders the scene may read (" + (dir / "inside").string() + ")";
+  CHECK(error_in("ok.obj") == "");
+  CHECK(error_in("../outside.obj") == "s.json: /objects/0/mesh/file: " + (dir / "inside" / "../outside.obj").string() + ": " + outside);
+  CHECK(error_in("link.obj") == "s.json: /objects/0/mesh/file: " + (dir / "inside" / "link.obj").string() + ": " + outside);
+  CHECK(error_in("/etc/passwd") == "s.json: /objects/0/mesh/file: /etc/passwd: " + outside);
+  CHECK(error_in("mtl.obj").find("map_Kd: " + (dir / "inside" / "../outside.png").string() + ": " + outside) != std::string::npos);
+  // Without roots, anything readable (as before).
+  options.roots.clear();
+  CHECK(error_in("../outside.obj") == "");
+}
+
+TEST_CASE("a file that is not OBJ at all named as a mesh: its contents are never echoed") {
+  namespace fs = std::filesystem;
+  const fs::path path = fs::path(SOFTPBR_BINARY_DIR) / "test_hostile_passwd.obj";
+  std::ofstream(path) << "root:x:0:0:root:/root:/bin/bash\nsecret-token-1234\n";
+  const pbr::ObjModel model = pbr::load_obj(path);
+  REQUIRE(model.warnings.size() >= 1);
+  for (const std::string& w : model.warnings) {
+    CAPTURE(w);
+    CHECK(w.find("root:x") == std::string::npos);
+    CHECK(w.find("secret") == std::string::npos);
+  }
+  CHECK(model.warnings[0] == path.string() + ":1: 2 line(s) with unsupported keywords ignored (not an OBJ keyword)");
 }

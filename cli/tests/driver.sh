@@ -249,6 +249,13 @@ EOF
   printf 'mtllib banana.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n' >banana.obj
   scene_with '"type": "cube"' '"file": "banana.obj"'
   expect_error 3 "bad.json: /objects/0/mesh/file: banana.mtl:2: Kd value 'banana' is not a number" render bad.json -o keep.png
+  # --root confines what a scene reads (symbolic links and .. resolved).
+  scene_with '"type": "cube"' '"file": "../../../../../../etc/passwd"'
+  expect_error 3 "bad.json: /objects/0/mesh/file: ../../../../../../etc/passwd: outside the folders the scene may read (.)" \
+    render bad.json -o keep.png --root .
+  "$softpbr" render bad.json -o echo.png 2>stderr.txt >/dev/null
+  grep -q "root:" stderr.txt && fail "a warning echoed /etc/passwd: $(cat stderr.txt)" || pass "/etc/passwd as a mesh: its contents are not echoed"
+  expect_error 2 "--root: nowhere is not a folder" render bad.json -o keep.png --root nowhere
   scene_with '' ''
   # No failure created or truncated an output.
   [ "$(cat keep.png)" = KEEP ] && pass "keep.png untouched by every failure" || fail "a failed render changed keep.png"

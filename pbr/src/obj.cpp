@@ -218,9 +218,15 @@ ObjScan validate_obj(const fs::path& path, std::string_view text) {
       }
     }
   });
+  // The keyword is quoted only when it looks like one: a file that is not OBJ at all (a scene
+  // naming ../../etc/passwd as a mesh) must not have its first line echoed.
+  const bool keyword_like = unknown_keyword.size() <= 16 && std::all_of(unknown_keyword.begin(), unknown_keyword.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
   if (unknown > 0)
     scan.warnings.push_back(describe(path) + ":" + std::to_string(unknown_line) + ": " + std::to_string(unknown) +
-                            " line(s) with unsupported keywords ignored (the first is " + quote(unknown_keyword) + ")");
+                            " line(s) with unsupported keywords ignored" +
+                            (keyword_like ? " (the first is " + quote(unknown_keyword) + ")" : std::string(" (not an OBJ keyword)")));
 
   // Pass 2: face indices, relative ones against the counts so far.
   std::size_t v = 0, vt = 0, vn = 0, bad_normals = 0;
@@ -324,7 +330,7 @@ constexpr std::string_view kMtlNumberKeys[] = {"Ka", "Kd", "Ks", "Ke", "Ns",  "N
 // load_obj to throw once tinyobjloader returns, rather than thrown through it).
 class MtlReader final : public tinyobj::MaterialReader {
  public:
-  explicit MtlReader(fs::path dir) : dir_(std::move(dir)) {}
+  MtlReader(fs::path dir, const std::vector<fs::path>& roots) : dir_(std::move(dir)), roots_(roots) {}
 
   bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
                   std::map<std::string, int>* names, std::string* warn, std::string* err) override {
@@ -332,6 +338,10 @@ class MtlReader final : public tinyobj::MaterialReader {
     (void)err;
     const fs::path path = dir_ / name;
     std::string text;
+    if (std::string problem = detail::outside_roots(path, roots_); !problem.empty()) {
+      if (error_.empty()) error_ = describe(path) + ": " + problem;
+      return false;
+    }
     files.push_back(path.string());
     if (std::string problem = read_text(path, text); !problem.empty()) {
       warnings.push_back(describe(path) + ": " + problem);
@@ -404,6 +414,7 @@ class MtlReader final : public tinyobj::MaterialReader {
 
  private:
   fs::path dir_;
+  const std::vector<fs::path>& roots_;
   std::string error_;
 };
 
@@ -596,11 +607,13 @@ float roughness_from_phong_exponent(float ns) {
 
 ObjModel load_obj(const fs::path& path, const ObjOptions& options) {
   detail::TextureCache cache;
+  cache.set_roots(options.roots);
   return detail::load_obj(path, options, cache);
 }
 
 ObjModel detail::load_obj(const fs::path& path, const ObjOptions& options, TextureCache& cache) {
   std::string text;
+  if (std::string problem = detail::outside_roots(path, options.roots); !problem.empty()) fail(path, 0, problem);
   if (std::string problem = read_text(path, text); !problem.empty()) fail(path, 0, problem);
   ObjScan scan = validate_obj(path, text);
 
@@ -608,7 +621,7 @@ ObjModel detail::load_obj(const fs::path& path, const ObjOptions& options, Textu
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;
   std::string warn, err;
-  MtlReader mtl(path.parent_path());
+  MtlReader mtl(path.parent_path(), options.roots);
   std::istringstream in(std::move(text));
   const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, &mtl,
                                    /*triangulate=*/true, /*default_vcols_fallback=*/false);

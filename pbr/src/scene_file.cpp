@@ -35,6 +35,7 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   SceneFile out;
   scene_file::MemoryBudget budget(r, options.memory_limit);
   scene_file::TextureLibrary textures(r, base_dir, budget);
+  textures.cache().set_roots(options.roots);
   scene_file::MeshLibrary meshes(r, base_dir, budget, textures);
   if (auto c = r.member(root, "camera")) out.scene.camera = scene_file::read_camera(r, *c);
   if (auto a = r.member(root, "ambient")) out.scene.ambient = r.vec3(*a, 0, 1e30);

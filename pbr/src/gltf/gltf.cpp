@@ -20,6 +20,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "gltf/tinygltf.h"
+#include "texture_cache.h"
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
 #include "softpbr/pbr/mesh.h"
@@ -801,10 +802,15 @@ std::vector<unsigned char> read_file(const std::filesystem::path& path, std::uin
 
 struct FsContext {
   std::uint64_t limit;
+  const std::vector<std::filesystem::path>* roots;
 };
 
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   const auto* ctx = static_cast<const FsContext*>(user);
+  if (const std::string problem = detail::outside_roots(path, *ctx->roots); !problem.empty()) {
+    if (err) *err += path + ": " + problem + "\n";
+    return false;
+  }
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec || size > ctx->limit) {
@@ -847,7 +853,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
   tg::TinyGLTF parser;
-  FsContext fs_context{options.max_file_bytes};
+  FsContext fs_context{options.max_file_bytes, &options.roots};
   parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
   parser.SetImageLoader(&keep_encoded, nullptr);
   tg::Model model;

@@ -127,6 +127,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   // charged once the model is read (its meshes' size is only known then too).
   ObjOptions options;
   options.texture_memory_limit = budget_.left();
+  options.roots = textures_.cache().roots();
   const std::uint64_t textures_before = textures_.bytes();
   std::uint64_t gltf_texture_bytes = 0;
   std::string ext = path.extension().string();
@@ -137,6 +138,9 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
     // are not used here).
     check_at(r_, file, [&] {
       GltfOptions g;
+      g.roots = textures_.cache().roots();
+      if (const std::string problem = detail::outside_roots(path, g.roots); !problem.empty())
+        throw LoadError(path.string() + ": " + problem);
       g.image_limits.max_decoded_bytes = std::min<std::uint64_t>(g.image_limits.max_decoded_bytes, budget_.left());
       model = std::make_shared<ObjModel>(gltf_as_model(load_gltf(path, g), gltf_texture_bytes));
     });

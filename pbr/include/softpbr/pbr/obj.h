@@ -50,6 +50,9 @@ struct ObjOptions {
   // The texels of all the model's textures (mip levels included) may take at most this;
   // a map that would pass it is refused from its image header, before it is decoded.
   std::uint64_t texture_memory_limit = std::uint64_t{4} << 30;
+  // When not empty, the OBJ file, its MTL files and their maps must lie inside one of these
+  // folders (symbolic links and ".." resolved), as SceneLoadOptions::roots.
+  std::vector<std::filesystem::path> roots{};
 };
 
 // Loads an OBJ file and the MTL libraries it names (looked up next to the OBJ file).

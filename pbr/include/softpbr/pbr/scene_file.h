@@ -65,6 +65,10 @@ struct SceneLoadOptions {
   // (checked before a procedural mesh is generated and before an image is decoded, from its
   // header; after an OBJ file is read, since its size is only then known).
   std::uint64_t memory_limit = kDefaultMemoryLimit;
+  // When not empty, every file the scene reads — models, MTL files, images, glTF buffers —
+  // must lie inside one of these folders once symbolic links and ".." are resolved (the
+  // scene file itself is the caller's choice). Empty: any file the process may read.
+  std::vector<std::filesystem::path> roots{};
 };
 
 // Reads and validates a scene file. Relative mesh and image paths resolve against the file's folder.
