@@ -32,7 +32,9 @@ CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
                 "A pixel differs when one of its channels differs by more than this (8-bit codes for PNG, "
                 "float values for .hdr and .exr)")
       ->capture_default_str();
-  c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")->capture_default_str();
+  c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")
+      ->check(CLI::NonNegativeNumber)  // "-1" would wrap to 2^64 - 1
+      ->capture_default_str();
   c->add_option("--out", a.out, "Write a heat map of the difference (.png): black where equal, red to white");
   c->add_flag("--side-by-side", a.side_by_side, "With --out: expected | actual | heat map");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing; the exit code says it");

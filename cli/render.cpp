@@ -229,6 +229,8 @@ int run_render(const RenderArgs& a) {
     if (!tone_map) throw Error(kExitUsage, "--tonemap: expected one of none, reinhard, aces, neutral, got \"" + a.tonemap + "\"");
   }
   if (a.exposure_opt->count()) in_range("--exposure", a.exposure, -64.0f, 64.0f);
+  if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
+    throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
   if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
     throw Error(kExitUsage, "--max-memory: expected a number of MiB in (0, 1e9], got " + show_value(a.max_memory_mib));
   const auto memory_limit = static_cast<std::uint64_t>(a.max_memory_mib * 1048576.0);

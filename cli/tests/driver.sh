@@ -256,6 +256,16 @@ EOF
   "$softpbr" render bad.json -o echo.png 2>stderr.txt >/dev/null
   grep -q "root:" stderr.txt && fail "a warning echoed /etc/passwd: $(cat stderr.txt)" || pass "/etc/passwd as a mesh: its contents are not echoed"
   expect_error 2 "--root: nowhere is not a folder" render bad.json -o keep.png --root nowhere
+  # Devices as models; a syntax error quotes at most 40 bytes of the text it read.
+  scene_with '"type": "cube"' '"file": "/dev/zero"'
+  expect_error 3 "bad.json: /objects/0/mesh/file: /dev/zero: cannot open: not a regular file (a device, pipe or socket)" render bad.json -o keep.png
+  { printf '{"objects": [], "x": "'; head -c 100000 /dev/zero | tr '\0' a; } >longtok.json
+  expect_error 3 "longtok.json: invalid JSON: parse error at line 1, column 100023: syntax error while parsing value - invalid string: missing closing quote; last read: '\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa..." \
+    render longtok.json -o keep.png
+  expect_error 2 "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees" render missing.gltf -o keep.png --pitch nan
+  printf 'v 3e38 3e38 3e38\nv -3e38 -3e38 -3e38\nv 3e38 -3e38 0\nf 1 2 3\n' >far.obj
+  scene_with '{"type": "cube"}' '{"file": "far.obj", "fit": 2}'
+  expect_error 3 "bad.json: /objects/0/mesh/fit: the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted" render bad.json -o keep.png
   scene_with '' ''
   # No failure created or truncated an output.
   [ "$(cat keep.png)" = KEEP ] && pass "keep.png untouched by every failure" || fail "a failed render changed keep.png"
@@ -383,6 +393,8 @@ diff)
   check 2 a.png /dev/urandom
   grep -qx "/dev/urandom: not a regular file (a device, pipe or socket), not an image" err.txt || fail "diff of /dev/urandom: $(cat err.txt)"
   check 2 a.png b.png --out /dev/null
+  check 2 a.png b.png --max-pixels -1
+  [ "$(wc -l <err.txt)" -eq 1 ] || fail "--max-pixels -1: not one line: $(cat err.txt)"
   # 16-bit PNGs differing only in their low bytes: an error, not "identical".
   python3 - <<'PY'
 import struct, zlib

@@ -56,8 +56,10 @@ std::string describe(const fs::path& path) { return path.string(); }
 std::string read_text(const fs::path& path, std::string& text) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) return "cannot open: " + ec.message();  // a symlink loop
   if (ec || !fs::exists(st)) return "cannot open: no such file";
   if (fs::is_directory(st)) return "cannot open: is a directory";
+  if (!fs::is_regular_file(st)) return "cannot open: not a regular file (a device, pipe or socket)";
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) return "cannot open: " + ec.message();
   if (size > kMaxFileBytes)

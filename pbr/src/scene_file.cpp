@@ -73,6 +73,13 @@ SceneFile parse(std::string_view text, const std::string& name, const std::files
     std::string what = e.what();
     if (const auto close = what.find("] "); what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
       what = what.substr(close + 2);
+    // nlohmann quotes the text it read ("last read: '…'"): at most 40 bytes of it.
+    if (const auto at = what.find("; last read: '"); at != std::string::npos) {
+      const std::size_t start = at + 14;
+      std::size_t end = what.find("'; ", start);
+      if (end == std::string::npos) end = what.size();
+      if (end - start > 40) what.replace(start + 40, end - start - 40, "...");
+    }
     for (char& c : what)
       if (static_cast<unsigned char>(c) < 0x20) c = '?';  // one line
     throw SceneFileError(name + ": invalid JSON: " + what);

@@ -59,10 +59,16 @@ ObjModel gltf_as_model(const GltfScene& g, std::uint64_t& texture_bytes) {
 
 // pbr::fit_transform of the bounds of all `parts` (the function make_gallery uses too, so
 // gallery_spot.json matches it bit for bit).
-glm::mat4 fit_parts(const std::vector<std::shared_ptr<const Mesh>>& parts, float size) {
+// Empty when the bounds' extent overflows float (coordinates near ±3e38: the scale would be
+// 0, an empty image): the caller says so.
+std::optional<glm::mat4> fit_parts(const std::vector<std::shared_ptr<const Mesh>>& parts, float size) {
   constexpr float inf = std::numeric_limits<float>::infinity();
   Bounds all{glm::vec3(inf), glm::vec3(-inf)};
   for (const auto& mesh : parts) all = merge(all, bounds(*mesh));
+  const glm::vec3 e = all.extent(), c = all.centre();
+  if (!all.empty() && !(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z) && std::isfinite(c.x) &&
+                        std::isfinite(c.y) && std::isfinite(c.z)))
+    return std::nullopt;
   return pbr::fit_transform(all, size);
 }
 
@@ -111,7 +117,9 @@ LoadedMesh MeshLibrary::build(const Node& spec) {
     out = build_shape(spec);
   }
   if (fit) {
-    out.fit = fit_parts(out.parts, *fit);
+    const std::optional<glm::mat4> m = fit_parts(out.parts, *fit);
+    if (!m) r_.fail(*r_.member(spec, "fit"), "the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted");
+    out.fit = *m;
     out.has_fit = true;
   }
   return out;
