@@ -256,3 +256,24 @@ TEST_CASE("MTL values that are not finite numbers are located errors, not zeros 
   std::ofstream(mtl) << "newmtl m\nKd 0.5 # grey\nKs 1 1 1\nd -halo 0.5\nNs 10\nillum 2\n";
   CHECK(pbr::load_obj(dir / "hostile_mtl.obj").materials.size() == 1);
 }
+
+TEST_CASE("an OBJ whose parse would pass the memory limit is refused after the counting pass, before tinyobjloader") {
+  const auto path = scratch_dir() / "bounded.obj";
+  {
+    std::ofstream out(path);
+    for (int i = 0; i < 1000; ++i) out << "v " << i << " " << (i % 3) << " 0\n";
+    for (int i = 1; i + 2 <= 1000; ++i) out << "f " << i << " " << i + 1 << " " << i + 2 << "\n";
+  }
+  pbr::ObjOptions options;
+  options.memory_limit = 100000;  // the estimate: the text, 12 bytes a position, 100 a corner (~310 KB)
+  try {
+    pbr::load_obj(path, options);
+    FAIL("no exception");
+  } catch (const pbr::LoadError& e) {
+    const std::string what = e.what();
+    CHECK(what.rfind(path.string() + ": parsing it needs an estimated ", 0) == 0);
+    CHECK(what.ends_with(", over the memory limit of 97.7 KiB"));
+  }
+  options.memory_limit = 1 << 20;
+  CHECK(pbr::load_obj(path, options).shapes.size() == 1);
+}

@@ -266,6 +266,12 @@ EOF
   printf 'v 3e38 3e38 3e38\nv -3e38 -3e38 -3e38\nv 3e38 -3e38 0\nf 1 2 3\n' >far.obj
   scene_with '{"type": "cube"}' '{"file": "far.obj", "fit": 2}'
   expect_error 3 "bad.json: /objects/0/mesh/fit: the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted" render bad.json -o keep.png
+  # An OBJ is refused before parsing when its estimated parse memory passes --max-memory.
+  awk 'BEGIN { for (i = 0; i < 20000; i++) print "v", i, i % 3, 0; for (i = 1; i + 2 <= 20000; i++) print "f", i, i + 1, i + 2 }' >big.obj
+  scene_with '"type": "cube"' '"file": "big.obj"'
+  "$softpbr" render bad.json -o keep.png --max-memory 4 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && grep -q "^bad.json: /objects/0/mesh/file: big.obj: parsing it needs an estimated 6.5 MiB, over the memory limit of 4.0 MiB$" stderr.txt \
+    && pass "a big OBJ over --max-memory: refused before parsing" || fail "big OBJ: exit $rc, $(cat stderr.txt)"
   scene_with '' ''
   # No failure created or truncated an output.
   [ "$(cat keep.png)" = KEEP ] && pass "keep.png untouched by every failure" || fail "a failed render changed keep.png"

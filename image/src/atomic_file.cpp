@@ -109,7 +109,9 @@ std::string output_problem(const fs::path& path) {
   struct stat st {};
   if (::stat(folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
     return "cannot write: the folder " + folder.string() + " does not exist";
-  if (::access(folder.c_str(), W_OK | X_OK) != 0) return "cannot write: no permission to create files in " + folder.string();
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    return errno == EROFS ? "cannot write: the folder " + folder.string() + " is on a read-only file system"
+                          : "cannot write: no permission to create files in " + folder.string();
   if (const std::size_t max = name_max(folder); name.size() > max)
     return "cannot write: the file name is " + std::to_string(name.size()) + " bytes, over the limit of " +
            std::to_string(max) + " of its folder";

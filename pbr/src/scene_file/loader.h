@@ -56,6 +56,8 @@ template <class Check>
 void check_at(const Reader& r, const Node& spec, Check&& check) {
   try {
     check();
+  } catch (const std::bad_alloc&) {
+    r.fail(spec, "out of memory while loading it (the process's memory or address-space limit)");
   } catch (const std::exception& e) {
     r.fail(spec, e.what());
   }

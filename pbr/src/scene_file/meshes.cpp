@@ -136,6 +136,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   ObjOptions options;
   options.texture_memory_limit = budget_.left();
   options.roots = textures_.cache().roots();
+  options.memory_limit = budget_.left();
   const std::uint64_t textures_before = textures_.bytes();
   std::uint64_t gltf_texture_bytes = 0;
   std::string ext = path.extension().string();

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -53,6 +54,10 @@ struct ObjOptions {
   // When not empty, the OBJ file, its MTL files and their maps must lie inside one of these
   // folders (symbolic links and ".." resolved), as SceneLoadOptions::roots.
   std::vector<std::filesystem::path> roots{};
+  // The parse's estimated peak memory (the text, tinyobjloader's arrays, the meshes built:
+  // about 100 bytes a face corner) may take at most this: checked after the validation
+  // pass has counted the elements, before anything is parsed into memory.
+  std::uint64_t memory_limit = std::numeric_limits<std::uint64_t>::max();
 };
 
 // Loads an OBJ file and the MTL libraries it names (looked up next to the OBJ file).
