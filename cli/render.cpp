@@ -338,13 +338,17 @@ int run_render(const RenderArgs& a) {
     for (const std::string& p : paths) check_not_input(p, inputs);
     pbr::render(pbr::animate(file, frame), renderer, target);
     const std::uint64_t hash = raster::hash_colors(target);
-    // Not silent: a colour beyond float (emissive or lights near 1e30 summed) is stored as 0
-    // by .hdr and .exr while the PNG shows it white.
+    // Not silent: a colour beyond float (emissive or lights near 1e30 summed, or scaled by
+    // --exposure) is stored as 0 by .hdr and .exr while the PNG shows it white.
     if (!a.quiet) {
+      const float scale = exposure_scale(s.output.exposure);
       std::size_t non_finite = 0;
-      for (const glm::vec4& c : target.colors()) non_finite += !(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b));
+      for (const glm::vec4& c : target.colors()) {
+        const glm::vec3 v = glm::vec3(c) * scale;
+        non_finite += !(std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b));
+      }
       if (non_finite > 0)
-        std::fprintf(stderr, "softpbr: warning: %s: %zu pixels are not finite (a radiance beyond float); .hdr and .exr store them as 0\n",
+        std::fprintf(stderr, "softpbr: warning: %s: %zu pixels are not finite (a radiance beyond float, exposure included); .hdr and .exr store them as 0\n",
                      paths[0].c_str(), non_finite);
     }
     // Every output of the frame is written to a temporary first, then all are renamed: on

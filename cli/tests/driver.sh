@@ -266,6 +266,11 @@ EOF
   printf 'v 3e38 3e38 3e38\nv -3e38 -3e38 -3e38\nv 3e38 -3e38 0\nf 1 2 3\n' >far.obj
   scene_with '{"type": "cube"}' '{"file": "far.obj", "fit": 2}'
   expect_error 3 "bad.json: /objects/0/mesh/fit: the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted" render bad.json -o keep.png
+  # A colour beyond float after the exposure: a warning, not a silently black .hdr.
+  scene_with '"roughness": 0.5' '"roughness": 0.5, "emissive": [1e30, 1e30, 1e30]'
+  "$softpbr" render bad.json -o em.hdr --exposure 64 >/dev/null 2>stderr.txt
+  grep -qx "softpbr: warning: em.hdr: [0-9]* pixels are not finite (a radiance beyond float, exposure included); .hdr and .exr store them as 0" stderr.txt \
+    && pass "radiance beyond float: a warning naming the output" || fail "no warning for an overflowing exposure: $(cat stderr.txt)"
   # An OBJ is refused before parsing when its estimated parse memory passes --max-memory.
   awk 'BEGIN { for (i = 0; i < 20000; i++) print "v", i, i % 3, 0; for (i = 1; i + 2 <= 20000; i++) print "f", i, i + 1, i + 2 }' >big.obj
   scene_with '"type": "cube"' '"file": "big.obj"'
