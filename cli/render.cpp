@@ -85,6 +85,7 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
     throw Error(kExitInput, e.what());
   }
   f.warnings = g.warnings;
+  f.inputs = g.files;
   f.scene.objects = std::move(g.objects);
   f.triangles = g.triangles;
   const int w = a.width_opt->count() ? a.width : f.render.width, h = a.height_opt->count() ? a.height : f.render.height;

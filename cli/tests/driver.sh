@@ -197,6 +197,24 @@ EOF
   scene_with '"roughness": 0.5' '"roughness": 0.5, "base_color_texture": "tex-in.png"'
   expect_error 4 "tex-in.png: cannot write: it is the input $PWD/tex-in.png of this command (an output never replaces an input)" render bad.json -o ok.png -o tex-in.png
   cmp -s tex-in.png "$src/cli/tests/goldens/lights.png" && pass "a texture named as an output is untouched" || fail "tex-in.png was overwritten"
+  # A glTF model's external image is an input too.
+  cp "$src/cli/tests/goldens/lights.png" gltf-img.png
+  python3 - <<'PY'
+import json, struct, base64
+buf = struct.pack('<9f', 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack('<6f', 0, 0, 1, 0, 0, 1)
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+     "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+     "textures": [{"source": 0}], "images": [{"uri": "gltf-img.png"}],
+     "buffers": [{"uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode(), "byteLength": len(buf)}],
+     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                   {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]}
+open('tri.gltf', 'w').write(json.dumps(g))
+PY
+  expect_error 4 "gltf-img.png: cannot write: it is an input of this command (an output never replaces an input)" \
+    render tri.gltf -o gltf-img.png --width 32 --height 24
+  cmp -s gltf-img.png "$src/cli/tests/goldens/lights.png" && pass "a glTF's image named as an output is untouched" || fail "gltf-img.png was overwritten"
   scene_with '' ''
   expect_error 2 "./bad.png: given twice as an output (under another name)" render bad.json -o bad.png -o ./bad.png
   # Files that merely look like temporaries are not ours: never removed.

@@ -45,6 +45,7 @@ Mesh baked(const Mesh& mesh, const glm::mat4& m) {
 ObjModel gltf_as_model(const GltfScene& g, std::uint64_t& texture_bytes) {
   ObjModel model;
   model.warnings = g.warnings;
+  model.files = g.files;
   std::set<const raster::Texture*> seen;
   for (std::size_t i = 0; i < g.objects.size(); ++i) {
     const Object& o = g.objects[i];

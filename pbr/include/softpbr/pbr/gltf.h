@@ -69,6 +69,7 @@ struct GltfScene {
   std::vector<GltfCamera> cameras;
   std::vector<std::string> warnings;  // one per line
   std::size_t triangles = 0;
+  std::vector<std::string> files;     // the external buffers and images read (not the file itself)
 };
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
