@@ -160,3 +160,17 @@ TEST_CASE("a file that is not OBJ at all named as a mesh: its contents are never
   }
   CHECK(model.warnings[0] == path.string() + ":1: 2 line(s) with unsupported keywords ignored (not an OBJ keyword)");
 }
+
+TEST_CASE("a scene file whose parsed document would pass the memory limit is refused before it is built") {
+  const std::string text = "{\"objects\": [" + repeat("[1,2,3,4,5,6,7,8,9,0],", 20000) + "1]}";
+  pbr::SceneLoadOptions options;
+  options.memory_limit = 1 << 20;
+  std::string error;
+  try {
+    pbr::parse_scene_file(text, "hostile.json", SOFTPBR_SOURCE_DIR, options);
+  } catch (const pbr::SceneFileError& e) {
+    error = e.what();
+  }
+  // 220002 values (every array is a value too), 20002 containers, and the text: 32 bytes a value, 64 a container.
+  CHECK(error == "hostile.json: parsing it needs an estimated 8.4 MiB, over the memory limit of 1.0 MiB");
+}

@@ -93,6 +93,8 @@ namespace {
 class DuplicateFinder : public nlohmann::json_sax<Json> {
  public:
   std::optional<Problem> found;
+  std::size_t values() const { return values_; }
+  std::size_t containers() const { return containers_; }
 
   bool null() override { return value(); }
   // Every value and container counts against kMaxValues / kMaxContainers: they bound the
@@ -179,9 +181,10 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
 };
 }  // namespace
 
-std::optional<Problem> find_structure_problem(std::string_view text) {
+std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts) {
   DuplicateFinder finder;
   Json::sax_parse(text.begin(), text.end(), &finder, nlohmann::detail::input_format_t::json, true, true);
+  if (counts) *counts = {finder.values(), finder.containers()};
   return finder.found;
 }
 

@@ -88,7 +88,11 @@ struct Problem {
   std::string pointer;
   std::string message;
 };
-std::optional<Problem> find_structure_problem(std::string_view text);
+// `counts`, when given, receives the number of values and of objects and arrays seen.
+struct Counts {
+  std::size_t values = 0, containers = 0;
+};
+std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts = nullptr);
 
 // JSON text of a value for "got …", shortened to about 40 characters.
 std::string show(const Json& value);

@@ -63,7 +63,15 @@ SceneFile parse(std::string_view text, const std::string& name, const std::files
   // nlohmann's parser stops at a NUL byte, accepting whatever follows: none is allowed.
   if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos)
     throw SceneFileError(name + ": a NUL byte at byte " + std::to_string(nul) + " (a scene file is UTF-8 JSON text)");
-  if (const auto problem = json_reader::find_structure_problem(text)) reader.fail(problem->pointer, problem->message);
+  json_reader::Counts counts;
+  if (const auto problem = json_reader::find_structure_problem(text, &counts)) reader.fail(problem->pointer, problem->message);
+  // The DOM built next: nlohmann's 16-byte values (32 with the arrays' spare capacity), a
+  // node and a map or vector per container (about 64 bytes), and the strings (at most the
+  // text again). 7.7 million numbers in arrays of 10: estimated 291 MiB, measured peak 252.
+  const std::uint64_t dom = 32 * std::uint64_t{counts.values} + 64 * std::uint64_t{counts.containers} + text.size();
+  if (dom > options.memory_limit)
+    throw SceneFileError(name + ": parsing it needs an estimated " + format_bytes(dom) + ", over the memory limit of " +
+                         format_bytes(options.memory_limit));
   Json root;
   try {
     // Comments (// and /* */) are accepted as an extension; see docs/scene-format.md.
