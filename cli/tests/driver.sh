@@ -325,7 +325,7 @@ frames)
   [ "$(sort -u rendered.txt | wc -l)" -eq 10 ] && [ "$(wc -l <rendered.txt)" -eq 10 ] && [ "$(ls many | wc -l)" -eq 10 ] \
     && pass "13 shards over 10 frames: each frame once" || fail "13 shards: $(wc -l <rendered.txt) renders"
   # A file that looks like a temporary is not this process's: it is never removed (a killed
-  # run leaves none: temporaries are unnamed O_TMPFILE files until their rename).
+  # run leaves none for new frames: unnamed O_TMPFILE files linked straight to their names).
   touch shards/.f_0013.png.tmp12345
   "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..13 -q -o shards/f_####.png
   [ -e shards/.f_0013.png.tmp12345 ] && pass "a look-alike temporary survives" || fail "a file that looked like a temporary was removed"

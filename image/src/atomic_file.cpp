@@ -3,9 +3,10 @@
 //
 // A temporary is an unnamed file (O_TMPFILE: nothing is left on disk if the process dies)
 // or, where the file system has no O_TMPFILE, a new name created with O_EXCL. Either way
-// it is written completely and synced before any output is replaced; it gets a name only
-// at commit (linkat), then rename() replaces the destination in one step (POSIX). Only
-// names this object created are ever removed.
+// it is written completely and synced before any output is replaced; at commit an
+// unnamed file is linked straight to a destination that does not exist (linkat), or to a
+// temporary name that rename() then moves over the existing destination in one step
+// (POSIX). Only names this object created are ever removed.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -137,7 +138,8 @@ void OutputFiles::add(const fs::path& path, std::span<const std::uint8_t> bytes)
   p.path = path;
   const fs::path folder = folder_of(path);
   // An unnamed file first; a named one (O_EXCL: never an existing file) where unsupported.
-  p.fd = ::open(folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+  // (An unnamed file is named through /proc/self/fd: without /proc, a named one.)
+  if (::access("/proc/self/fd", X_OK) == 0) p.fd = ::open(folder.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
   if (p.fd < 0) {
     std::mt19937_64 random = seeded();
     for (int attempt = 0; attempt < 100 && p.fd < 0; ++attempt) {
@@ -161,29 +163,52 @@ void OutputFiles::add(const fs::path& path, std::span<const std::uint8_t> bytes)
   }
 }
 
+namespace {
+// Gives the unnamed file `fd` the name `tmp` (a temporary beside `path`), retrying other
+// random names while they exist. Throws naming `path`.
+fs::path name_temporary(int fd, const fs::path& path, std::mt19937_64& random) {
+  const std::string proc = "/proc/self/fd/" + std::to_string(fd);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const fs::path tmp = temporary_name(path, random);
+    if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0) return tmp;
+    if (errno != EEXIST) fail(path, "cannot name the temporary file: " + errno_text(errno));
+  }
+  fail(path, "cannot name the temporary file");
+}
+}  // namespace
+
 void OutputFiles::commit() {
-  // 1. Every temporary gets a name (unnamed ones through /proc/self/fd), and every
-  //    destination is checked again: still a regular file or no file.
+  // 1. Every destination is checked again (still a regular file or no file), and an
+  //    unnamed file that will replace an existing one gets a temporary name (through
+  //    /proc/self/fd). One whose destination does not exist keeps no name at all: it is
+  //    linked straight to its destination in step 2, so a kill leaves nothing behind.
   std::mt19937_64 random = seeded();
-  for (Pending& p : pending_) {
+  std::vector<bool> direct(pending_.size(), false);
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    Pending& p = pending_[i];
     if (const std::string problem = entry_problem(p.path); !problem.empty()) fail(p.path, problem);
     if (!p.temporary.empty()) continue;
-    const std::string proc = "/proc/self/fd/" + std::to_string(p.fd);
-    for (int attempt = 0; attempt < 100 && p.temporary.empty(); ++attempt) {
-      const fs::path tmp = temporary_name(p.path, random);
-      if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0) p.temporary = tmp;
-      else if (errno != EEXIST) fail(p.path, "cannot name the temporary file: " + errno_text(errno));
-    }
-    if (p.temporary.empty()) fail(p.path, "cannot name the temporary file");
+    struct stat st {};
+    if (::lstat(p.path.c_str(), &st) != 0 && errno == ENOENT) direct[i] = true;
+    else p.temporary = name_temporary(p.fd, p.path, random);
   }
-  // 2. The renames: only these can replace an output, after everything was written.
+  // 2. Only now is any output replaced or created: renames, and links of new names (one
+  //    that appeared meanwhile, another writer's, is replaced through a temporary instead).
   std::string replaced;
-  for (Pending& p : pending_) {
-    if (::rename(p.temporary.c_str(), p.path.c_str()) != 0) {
-      const int e = errno;
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    Pending& p = pending_[i];
+    int e = 0;
+    if (direct[i]) {
+      const std::string proc = "/proc/self/fd/" + std::to_string(p.fd);
+      if (::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, p.path.c_str(), AT_SYMLINK_FOLLOW) != 0) {
+        if (errno != EEXIST) e = errno;
+        else p.temporary = name_temporary(p.fd, p.path, random);
+      }
+    }
+    if (e == 0 && !p.temporary.empty() && ::rename(p.temporary.c_str(), p.path.c_str()) != 0) e = errno;
+    if (e != 0)
       fail(p.path, "cannot replace it: " + errno_text(e) +
                        (replaced.empty() ? std::string() : " (already replaced: " + replaced + ")"));
-    }
     replaced += (replaced.empty() ? "" : ", ") + p.path.string();
     p.temporary.clear();
     ::close(p.fd);

@@ -48,7 +48,8 @@ std::string output_problem(const std::filesystem::path& path);
 // to a temporary file of its own in the destination's folder (an unnamed O_TMPFILE file,
 // or where the file system has none a new name ".NAME.tmp-XXXXXXXXXX" created with O_EXCL
 // and kept within NAME_MAX), synced to disk; commit() then renames every temporary over
-// its destination. A failure in add() — a full disk, a quota, a file size limit — throws
+// its destination (an unnamed file whose destination does not exist is linked straight to
+// it: a process killed at any point leaves no temporary for a new output). A failure in add() — a full disk, a quota, a file size limit — throws
 // with no output replaced; the destructor (or discard()) removes the temporaries this
 // object created, and never any other file, so two processes writing the same name do not
 // disturb each other (the last rename wins, each file whole). A rename that fails in
