@@ -25,6 +25,18 @@ inline constexpr const char* kExitCodesHelp =
     "  4  an output file cannot be written (nothing partial is left behind)\n"
     "  5  internal error (please report it)\n";
 
+// `what` as one bounded line for stderr: control characters (a newline or NUL from a name
+// in the input) become '?', trailing newlines go, and over kMaxLine bytes it is cut.
+inline std::string printable_line(const std::string& what) {
+  constexpr std::size_t kMaxLine = 2000;
+  std::string line = what.substr(0, kMaxLine);
+  while (!line.empty() && (line.back() == '\n' || line.back() == '\r' || line.back() == ' ')) line.pop_back();
+  for (char& c : line)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  if (what.size() > kMaxLine) line += "...";
+  return line;
+}
+
 // A failure with its exit code; what() is the whole line to print.
 class Error : public std::runtime_error {
  public:

@@ -2,9 +2,13 @@
 // softpbr::golden's (golden/include/softpbr/golden/compare.h).
 #include "diff.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
@@ -28,7 +32,9 @@ CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
                 "A pixel differs when one of its channels differs by more than this (8-bit codes for PNG, "
                 "float values for .hdr and .exr)")
       ->capture_default_str();
-  c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")->capture_default_str();
+  c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")
+      ->check(CLI::NonNegativeNumber)  // "-1" would wrap to 2^64 - 1
+      ->capture_default_str();
   c->add_option("--out", a.out, "Write a heat map of the difference (.png): black where equal, red to white");
   c->add_flag("--side-by-side", a.side_by_side, "With --out: expected | actual | heat map");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing; the exit code says it");
@@ -43,6 +49,28 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+// Why `path` cannot be read as an image, or "": a folder, a device or a pipe is not an
+// image file, and a missing file is named as such (the image library says "no such file"
+// for anything but a regular file).
+std::string input_problem(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return path + ": " + (errno == ENOENT ? "no such file" : std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) return path + ": is a folder, not an image";
+  if (!S_ISREG(st.st_mode)) return path + ": not a regular file (a device, pipe or socket), not an image";
+  return {};
+}
+
+// A 16-bit PNG (IHDR bit depth 16): the 8-bit comparison would see only its high bytes.
+bool is_16_bit_png(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  unsigned char h[25] = {};
+  const bool read = std::fread(h, 1, sizeof h, f) == sizeof h;
+  std::fclose(f);
+  return read && h[1] == 'P' && h[2] == 'N' && h[3] == 'G' && h[12] == 'I' && h[13] == 'H' && h[14] == 'D' &&
+         h[15] == 'R' && h[24] == 16;
+}
+
 template <class Image>
 int compare_and_report(const DiffArgs& a, const Image& expected, const Image& actual) {
   const golden::Comparison c = golden::compare(expected, actual, a.max_diff);
@@ -51,7 +79,7 @@ int compare_and_report(const DiffArgs& a, const Image& expected, const Image& ac
     try {
       const raster::Image8 picture = a.side_by_side || !c.same_size() ? golden::side_by_side(expected, actual)
                                                                       : golden::diff_image(expected, actual);
-      image::write_png(a.out, picture);
+      image::write_file_atomic(a.out, image::encode_png(picture, a.out));
     } catch (const std::exception& e) {
       throw Error(kExitUsage, e.what());
     }
@@ -77,6 +105,18 @@ int run_diff(const DiffArgs& a) {
   if (!(a.max_diff >= 0) || !std::isfinite(a.max_diff))
     throw Error(kExitUsage, "--max-diff: expected a finite number >= 0, got " + std::to_string(a.max_diff));
   if (!a.out.empty() && lower_extension(a.out) != ".png") throw Error(kExitUsage, a.out + ": --out writes a .png");
+  for (const std::string* p : {&a.expected, &a.actual})
+    if (const std::string problem = input_problem(*p); !problem.empty()) throw Error(kExitUsage, problem);
+  if (!a.out.empty()) {
+    // The heat map is a new file or replaces a regular one, never an input.
+    if (const std::string problem = image::output_problem(a.out); !problem.empty())
+      throw Error(kExitUsage, a.out + ": " + problem);
+    struct stat out {}, in {};
+    if (::stat(a.out.c_str(), &out) == 0)
+      for (const std::string* p : {&a.expected, &a.actual})
+        if (::stat(p->c_str(), &in) == 0 && in.st_dev == out.st_dev && in.st_ino == out.st_ino)
+          throw Error(kExitUsage, a.out + ": cannot write: it is the input " + *p + " (--out never replaces an input)");
+  }
   const std::string ea = lower_extension(a.expected), eb = lower_extension(a.actual);
   const bool float_a = ea == ".hdr" || ea == ".exr", float_b = eb == ".hdr" || eb == ".exr";
   if (float_a != float_b)
@@ -86,6 +126,10 @@ int run_diff(const DiffArgs& a) {
     // user's own files, so only the side limit applies, not the default decoded-bytes bound.
     image::Limits limits;
     limits.max_decoded_bytes = std::numeric_limits<std::uint64_t>::max();
+    for (const std::string* p : {&a.expected, &a.actual})
+      if (!float_a && is_16_bit_png(*p))
+        throw Error(kExitUsage, *p + ": a 16-bit PNG: diff compares 8-bit PNGs (the low bytes would be ignored); "
+                                     "convert both to .exr or 8 bits first");
     if (!float_a) return compare_and_report(a, image::load_png(a.expected, limits), image::load_png(a.actual, limits));
     auto load = [&](const std::string& path, const std::string& ext) {
       return ext == ".exr" ? image::load_exr(path, limits) : image::load_hdr(path, limits);

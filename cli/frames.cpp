@@ -39,8 +39,10 @@ Shard parse_shard(const std::string& text) {
 }
 
 long shard_frame_count(const FrameRange& range, const Shard& shard) {
+  // frames <= kMaxFrame + 1 and 0 <= index < count: no sum here can overflow, whatever
+  // the count (--shard 0/9223372036854775807 is one frame, frame A).
   const long frames = range.last - range.first + 1;
-  return frames > shard.index ? (frames - shard.index + shard.count - 1) / shard.count : 0;
+  return frames > shard.index ? (frames - shard.index - 1) / shard.count + 1 : 0;
 }
 
 bool has_frame_pattern(const std::string& pattern) {

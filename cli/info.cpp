@@ -106,7 +106,7 @@ int info_obj(const std::string& path) {
   }
   if (model.texture_bytes > 0) std::printf("  textures   %s\n", pbr::format_bytes(model.texture_bytes).c_str());
   std::printf("  problems   %zu\n", problems.size());
-  for (const std::string& p : problems) std::printf("    %s\n", p.c_str());
+  for (const std::string& p : problems) std::printf("    %s\n", printable_line(p).c_str());
   return kExitOk;
 }
 
@@ -132,7 +132,7 @@ int info_scene(const std::string& path) {
               pbr::format_bytes(file.mesh_bytes).c_str(), pbr::format_bytes(file.texture_bytes).c_str(),
               pbr::format_bytes(image).c_str());
   std::printf("  problems   %zu\n", file.warnings.size());
-  for (const std::string& w : file.warnings) std::printf("    %s\n", w.c_str());
+  for (const std::string& w : file.warnings) std::printf("    %s\n", printable_line(w).c_str());
   return kExitOk;
 }
 

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -16,6 +17,11 @@
 #include "diff.h"
 #include "info.h"
 #include "render.h"
+
+namespace {
+// Every error is one bounded line (cli_error.h's printable_line).
+void print_error(const std::string& what) { std::fprintf(stderr, "%s\n", softpbr::cli::printable_line(what).c_str()); }
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace softpbr::cli;
@@ -31,8 +37,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);  // prints the help or the error
-    return rc == 0 ? kExitOk : kExitUsage;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    // CLI11's own output is two lines ("…\nRun with --help for more information."): one here.
+    print_error(std::string("softpbr: ") + e.what() + " (see --help)");
+    return kExitUsage;
   }
   const bool diffing = diff_cmd->parsed();
   try {
@@ -40,13 +48,13 @@ int main(int argc, char** argv) {
     if (info_cmd->parsed()) return run_info(info);
     return run_diff(diff);
   } catch (const Error& e) {
-    std::fprintf(stderr, "%s\n", e.what());
+    print_error(e.what());
     return diffing && e.code() != kExitDifferent ? kExitUsage : e.code();
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "softpbr: out of memory\n");
     return diffing ? kExitUsage : kExitInput;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "softpbr: internal error: %s\n", e.what());
+    print_error(std::string("softpbr: internal error: ") + e.what());
     return diffing ? kExitUsage : kExitInternal;
   }
 }

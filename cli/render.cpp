@@ -1,6 +1,7 @@
 // `softpbr render` (see render.h).
 #include "render.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <new>
+#include <optional>
 #include <set>
 #include <system_error>
 
@@ -64,6 +66,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");
   a.max_memory_mib = static_cast<double>(pbr::kDefaultMemoryLimit >> 20);
   c->add_option("--max-memory", a.max_memory_mib, "Refuse renders estimated to need more than this many MiB")->capture_default_str();
+  c->add_option("--root", a.roots,
+                 "Read the scene's models, MTL files and images only from inside this folder (repeat for several; "
+                 "symbolic links and .. resolved). Default: anywhere. Recommended for scenes from others")
+      ->allow_extra_args(false);
   c->footer(kExitCodesHelp);
   return c;
 }
@@ -81,7 +87,8 @@ bool is_gltf(const std::string& path) {
 pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
   pbr::GltfScene g;
   try {
-    g = pbr::load_gltf(a.scene, {.pool = &pool});
+    std::vector<fs::path> roots(a.roots.begin(), a.roots.end());
+    g = pbr::load_gltf(a.scene, {.pool = &pool, .roots = roots});
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
   }
@@ -98,7 +105,10 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
                                 std::to_string(a.camera));
   view.environment = !a.env_opt->count() || a.env != "none";
   try {
-    return pbr::gltf_scene_file(std::move(g), view, a.scene);
+    std::vector<std::string> files = g.files;
+    pbr::SceneFile f = pbr::gltf_scene_file(std::move(g), view, a.scene);
+    f.inputs = std::move(files);
+    return f;
   } catch (const std::invalid_argument& e) {
     throw Error(kExitUsage, std::string("--") + e.what());
   }
@@ -116,6 +126,7 @@ void apply_environment(const RenderArgs& a, pbr::SceneFile& f, raster::ThreadPoo
       if (a.env == "studio") {
         s.environment.map = pbr::Environment::studio();
       } else {
+        f.inputs.push_back(a.env);  // never an output (like the scene file, --root does not confine it)
         image::Limits limits;
         try {
           s.environment.map = pbr::load_environment(a.env, {}, &pool, a.env_cache, limits);
@@ -169,44 +180,66 @@ Format output_format(const std::string& path) {
   throw Error(kExitUsage, path + ": unknown output format \"" + ext + "\" (expected .png, .hdr or .exr)");
 }
 
-// Fails early, before any rendering, when an output cannot be created.
+// Fails early, before any rendering, when an output cannot be created
+// (image::output_problem: a new name or a regular file, within NAME_MAX).
 void check_writable(const std::string& path) {
-  const fs::path p(path);
-  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw Error(kExitOutput, path + ": cannot write: the folder " + dir.string() + " does not exist");
-  if (::access(dir.c_str(), W_OK | X_OK) != 0)
-    throw Error(kExitOutput, path + ": cannot write: no permission to create files in " + dir.string());
-  if (fs::is_directory(p, ec)) throw Error(kExitOutput, path + ": cannot write: it is a folder");
+  if (const std::string problem = image::output_problem(path); !problem.empty()) throw Error(kExitOutput, path + ": " + problem);
+}
+
+// The identity of an existing file (device and inode), to tell an output that is an input
+// under another name (a hard link, "./a.png") from a new file.
+struct FileId {
+  dev_t dev = 0;
+  ino_t ino = 0;
+  auto operator<=>(const FileId&) const = default;
+};
+std::optional<FileId> file_id(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  return FileId{st.st_dev, st.st_ino};
+}
+
+// An input of the command is never an output: refused before it could be replaced.
+void check_not_input(const std::string& output, const std::map<FileId, std::string>& inputs) {
+  if (const auto id = file_id(output))
+    if (const auto it = inputs.find(*id); it != inputs.end())
+      throw Error(kExitOutput, output + ": cannot write: it is " + (it->second == output ? "an input" : "the input " + it->second) +
+                                   " of this command (an output never replaces an input)");
+}
+
+template <class T>
+std::string show_value(T v) {
+  if constexpr (std::is_floating_point_v<T>) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", static_cast<double>(v));
+    return buf;
+  } else {
+    return std::to_string(v);
+  }
 }
 
 template <class T>
 T in_range(const char* name, T value, T lo, T hi) {
-  if (value < lo || value > hi)
-    throw Error(kExitUsage, std::string(name) + ": expected a value in [" + std::to_string(lo) + ", " +
-                                std::to_string(hi) + "], got " + std::to_string(value));
+  if (!(value >= lo && value <= hi))  // NaN too
+    throw Error(kExitUsage, std::string(name) + ": expected a value in [" + show_value(lo) + ", " + show_value(hi) +
+                                "], got " + show_value(value));
   return value;
 }
+
+// The target's colour as float RGBA samples for the image encoders (no copy).
+image::ImageViewF colour_view(const raster::Target& target) {
+  static_assert(sizeof(glm::vec4) == 4 * sizeof(float));
+  const std::span<const glm::vec4> colors = target.colors();
+  return {target.width(), target.height(),
+          std::span<const float>(reinterpret_cast<const float*>(colors.data()), colors.size() * 4)};
+}
+
+// 2^stops, as pbr::write_hdr and write_exr apply it (dmath: the same bits everywhere).
+float exposure_scale(float stops) { return static_cast<float>(softpbr::dmath::exp2(stops)); }
 
 std::uint64_t physical_memory() {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : 0;
-}
-
-// Temporary files an interrupted run left beside its outputs (".NAME.tmpNNN", see
-// image::write_file_atomic), by the output path they were meant to become.
-std::multimap<fs::path, fs::path> stale_temporaries(const std::set<fs::path>& folders) {
-  std::multimap<fs::path, fs::path> out;
-  for (const fs::path& dir : folders) {
-    std::error_code ec;
-    for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, ec), end; !ec && it != end; it.increment(ec)) {
-      const std::string name = it->path().filename().string();
-      const auto tmp = name.rfind(".tmp");
-      if (name.size() > 1 && name[0] == '.' && tmp != std::string::npos && tmp > 1)
-        out.emplace(dir / name.substr(1, tmp - 1), it->path());
-    }
-  }
-  return out;
 }
 
 class Progress {
@@ -234,12 +267,34 @@ class Progress {
 }  // namespace
 
 int run_render(const RenderArgs& a) {
-  // 1. The command line alone: formats, frame list, output folders.
+  // 1. The command line alone, before any work: values, formats, frame list, outputs.
+  if (a.width_opt->count()) in_range("--width", a.width, 1, raster::kMaxTargetSize);
+  if (a.height_opt->count()) in_range("--height", a.height, 1, raster::kMaxTargetSize);
+  if (a.threads_opt->count()) in_range("--threads", a.threads, 0, 1024);
+  if (a.tile_opt->count()) {
+    in_range("--tile-size", a.tile_size, raster::kMinTileSize, raster::kMaxTileSize);
+    if (!raster::valid_tile_size(a.tile_size)) throw Error(kExitUsage, "--tile-size: expected an even size, got " + std::to_string(a.tile_size));
+  }
+  std::optional<pbr::ToneMap> tone_map;
+  if (a.tonemap_opt->count()) {
+    tone_map = pbr::tone_map_from_name(a.tonemap);
+    if (!tone_map) throw Error(kExitUsage, "--tonemap: expected one of none, reinhard, aces, neutral, got \"" + a.tonemap + "\"");
+  }
+  if (a.exposure_opt->count()) in_range("--exposure", a.exposure, -64.0f, 64.0f);
+  if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
+    throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
+  if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
+    throw Error(kExitUsage, "--max-memory: expected a number of MiB in (0, 1e9], got " + show_value(a.max_memory_mib));
+  const auto memory_limit = static_cast<std::uint64_t>(a.max_memory_mib * 1048576.0);
+  for (const std::string& r : a.roots) {
+    std::error_code ec;
+    if (!fs::is_directory(r, ec)) throw Error(kExitUsage, "--root: " + r + " is not a folder");
+  }
   std::vector<Format> formats;
   std::set<std::string> distinct;
   for (const std::string& o : a.outputs) {
+    if (!has_frame_pattern(o)) check_writable(o);  // a device says so before its missing extension
     formats.push_back(output_format(o));
-    has_frame_pattern(o);  // throws for several runs of '#'
     if (!distinct.insert(o).second) throw Error(kExitUsage, o + ": given twice as an output");
   }
   const FrameRange range = a.frames_opt->count() ? parse_frames(a.frames) : FrameRange{0, 0};
@@ -248,48 +303,54 @@ int run_render(const RenderArgs& a) {
     for (const std::string& o : a.outputs)
       if (!has_frame_pattern(o))
         throw Error(kExitUsage, o + ": with several frames an output needs a run of '#' for the frame number (e.g. out_####.png)");
-  std::set<fs::path> folders;
+  // The same file under two names ("a.png", "./a.png") is one output given twice.
+  std::set<fs::path> resolved;
+  for (const std::string& o : a.outputs) {
+    std::error_code ec;
+    const fs::path p = fs::weakly_canonical(fs::absolute(frame_path(o, range.first)), ec);
+    if (!ec && !resolved.insert(p).second) throw Error(kExitUsage, o + ": given twice as an output (under another name)");
+  }
+  // Every output can be created: the first and the last frame's names (the longest).
   for (const std::string& o : a.outputs) {
     check_writable(frame_path(o, range.first));
-    folders.insert(fs::path(o).parent_path());
+    check_writable(frame_path(o, range.last));
   }
-  if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
-    throw Error(kExitUsage, "--max-memory: expected a number of MiB in (0, 1e9], got " + std::to_string(a.max_memory_mib));
-  const auto memory_limit = static_cast<std::uint64_t>(a.max_memory_mib * 1048576.0);
 
   // 2. The scene, with command-line overrides.
+  std::map<FileId, std::string> inputs;
+  if (const auto id = file_id(a.scene)) inputs.emplace(*id, a.scene);
+  for (const std::string& o : a.outputs) check_not_input(frame_path(o, range.first), inputs);
   pbr::SceneFile file;
   // A glTF model's images decode on a pool of the threads the render will use.
-  const unsigned load_threads = a.threads_opt->count() ? static_cast<unsigned>(in_range("--threads", a.threads, 0, 1024)) : 0;
+  const unsigned load_threads = a.threads_opt->count() ? static_cast<unsigned>(a.threads) : 0;
   {
     raster::ThreadPool pool(load_threads);
     if (is_gltf(a.scene)) {
       file = gltf_scene(a, pool);
     } else {
       try {
-        file = pbr::load_scene_file(a.scene, {.memory_limit = memory_limit, .pool = &pool, .environment_cache = a.env_cache});
+        file = pbr::load_scene_file(a.scene, {.memory_limit = memory_limit,
+                                                   .pool = &pool,
+                                                   .environment_cache = a.env_cache,
+                                                   .roots = std::vector<fs::path>(a.roots.begin(), a.roots.end())});
       } catch (const pbr::SceneFileError& e) {
         throw Error(kExitInput, e.what());
       }
     }
     apply_environment(a, file, pool);
   }
+  for (const std::string& f : file.inputs)
+    if (const auto id = file_id(f)) inputs.emplace(*id, f);
+  for (const std::string& o : a.outputs) check_not_input(frame_path(o, range.first), inputs);
   if (!a.quiet)
-    for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", w.c_str());
+    for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", printable_line(w).c_str());
   pbr::RenderSettings s = file.render;
-  if (a.width_opt->count()) s.width = in_range("--width", a.width, 1, raster::kMaxTargetSize);
-  if (a.height_opt->count()) s.height = in_range("--height", a.height, 1, raster::kMaxTargetSize);
-  if (a.threads_opt->count()) s.threads = static_cast<unsigned>(in_range("--threads", a.threads, 0, 1024));
-  if (a.tile_opt->count()) {
-    s.tile_size = in_range("--tile-size", a.tile_size, raster::kMinTileSize, raster::kMaxTileSize);
-    if (!raster::valid_tile_size(s.tile_size)) throw Error(kExitUsage, "--tile-size: expected an even size, got " + std::to_string(s.tile_size));
-  }
-  if (a.tonemap_opt->count()) {
-    const auto op = pbr::tone_map_from_name(a.tonemap);
-    if (!op) throw Error(kExitUsage, "--tonemap: expected one of none, reinhard, aces, neutral, got \"" + a.tonemap + "\"");
-    s.output.tone_map = *op;
-  }
-  if (a.exposure_opt->count()) s.output.exposure = in_range("--exposure", a.exposure, -64.0f, 64.0f);
+  if (a.width_opt->count()) s.width = a.width;
+  if (a.height_opt->count()) s.height = a.height;
+  if (a.threads_opt->count()) s.threads = static_cast<unsigned>(a.threads);
+  if (a.tile_opt->count()) s.tile_size = a.tile_size;
+  if (tone_map) s.output.tone_map = *tone_map;
+  if (a.exposure_opt->count()) s.output.exposure = a.exposure;
 
   // 3. Memory, before the target is allocated.
   const std::uint64_t physical = physical_memory();
@@ -307,7 +368,9 @@ int run_render(const RenderArgs& a) {
 
   // 4. The frames of this shard.
   const long frame_count = shard_frame_count(range, shard);
-  auto stale = stale_temporaries(folders);
+  if (frame_count == 0 && !a.quiet)
+    std::printf("shard %ld/%ld: no frame of %ld..%ld is this shard's (nothing to render)\n", shard.index, shard.count,
+                range.first, range.last);
   raster::Renderer renderer(raster::RendererOptions{s.threads, s.tile_size});
   if (renderer.threads() < renderer.requested_threads() && !a.quiet)
     std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
@@ -322,7 +385,7 @@ int run_render(const RenderArgs& a) {
     for (const std::string& o : a.outputs) {
       paths.push_back(frame_path(o, frame));
       std::error_code ec;
-      all_exist = all_exist && fs::is_regular_file(paths.back(), ec);
+      all_exist = all_exist && fs::is_regular_file(fs::symlink_status(paths.back(), ec));
     }
     if (all_exist && !a.force && a.frames_opt->count()) {  // a single render always overwrites
       ++skipped;
@@ -330,24 +393,40 @@ int run_render(const RenderArgs& a) {
       progress.update(++done, frame);
       continue;
     }
+    for (const std::string& p : paths) check_not_input(p, inputs);
     pbr::render(pbr::animate(file, frame), renderer, target);
     const std::uint64_t hash = raster::hash_colors(target);
-    for (std::size_t i = 0; i < paths.size(); ++i) {
-      for (auto [it, end] = stale.equal_range(fs::path(paths[i])); it != end; ++it) {
-        std::error_code ignored;
-        fs::remove(it->second, ignored);
+    // Not silent: a colour beyond float (emissive or lights near 1e30 summed, or scaled by
+    // --exposure) is stored as 0 by .hdr and .exr while the PNG shows it white.
+    if (!a.quiet) {
+      const float scale = exposure_scale(s.output.exposure);
+      std::size_t non_finite = 0;
+      for (const glm::vec4& c : target.colors()) {
+        const glm::vec3 v = glm::vec3(c) * scale;
+        non_finite += !(std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b));
       }
-      try {
-        if (formats[i] == Format::Png) image::write_png(paths[i], pbr::tone_map_to_rgba8(target, s.output));
-        else if (formats[i] == Format::Hdr) pbr::write_hdr(paths[i], target, s.output.exposure);
-        else pbr::write_exr(paths[i], target, s.output.exposure);
-      } catch (const std::bad_alloc&) {
-        throw;
-      } catch (const std::exception& e) {
-        throw Error(kExitOutput, e.what());
-      }
-      if (!a.quiet) std::printf("%s: %dx%d, hash %016llx\n", paths[i].c_str(), s.width, s.height, static_cast<unsigned long long>(hash));
+      if (non_finite > 0)
+        std::fprintf(stderr, "softpbr: warning: %s: %zu pixels are not finite (a radiance beyond float, exposure included); .hdr and .exr store them as 0\n",
+                     paths[0].c_str(), non_finite);
     }
+    // Every output of the frame is written to a temporary first, then all are renamed: on
+    // any failure none is replaced.
+    image::OutputFiles outputs;
+    try {
+      for (std::size_t i = 0; i < paths.size(); ++i) {
+        if (formats[i] == Format::Png) outputs.add(paths[i], image::encode_png(pbr::tone_map_to_rgba8(target, s.output), paths[i]));
+        else if (formats[i] == Format::Hdr) outputs.add(paths[i], image::encode_hdr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
+        else outputs.add(paths[i], image::encode_exr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
+      }
+      outputs.commit();
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw Error(kExitOutput, e.what());
+    }
+    if (!a.quiet)
+      for (const std::string& p : paths)
+        std::printf("%s: %dx%d, hash %016llx\n", p.c_str(), s.width, s.height, static_cast<unsigned long long>(hash));
     std::fflush(stdout);
     progress.update(++done, frame);
   }

@@ -19,6 +19,7 @@ struct RenderArgs {
   bool force = false;
   bool quiet = false;
   double max_memory_mib = 0;
+  std::vector<std::string> roots;  // --root: the folders a scene may read files from
   // A glTF model given instead of a scene file: the view.
   float yaw = 0.0f, pitch = 0.0f;  // degrees
   int camera = -1;                 // a camera of the file

@@ -82,7 +82,7 @@ TEST_CASE("golden images: unreadable files throw an error that starts with the p
                         {"float.hdr", false, "load_hdr"},
                         {"whole.png", true, "load_png"},
                         {"missing.hdr", true, "no such file"},
-                        {".", false, "no such file"}};
+                        {".", false, "is a folder, not an image"}};
   for (const Case& c : cases) {
     CAPTURE(c.file);
     const fs::path p = dir / c.file;

@@ -135,7 +135,9 @@ TEST_CASE("a non-indexed draw claiming 2^32 vertices is refused without reading 
 
 TEST_CASE("OBJ indices beyond 2^31 are a located error, not a huge allocation") {
   const auto path = scratch_dir() / "huge_index.obj";
-  for (const char* index : {"2147483648", "4294967296", "-2147483649", "99999999999999999999999"}) {
+  // −2^63 too: its negation overflows (UBSan found it where the range check negated it).
+  for (const char* index : {"2147483648", "4294967296", "-2147483649", "99999999999999999999999",
+                            "-9223372036854775808", "9223372036854775807"}) {
     CAPTURE(index);
     std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 " << index << "\n";
     try {
@@ -215,4 +217,63 @@ TEST_CASE("a thread pool the system refuses threads to runs with those it starte
   CHECK(WIFEXITED(status));  // not killed by the 30 s alarm (a hang) or a crash
   CHECK(WEXITSTATUS(status) == 0);
 #endif
+}
+
+TEST_CASE("an OBJ face of more than 4096 vertices is a located error, not minutes of ear clipping") {
+  const auto path = scratch_dir() / "huge_face.obj";
+  {
+    std::ofstream out(path);
+    for (int i = 0; i < 5000; ++i) out << "v " << i << " " << (i % 2) << " 0\n";
+    out << "f";
+    for (int i = 1; i <= 5000; ++i) out << " " << i;
+    out << "\n";
+  }
+  CHECK_THROWS_WITH(pbr::load_obj(path), (path.string() + ":5001: a face of 5000 vertices (the limit is 4096: polygons are "
+                                                           "triangulated by ear clipping, quadratic in their size)").c_str());
+}
+
+TEST_CASE("MTL values that are not finite numbers are located errors, not zeros read in silence") {
+  const auto dir = scratch_dir();
+  std::ofstream(dir / "hostile_mtl.obj") << "mtllib hostile.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n";
+  const auto mtl = dir / "hostile.mtl";
+  struct Case {
+    const char* line;
+    const char* error;
+  };
+  const Case cases[] = {
+      {"Kd 0.5 banana 0.5", ":2: Kd value 'banana' is not a number"},
+      {"Ns inf", ":2: Ns value 'inf' is not a finite number"},
+      {"Ke nan 0 0", ":2: Ke value 'nan' is not a finite number"},
+      {"Ke 1e40 0 0", ":2: Ke value '1e40' is beyond the float range"},
+      {"Pr 0.5x", ":2: Pr value '0.5x' is not a number"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.line);
+    std::ofstream(mtl) << "newmtl m\n" << c.line << "\n";
+    CHECK_THROWS_WITH(pbr::load_obj(dir / "hostile_mtl.obj"), (mtl.string() + c.error).c_str());
+  }
+  // Valid forms still load: one or three values, a comment, d -halo.
+  std::ofstream(mtl) << "newmtl m\nKd 0.5 # grey\nKs 1 1 1\nd -halo 0.5\nNs 10\nillum 2\n";
+  CHECK(pbr::load_obj(dir / "hostile_mtl.obj").materials.size() == 1);
+}
+
+TEST_CASE("an OBJ whose parse would pass the memory limit is refused after the counting pass, before tinyobjloader") {
+  const auto path = scratch_dir() / "bounded.obj";
+  {
+    std::ofstream out(path);
+    for (int i = 0; i < 1000; ++i) out << "v " << i << " " << (i % 3) << " 0\n";
+    for (int i = 1; i + 2 <= 1000; ++i) out << "f " << i << " " << i + 1 << " " << i + 2 << "\n";
+  }
+  pbr::ObjOptions options;
+  options.memory_limit = 100000;  // the estimate: the text, 12 bytes a position, 100 a corner (~310 KB)
+  try {
+    pbr::load_obj(path, options);
+    FAIL("no exception");
+  } catch (const pbr::LoadError& e) {
+    const std::string what = e.what();
+    CHECK(what.rfind(path.string() + ": parsing it needs an estimated ", 0) == 0);
+    CHECK(what.ends_with(", over the memory limit of 97.7 KiB"));
+  }
+  options.memory_limit = 1 << 20;
+  CHECK(pbr::load_obj(path, options).shapes.size() == 1);
 }

@@ -193,7 +193,7 @@ TEST_CASE("scene textures: each bad texture value or image is one line with the 
       {R"({"base_color_texture": {"image": "missing.png"}})",
        "t.json: /objects/0/material/base_color_texture/image: " + d + "missing.png: no such file"},
       {R"({"normal_texture": {"image": "folder.png"}})",
-       "t.json: /objects/0/material/normal_texture/image: " + d + "folder.png: no such file"},
+       "t.json: /objects/0/material/normal_texture/image: " + d + "folder.png: is a folder, not an image"},
       {R"({"emissive_texture": "wide.png"})",
        "t.json: /objects/0/material/emissive_texture: " + d + "wide.png: image size 100000x16 is outside 1x1 .. 16384x16384"},
       // stb_image's header scan refuses a PNG of more than 2^30 bytes of pixels, or of zero

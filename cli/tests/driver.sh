@@ -173,9 +173,132 @@ EOF
   expect_error 2 "--tonemap: expected one of none, reinhard, aces, neutral, got \"filmic\"" render bad.json -o keep.png --tonemap filmic
   "$softpbr" render bad.json -o keep.png --no-such-option >/dev/null 2>&1; [ $? -eq 2 ] && pass "unknown option: exit 2" || fail "unknown option: not exit 2"
   "$softpbr" render --help | grep -q "Exit codes:" && pass "--help lists the exit codes" || fail "render --help has no exit codes"
+  # Outputs (issue 18): only a regular file or a new name, never an input, never a device.
+  expect_error 4 "/dev/null: cannot write: it is a character device, not a regular file (an output is a regular file or a new name)" \
+    render bad.json -o /dev/null
+  [ -c /dev/null ] && pass "/dev/null is still a device" || fail "/dev/null was replaced"
+  mkfifo fifo.png
+  timeout 20 "$softpbr" render bad.json -o fifo.png >/dev/null 2>stderr.txt; rc=$?
+  [ $rc -eq 4 ] && [ -p fifo.png ] && [ "$(cat stderr.txt)" = "fifo.png: cannot write: it is a named pipe, not a regular file (an output is a regular file or a new name)" ] \
+    && pass "a FIFO output: exit 4 at once, still a FIFO" || fail "FIFO output: exit $rc, $(cat stderr.txt)"
+  if [ "$(id -u)" -eq 0 ]; then
+    mknod node.png c 1 3
+    expect_error 4 "node.png: cannot write: it is a character device, not a regular file (an output is a regular file or a new name)" render bad.json -o node.png
+    [ -c node.png ] && pass "a mknod node stays a device" || fail "node.png was replaced"
+  fi
+  ln -s keep.png link.png
+  expect_error 4 "link.png: cannot write: it is a symbolic link, not a regular file (an output is a regular file or a new name)" render bad.json -o link.png
+  cp bad.json scene.png
+  expect_error 4 "scene.png: cannot write: it is an input of this command (an output never replaces an input)" render scene.png -o scene.png
+  cmp -s bad.json scene.png && pass "the scene named as its own output is untouched" || fail "scene.png was overwritten"
+  ln bad.json hardlink.png
+  expect_error 4 "hardlink.png: cannot write: it is the input bad.json of this command (an output never replaces an input)" render bad.json -o hardlink.png
+  cp "$src/cli/tests/goldens/lights.png" tex-in.png
+  scene_with '"roughness": 0.5' '"roughness": 0.5, "base_color_texture": "tex-in.png"'
+  expect_error 4 "tex-in.png: cannot write: it is the input $PWD/tex-in.png of this command (an output never replaces an input)" render bad.json -o ok.png -o tex-in.png
+  cmp -s tex-in.png "$src/cli/tests/goldens/lights.png" && pass "a texture named as an output is untouched" || fail "tex-in.png was overwritten"
+  # A glTF model's external image is an input too.
+  cp "$src/cli/tests/goldens/lights.png" gltf-img.png
+  python3 - <<'PY'
+import json, struct, base64
+buf = struct.pack('<9f', 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack('<6f', 0, 0, 1, 0, 0, 1)
+g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+     "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+     "textures": [{"source": 0}], "images": [{"uri": "gltf-img.png"}],
+     "buffers": [{"uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode(), "byteLength": len(buf)}],
+     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                   {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]}
+open('tri.gltf', 'w').write(json.dumps(g))
+PY
+  expect_error 4 "gltf-img.png: cannot write: it is an input of this command (an output never replaces an input)" \
+    render tri.gltf -o gltf-img.png --width 32 --height 24
+  cmp -s gltf-img.png "$src/cli/tests/goldens/lights.png" && pass "a glTF's image named as an output is untouched" || fail "gltf-img.png was overwritten"
+  scene_with '' ''
+  expect_error 2 "./bad.png: given twice as an output (under another name)" render bad.json -o bad.png -o ./bad.png
+  # Files that merely look like temporaries are not ours: never removed.
+  touch .new.png.tmpl .new.png.tmp12345 .new.png.tmp-abcdefghij
+  "$softpbr" render bad.json -o new.png -q && [ -e .new.png.tmpl ] && [ -e .new.png.tmp12345 ] && [ -e .new.png.tmp-abcdefghij ] \
+    && pass "look-alike temporaries survive a render" || fail "a look-alike temporary was removed"
+  rm -f .new.png.tmp* new.png
+  # Two processes rendering to one name: both succeed, the file is one whole image.
+  "$softpbr" render "$scenes/lights.json" -o race-ref.png --width 160 --height 100 -q
+  for i in 1 2 3 4; do "$softpbr" render "$scenes/lights.json" -o race.png --width 160 --height 100 -q & done
+  racefail=0; for i in 1 2 3 4; do wait -n || racefail=1; done
+  [ $racefail -eq 0 ] && cmp -s race.png race-ref.png && [ -z "$(ls -A | grep '^\.race')" ] \
+    && pass "four renders to one name: all exit 0, a whole image, no temporary left" || fail "concurrent renders to race.png broke"
+  # Several outputs are all-or-nothing: the .exr cannot be written whole, the PNG stays.
+  printf 'KEEP' >keep2.png; printf 'KEEP' >keep2.exr
+  (trap '' XFSZ; ulimit -f 16; "$softpbr" render "$scenes/lights.json" -o keep2.png -o keep2.exr --width 160 --height 100 >/dev/null 2>stderr.txt)
+  rc=$?
+  [ $rc -eq 4 ] && [ "$(cat stderr.txt)" = "keep2.exr: write failed (disk full?)" ] && [ "$(cat keep2.png)" = KEEP ] && [ "$(cat keep2.exr)" = KEEP ] \
+    && pass "-o a.png -o b.exr with the .exr failing: exit 4, neither replaced" || fail "all-or-nothing: exit $rc, $(cat stderr.txt), keep2.png $(head -c 4 keep2.png)"
+  rm -f keep2.png keep2.exr
+  # NAME_MAX: a 255-byte name is written (its temporary fits); 256 bytes fail before rendering.
+  long=$(printf 'n%.0s' $(seq 1 251)).png
+  "$softpbr" render bad.json -o "$long" -q && [ -s "$long" ] && pass "a 255-byte output name is written" || fail "a 255-byte output name failed"
+  rm -f "$long"
+  expect_error 4 "n$long: cannot write: the file name is 256 bytes, over the limit of 255 of its folder" render bad.json -o "n$long"
+  expect_error 4 "no/such/x.png: cannot write: the folder no/such does not exist" render bad.json -o no/such/x.png
+  # Values are checked before any work: --exposure nan is a usage error even for a missing scene.
+  expect_error 2 "--exposure: expected a value in [-64, 64], got nan" render missing.json -o keep.png --exposure nan
+  expect_error 2 "--exposure: expected a value in [-64, 64], got inf" render bad.json -o keep.png --exposure inf
+  expect_error 2 "--max-memory: expected a number of MiB in (0, 1e9], got nan" render bad.json -o keep.png --max-memory nan
+  # One line from CLI11 too.
+  "$softpbr" render bad.json -o keep.png --no-such-option >/dev/null 2>stderr.txt
+  [ "$(wc -l <stderr.txt)" -eq 1 ] && grep -q "^softpbr: .*no-such-option.* (see --help)$" stderr.txt && pass "CLI11's error: one line" || fail "CLI11 error: $(cat stderr.txt)"
+  # Huge keys, NUL bytes: one bounded line.
+  { printf '{"'; head -c 10000000 /dev/zero | tr '\0' k; printf '": 1, "objects": []}'; } >hugekey.json
+  "$softpbr" render hugekey.json -o keep.png 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && [ "$(wc -l <stderr.txt)" -eq 1 ] && [ "$(wc -c <stderr.txt)" -lt 1000 ] && pass "a 10 MB key: one short line" || fail "10 MB key: exit $rc, $(wc -c <stderr.txt) bytes"
+  printf '{"objects": []}\0garbage' >nul.json
+  expect_error 3 "nul.json: a NUL byte at byte 15 (a scene file is UTF-8 JSON text)" render nul.json -o keep.png
+  scene_with '{"type": "cube"}' '{"file": "a\u0000b.obj"}'
+  expect_error 3 'bad.json: /objects/0/mesh/file: expected a string without NUL characters (\u0000), got "a\u0000b.obj"' render bad.json -o keep.png
+  # Silently wrong images are errors (docs/hostile-input.md).
+  scene_with '"intensity": 5' '"intensity": 1e30, "color": [1e30, 1, 1]'
+  expect_error 3 "bad.json: /lights/0/intensity: intensity x color is 1e+60, over 1e+30 (the light's radiance would overflow float: an all-black .hdr/.exr)" render bad.json -o keep.png
+  scene_with '"position": [0, 0, 3]' '"position": [0, 0, 3], "near": 1e-8'
+  expect_error 3 "bad.json: /camera/near: far/near is 1e+10, over 10000000 (the depth buffer's float precision would be lost: raise near)" render bad.json -o keep.png
+  scene_with '"position": [0, 0, 3]' '"position": [0, 0, 3], "fov": 179.9999'
+  "$softpbr" render bad.json -o fov.png -q && pass "fov 179.9999 renders (docs: (0, 180))" || fail "fov 179.9999 refused"
+  printf 'newmtl m\nKd 0.5 banana 0.5\n' >banana.mtl
+  printf 'mtllib banana.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n' >banana.obj
+  scene_with '"type": "cube"' '"file": "banana.obj"'
+  expect_error 3 "bad.json: /objects/0/mesh/file: banana.mtl:2: Kd value 'banana' is not a number" render bad.json -o keep.png
+  # --root confines what a scene reads (symbolic links and .. resolved).
+  scene_with '"type": "cube"' '"file": "../../../../../../etc/passwd"'
+  expect_error 3 "bad.json: /objects/0/mesh/file: ../../../../../../etc/passwd: outside the folders the scene may read (.)" \
+    render bad.json -o keep.png --root .
+  "$softpbr" render bad.json -o echo.png 2>stderr.txt >/dev/null
+  grep -q "root:" stderr.txt && fail "a warning echoed /etc/passwd: $(cat stderr.txt)" || pass "/etc/passwd as a mesh: its contents are not echoed"
+  expect_error 2 "--root: nowhere is not a folder" render bad.json -o keep.png --root nowhere
+  # Devices as models; a syntax error quotes at most 40 bytes of the text it read.
+  scene_with '"type": "cube"' '"file": "/dev/zero"'
+  expect_error 3 "bad.json: /objects/0/mesh/file: /dev/zero: cannot open: not a regular file (a device, pipe or socket)" render bad.json -o keep.png
+  { printf '{"objects": [], "x": "'; head -c 100000 /dev/zero | tr '\0' a; } >longtok.json
+  expect_error 3 "longtok.json: invalid JSON: parse error at line 1, column 100023: syntax error while parsing value - invalid string: missing closing quote; last read: '\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa..." \
+    render longtok.json -o keep.png
+  expect_error 2 "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees" render missing.gltf -o keep.png --pitch nan
+  printf 'v 3e38 3e38 3e38\nv -3e38 -3e38 -3e38\nv 3e38 -3e38 0\nf 1 2 3\n' >far.obj
+  scene_with '{"type": "cube"}' '{"file": "far.obj", "fit": 2}'
+  expect_error 3 "bad.json: /objects/0/mesh/fit: the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted" render bad.json -o keep.png
+  # A colour beyond float after the exposure: a warning, not a silently black .hdr.
+  scene_with '"roughness": 0.5' '"roughness": 0.5, "emissive": [1e30, 1e30, 1e30]'
+  "$softpbr" render bad.json -o em.hdr --exposure 64 >/dev/null 2>stderr.txt
+  grep -qx "softpbr: warning: em.hdr: [0-9]* pixels are not finite (a radiance beyond float, exposure included); .hdr and .exr store them as 0" stderr.txt \
+    && pass "radiance beyond float: a warning naming the output" || fail "no warning for an overflowing exposure: $(cat stderr.txt)"
+  # An OBJ is refused before parsing when its estimated parse memory passes --max-memory.
+  awk 'BEGIN { for (i = 0; i < 20000; i++) print "v", i, i % 3, 0; for (i = 1; i + 2 <= 20000; i++) print "f", i, i + 1, i + 2 }' >big.obj
+  scene_with '"type": "cube"' '"file": "big.obj"'
+  "$softpbr" render bad.json -o keep.png --max-memory 4 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && grep -q "^bad.json: /objects/0/mesh/file: big.obj: parsing it needs an estimated 6.5 MiB, over the memory limit of 4.0 MiB$" stderr.txt \
+    && pass "a big OBJ over --max-memory: refused before parsing" || fail "big OBJ: exit $rc, $(cat stderr.txt)"
+  scene_with '' ''
   # No failure created or truncated an output.
   [ "$(cat keep.png)" = KEEP ] && pass "keep.png untouched by every failure" || fail "a failed render changed keep.png"
-  for f in out.png out.jpg models/*.png .keep.png.tmp* ; do [ -e "$f" ] && fail "a failed render left $f"; done
+  for f in out.png out.jpg models/*.png .keep.png.tmp* .n*.tmp-* ; do [ -e "$f" ] && fail "a failed render left $f"; done
   ;;
 
 frames)
@@ -201,11 +324,18 @@ frames)
   for i in $(seq 0 12); do "$softpbr" "${args[@]}" -o many/f_####.png --shard "$i/13" | grep hash >>rendered.txt; done
   [ "$(sort -u rendered.txt | wc -l)" -eq 10 ] && [ "$(wc -l <rendered.txt)" -eq 10 ] && [ "$(ls many | wc -l)" -eq 10 ] \
     && pass "13 shards over 10 frames: each frame once" || fail "13 shards: $(wc -l <rendered.txt) renders"
-  # A temporary file a killed run left for a frame is removed when that frame is rendered.
+  # A file that looks like a temporary is not this process's: it is never removed (a killed
+  # run leaves none for new frames: unnamed O_TMPFILE files linked straight to their names).
   touch shards/.f_0013.png.tmp12345
   "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..13 -q -o shards/f_####.png
-  [ -e shards/.f_0013.png.tmp12345 ] && fail "a stale temporary file survived" || pass "stale temporary file removed"
-  rm -f shards/f_0013.png
+  [ -e shards/.f_0013.png.tmp12345 ] && pass "a look-alike temporary survives" || fail "a file that looked like a temporary was removed"
+  rm -f shards/f_0013.png shards/.f_0013.png.tmp12345
+  # Shard arithmetic at the extremes (UBSan found a signed overflow): N = 2^63 - 1.
+  mkdir huge
+  "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..12 -o huge/f_####.png --shard 0/9223372036854775807 >out.txt \
+    && [ "$(ls huge)" = f_0003.png ] && pass "--shard 0/(2^63-1): frame 3 only" || fail "--shard 0/2^63-1: $(ls huge) $(cat out.txt)"
+  "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..12 -o huge/f_####.png --shard 9223372036854775806/9223372036854775807 >out.txt \
+    && grep -q "no frame of 3..12 is this shard's" out.txt && pass "an empty shard says so" || fail "empty shard: $(cat out.txt)"
   # Progress goes to stderr only when it is a terminal (script(1) gives the command one).
   mkdir tty
   "$softpbr" render "$scenes/turntable.json" --width 48 --height 36 --frames 3..5 -o tty/f_####.png >/dev/null 2>progress.txt \
@@ -281,6 +411,32 @@ diff)
   check 2 a.png a.hdr
   check 2 a.png b.png --max-diff -1
   check 2 a.png b.png --out nowhere/d.png
+  grep -qx "nowhere/d.png: cannot write: the folder nowhere does not exist" err.txt || fail "--out nowhere/d.png: $(cat err.txt)"
+  # --out never replaces an input; a folder or a device is not an image.
+  cp a.png a-copy.png
+  check 2 a-copy.png b.png --out a-copy.png
+  grep -qx "a-copy.png: cannot write: it is the input a-copy.png (--out never replaces an input)" err.txt && cmp -s a.png a-copy.png || fail "--out over an input: $(cat err.txt)"
+  mkdir somefolder
+  check 2 a.png somefolder
+  grep -qx "somefolder: is a folder, not an image" err.txt || fail "diff of a folder: $(cat err.txt)"
+  check 2 a.png /dev/urandom
+  grep -qx "/dev/urandom: not a regular file (a device, pipe or socket), not an image" err.txt || fail "diff of /dev/urandom: $(cat err.txt)"
+  check 2 a.png b.png --out /dev/null
+  check 2 a.png b.png --max-pixels -1
+  [ "$(wc -l <err.txt)" -eq 1 ] || fail "--max-pixels -1: not one line: $(cat err.txt)"
+  # 16-bit PNGs differing only in their low bytes: an error, not "identical".
+  python3 - <<'PY'
+import struct, zlib
+def png16(path, low):
+    raw = b''.join(b'\x00' + struct.pack('>HHH', 0x1200 | low, 0x3400, 0x5600) * 2 for _ in range(2))
+    def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d) & 0xffffffff)
+    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', 2, 2, 16, 2, 0, 0, 0)) +
+                           chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
+png16('p16a.png', 0x01); png16('p16b.png', 0x02)
+PY
+  check 2 p16a.png p16b.png
+  grep -qx "p16a.png: a 16-bit PNG: diff compares 8-bit PNGs (the low bytes would be ignored); convert both to .exr or 8 bits first" err.txt \
+    || fail "16-bit PNG diff: $(cat err.txt)"
   check 1 a.png b.png --out heat.png
   "$softpbr" diff heat.png heat.png -q && [ "$(od -An -tu1 -j16 -N4 heat.png | awk '{print $1 * 16777216 + $2 * 65536 + $3 * 256 + $4}')" -eq 160 ] \
     && pass "--out wrote a 160-wide heat map" || fail "--out heat map missing or wrong size"

@@ -91,7 +91,10 @@ int stb_size(std::span<const std::uint8_t> bytes, std::string_view name) {
 std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits) {
   const std::string name = path.string();
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) fail(name, "no such file");
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(st)) fail(name, "no such file");
+  if (std::filesystem::is_directory(st)) fail(name, "is a folder, not an image");
+  if (!std::filesystem::is_regular_file(st)) fail(name, "not a regular file (a device, pipe or socket), not an image");
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   if (ec) fail(name, "cannot read its size: " + ec.message());
   if (size > limits.max_file_bytes)

@@ -53,7 +53,7 @@ void validate(const Camera& c) {
   const glm::dvec3 d(dir), u(c.up), side = glm::cross(d, u);
   require(glm::dot(side, side) > 1e-12 * glm::dot(d, d) * glm::dot(u, u), "up",
           "must not be zero or parallel to the view direction");
-  require(c.fovy > 0.0f && c.fovy < 3.14159f, "fovy", "must be in (0, pi) radians");
+  require(c.fovy > 0.0f && static_cast<double>(c.fovy) < dmath::kPi, "fovy", "must be in (0, pi) radians");
   require(c.near > 0.0f && std::isfinite(c.near), "near", "must be > 0");
   require(c.far > c.near && std::isfinite(c.far), "far", "must be finite and > near");
 }

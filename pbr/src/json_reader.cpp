@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <unordered_set>
 
 namespace softpbr::pbr::json_reader {
 
@@ -35,6 +36,12 @@ std::string show(const Json& value) {
 std::string show_number(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.10g", x);
+  return buf;
+}
+
+std::string show_rounded(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
   return buf;
 }
 
@@ -86,8 +93,12 @@ namespace {
 class DuplicateFinder : public nlohmann::json_sax<Json> {
  public:
   std::optional<Problem> found;
+  std::size_t values() const { return values_; }
+  std::size_t containers() const { return containers_; }
 
   bool null() override { return value(); }
+  // Every value and container counts against kMaxValues / kMaxContainers: they bound the
+  // DOM built next (nlohmann's values take 16 bytes, a container's node more).
   bool boolean(bool) override { return value(); }
   bool number_integer(number_integer_t) override { return value(); }
   bool number_unsigned(number_unsigned_t) override { return value(); }
@@ -101,11 +112,10 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
   bool key(string_t& k) override {
     Frame& top = stack_.back();
     top.key = k;
-    if (std::find(top.keys.begin(), top.keys.end(), k) != top.keys.end()) {
+    if (!top.keys.insert(k).second) {  // a hash set: linear in the number of keys
       found = Problem{pointer(), "duplicate key " + show(Json(k)) + " (each key may appear once per object)"};
       return false;  // stop parsing
     }
-    top.keys.push_back(k);
     return true;
   }
   bool end_object() override { return pop(); }
@@ -129,15 +139,24 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
  private:
   struct Frame {
     bool object;
-    std::vector<std::string> keys;  // objects in scene files have a handful of keys
+    std::unordered_set<std::string> keys;
     std::string key;
     long index;
   };
   bool value() {
     if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
+    if (++values_ > kMaxValues) {
+      found = Problem{pointer(), "more than " + std::to_string(kMaxValues) + " values in the file (the limit that bounds its memory)"};
+      return false;
+    }
     return true;
   }
   bool push(bool object) {
+    if (++containers_ > kMaxContainers) {
+      found = Problem{pointer(), "more than " + std::to_string(kMaxContainers) +
+                                     " objects and arrays in the file (the limit that bounds its memory)"};
+      return false;
+    }
     if (stack_.size() >= kMaxDepth) {
       found = Problem{pointer(), "nested deeper than " + std::to_string(kMaxDepth) + " levels"};
       return false;
@@ -158,17 +177,35 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
     return p;
   }
   std::vector<Frame> stack_;
+  std::size_t values_ = 0, containers_ = 0;
 };
 }  // namespace
 
-std::optional<Problem> find_structure_problem(std::string_view text) {
+std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts) {
   DuplicateFinder finder;
   Json::sax_parse(text.begin(), text.end(), &finder, nlohmann::detail::input_format_t::json, true, true);
+  if (counts) *counts = {finder.values(), finder.containers()};
   return finder.found;
 }
 
+std::string shown_pointer(std::string_view pointer) {
+  // Each reference token at most kShown bytes: a 10 MB key is not a 10 MB line.
+  constexpr std::size_t kShown = 40;
+  std::string out;
+  for (std::size_t at = 0; at < pointer.size();) {
+    const std::size_t end = std::min(pointer.find('/', at + 1), pointer.size());
+    const std::string_view token = pointer.substr(at, end - at);  // "/key"
+    out.append(token.substr(0, kShown + 1));
+    if (token.size() > kShown + 1) out.append("...");
+    at = end;
+  }
+  return out;
+}
+
 void Reader::fail(const std::string& pointer, const std::string& what) const {
-  std::string line = file_ + ": " + (pointer.empty() ? std::string("(top level)") : pointer) + ": " + what;
+  constexpr std::size_t kMaxWhat = 600;  // the longest "expected one of" list is half that
+  std::string line = file_ + ": " + (pointer.empty() ? std::string("(top level)") : shown_pointer(pointer)) + ": " +
+                     (what.size() > kMaxWhat ? what.substr(0, kMaxWhat) + "..." : what);
   // Keys are the file's text: keep the message one line whatever they hold.
   for (char& c : line)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
@@ -180,10 +217,11 @@ void Reader::object(const Node& node, std::initializer_list<std::string_view> al
   if (!node.value.is_object()) fail(node, std::string("expected an object, got ") + show(node.value));
   for (const auto& [key, value] : node.value.items()) {
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-    std::string what = "unknown key \"" + key + "\"";
+    std::string what = "unknown key \"" + key.substr(0, 40) + (key.size() > 40 ? "...\"" : "\"");
     std::string_view best;
     std::size_t best_distance = 3;  // suggest only close misspellings
     for (const std::string_view a : allowed) {
+      if (key.size() > a.size() + best_distance) continue;  // too far; and keeps a huge key linear
       const std::size_t d = edit_distance(key, a);
       if (d < best_distance) best_distance = d, best = a;
     }
@@ -253,7 +291,9 @@ long long Reader::integer(const Node& node, long long lo, long long hi) const {
 
 std::string Reader::string(const Node& node) const {
   if (!node.value.is_string()) fail(node, std::string("expected a string, got ") + show(node.value));
-  return node.value.get<std::string>();
+  const std::string& s = node.value.get_ref<const std::string&>();
+  if (s.find('\0') != std::string::npos) fail(node, "expected a string without NUL characters (\\u0000), got " + show(node.value));
+  return s;
 }
 
 bool Reader::boolean(const Node& node) const {

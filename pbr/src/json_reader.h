@@ -80,17 +80,29 @@ class Reader {
 // {pointer, message} of the first, or nothing (also when the text is not valid JSON: the
 // DOM parser reports that).
 inline constexpr std::size_t kMaxDepth = 32;  // scene files nest 6 deep (a matrix row)
+// Values and containers in one file: 100000 objects of a few dozen values each fit; the
+// DOM of the largest file allowed stays under about 700 MB.
+inline constexpr std::size_t kMaxValues = std::size_t{1} << 23;
+inline constexpr std::size_t kMaxContainers = std::size_t{1} << 21;
 struct Problem {
   std::string pointer;
   std::string message;
 };
-std::optional<Problem> find_structure_problem(std::string_view text);
+// `counts`, when given, receives the number of values and of objects and arrays seen.
+struct Counts {
+  std::size_t values = 0, containers = 0;
+};
+std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts = nullptr);
 
 // JSON text of a value for "got …", shortened to about 40 characters.
 std::string show(const Json& value);
 // A number as written in ranges: 1 → "1", 0.5 → "0.5", 1e30 → "1e+30".
 std::string show_number(double x);
+// A computed number, to 3 significant digits: 1.00000003e+60 → "1e+60".
+std::string show_rounded(double x);
 // Pointer escaping of one reference token (~ → ~0, / → ~1).
 std::string escape_token(std::string_view key);
+// A pointer for messages: each reference token cut to 40 bytes.
+std::string shown_pointer(std::string_view pointer);
 
 }  // namespace softpbr::pbr::json_reader

@@ -122,7 +122,7 @@ class Mapper {
     return at(k, [&] { return t_.cache.load(path(k), space, t_.left()); });
   }
   TextureImage read(MtlMap k) const {
-    return at(k, [&] { return read_texture_image(path(k), t_.left()); });
+    return at(k, [&] { return t_.cache.read(path(k), t_.left()); });
   }
   // An 8-bit image for a channel of a combined texture.
   image::Image8 read8(MtlMap k) const {

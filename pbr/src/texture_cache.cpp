@@ -62,11 +62,45 @@ std::string TextureCache::key(const fs::path& path, std::string_view how) {
   return key;
 }
 
+std::string outside_roots(const fs::path& path, const std::vector<fs::path>& roots) {
+  if (roots.empty()) return {};
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  if (!ec)
+    for (const fs::path& root : roots) {
+      std::error_code rc;
+      const fs::path r = fs::weakly_canonical(fs::absolute(root, rc), rc);
+      if (rc) continue;
+      const auto [end, unused] = std::mismatch(r.begin(), r.end(), resolved.begin(), resolved.end());
+      if (end == r.end() || (std::next(end) == r.end() && end->empty())) return {};  // a trailing "/" is an empty element
+    }
+  std::string list;
+  for (const fs::path& root : roots) list += (list.empty() ? "" : ", ") + root.string();
+  return "outside the folders the scene may read (" + list + ")";
+}
+
+TextureImage TextureCache::read(const fs::path& path, std::uint64_t max_bytes) const {
+  if (const std::string problem = outside_roots(path, roots_); !problem.empty())
+    throw std::runtime_error(path.string() + ": " + problem);
+  return read_texture_image(path, max_bytes);
+}
+
+std::vector<std::string> TextureCache::files() const {
+  std::vector<std::string> out;
+  for (const auto& [key, texture] : textures_)  // NUL-separated paths and tags
+    for (std::size_t at = 0; at < key.size();) {
+      const std::size_t end = std::min(key.find('\0', at), key.size());
+      if (key[at] == '/') out.push_back(key.substr(at, end - at));
+      at = end + 1;
+    }
+  return out;
+}
+
 std::shared_ptr<const raster::Texture> TextureCache::load(const fs::path& path, raster::ColorSpace space,
                                                           std::uint64_t max_bytes) {
   const bool is_float = is_float_image_path(path);
   const char* how = is_float ? "float" : space == raster::ColorSpace::Srgb ? "srgb" : "linear";
-  return get(key(path, how), [&] { return make_texture(read_texture_image(path, max_bytes), space, path.string()); });
+  return get(key(path, how), [&] { return make_texture(read(path, max_bytes), space, path.string()); });
 }
 
 }  // namespace softpbr::pbr::detail

@@ -13,6 +13,7 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "softpbr/image/image.h"
 #include "softpbr/raster/texture.h"
@@ -47,8 +48,18 @@ TextureImage read_texture_image(const std::filesystem::path& path, std::uint64_t
 std::shared_ptr<const raster::Texture> make_texture(const TextureImage& image, raster::ColorSpace space,
                                                     const std::string& name);
 
+// "" when `roots` is empty or `path`, with symbolic links and ".." resolved, lies inside
+// one of them (each root itself resolved); else the problem, "outside the folders …".
+std::string outside_roots(const std::filesystem::path& path, const std::vector<std::filesystem::path>& roots);
+
 class TextureCache {
  public:
+  // The folders images may be read from (see outside_roots); empty: anywhere.
+  void set_roots(std::vector<std::filesystem::path> roots) { roots_ = std::move(roots); }
+  const std::vector<std::filesystem::path>& roots() const { return roots_; }
+  // read_texture_image, after checking `path` against the roots (std::runtime_error).
+  TextureImage read(const std::filesystem::path& path, std::uint64_t max_bytes) const;
+
   // A key naming an image file — its canonical path when it exists — and how it is read:
   // "srgb", "linear", "float", or the tag of a texture combined from several files.
   static std::string key(const std::filesystem::path& path, std::string_view how);
@@ -71,11 +82,15 @@ class TextureCache {
 
   // Texels of every texture made, each once.
   std::uint64_t bytes() const { return bytes_; }
+  // The image files named by the keys so far (canonical paths), for a caller that must
+  // not overwrite its inputs.
+  std::vector<std::string> files() const;
 
  private:
   std::map<std::string, std::shared_ptr<const raster::Texture>> textures_;
   std::set<const raster::Texture*> counted_;  // a texture stored under two keys counts once
   std::uint64_t bytes_ = 0;
+  std::vector<std::filesystem::path> roots_;
 };
 
 }  // namespace softpbr::pbr::detail

@@ -20,6 +20,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "gltf/tinygltf.h"
+#include "texture_cache.h"
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
 #include "softpbr/pbr/mesh.h"
@@ -801,10 +802,17 @@ std::vector<unsigned char> read_file(const std::filesystem::path& path, std::uin
 
 struct FsContext {
   std::uint64_t limit;
+  const std::vector<std::filesystem::path>* roots;
+  std::vector<std::string> files;  // every external file read (GltfScene::files)
 };
 
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
-  const auto* ctx = static_cast<const FsContext*>(user);
+  auto* ctx = static_cast<FsContext*>(user);
+  ctx->files.push_back(path);
+  if (const std::string problem = detail::outside_roots(path, *ctx->roots); !problem.empty()) {
+    if (err) *err += path + ": " + problem + "\n";
+    return false;
+  }
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
   if (ec || size > ctx->limit) {
@@ -847,7 +855,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
   tg::TinyGLTF parser;
-  FsContext fs_context{options.max_file_bytes};
+  FsContext fs_context{options.max_file_bytes, &options.roots, {}};
   parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
   parser.SetImageLoader(&keep_encoded, nullptr);
   tg::Model model;
@@ -867,6 +875,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   }
   if (!ok) throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
   GltfScene out;
+  out.files = std::move(fs_context.files);
   for (std::size_t start = 0; start < warn.size();) {
     const std::size_t end = warn.find('\n', start);
     const std::string line = warn.substr(start, end == std::string::npos ? std::string::npos : end - start);

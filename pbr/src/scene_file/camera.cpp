@@ -1,9 +1,14 @@
 // Scene files: the camera, a look-at or an orbit camera (see scene_file/loader.h).
 #include "loader.h"
 
+#include <cmath>
+
 #include "softpbr/dmath/dmath.h"
 
 namespace softpbr::pbr::scene_file {
+
+// The largest far/near a scene file's camera may have (docs/scene-format.md).
+constexpr double kMaxDepthRange = 1e7;
 
 Camera read_camera(const Reader& r, const Node& spec) {
   Camera c;
@@ -22,10 +27,22 @@ Camera read_camera(const Reader& r, const Node& spec) {
     if (auto t = r.member(spec, "target")) c.target = r.vec3(*t);
     if (auto u = r.member(spec, "up")) c.up = r.vec3(*u);
   }
-  if (auto f = r.member(spec, "fov")) c.fovy = static_cast<float>(dmath::radians(r.number(*f, 0, 180, true, true)));
+  if (auto f = r.member(spec, "fov")) {
+    // (0, 180) as documented: a fov within float precision of 180 degrees is the largest
+    // float below pi (rounding to nearest would give float(pi), which is above pi).
+    c.fovy = static_cast<float>(dmath::radians(r.number(*f, 0, 180, true, true)));
+    if (!(static_cast<double>(c.fovy) < dmath::kPi)) c.fovy = std::nextafter(static_cast<float>(dmath::kPi), 0.0f);
+    if (!(c.fovy > 0.0f)) r.fail(*f, "expected a number in (0, 180) in float precision, got " + json_reader::show(f->value));
+  }
   if (auto n = r.member(spec, "near")) c.near = r.number_f(*n, 0, 1e30, true);
   if (auto f = r.member(spec, "far")) c.far = r.number_f(*f, 0, 1e30, true);
   check_at(r, spec, [&] { validate(c); });
+  // The depth buffer holds z/w in float: beyond far/near = 1e7 the depths of a whole scene
+  // round to a few values (near 1e-8 with far 100 rendered one flat colour).
+  if (static_cast<double>(c.far) / static_cast<double>(c.near) > kMaxDepthRange)
+    r.fail(r.member(spec, "near") ? *r.member(spec, "near") : spec,
+           "far/near is " + json_reader::show_rounded(static_cast<double>(c.far) / c.near) + ", over " +
+               json_reader::show_number(kMaxDepthRange) + " (the depth buffer's float precision would be lost: raise near)");
   return c;
 }
 

@@ -2,6 +2,7 @@
 #include "loader.h"
 
 #include "softpbr/pbr/environment.h"
+#include "texture_cache.h"
 
 namespace softpbr::pbr::scene_file {
 
@@ -17,6 +18,9 @@ void read_environment(const Reader& r, const Node& spec, const std::filesystem::
   if (auto n = r.member(spec, "samples")) eo.samples = static_cast<int>(r.integer(*n, 8, 4096));
   if (auto f = r.member(spec, "file")) {
     const std::filesystem::path path = base_dir / r.string(*f);
+    if (const std::string problem = detail::outside_roots(path, options.roots); !problem.empty())
+      r.fail(*f, path.string() + ": " + problem);
+    out.inputs.push_back(path.string());
     image::Limits limits;
     limits.max_decoded_bytes = std::max<std::uint64_t>(1, budget.left());
     try {

@@ -1,6 +1,8 @@
 // Scene files: point, directional and spot lights (see scene_file/loader.h).
 #include "loader.h"
 
+#include <algorithm>
+
 #include "softpbr/dmath/dmath.h"
 
 namespace softpbr::pbr::scene_file {
@@ -26,6 +28,11 @@ Light read_light(const Reader& r, const Node& spec) {
   }
   if (auto c = r.member(spec, "color")) l.color = r.vec3(*c, 0, 1e30);
   if (auto i = r.member(spec, "intensity")) l.intensity = r.number_f(*i, 0, 1e30);
+  // Each is at most 1e30, but their product is the radiance: it must stay well inside float.
+  if (const double power = static_cast<double>(l.intensity) * std::max({l.color.r, l.color.g, l.color.b}); power > 1e30)
+    r.fail(r.member(spec, "intensity") ? *r.member(spec, "intensity") : spec,
+           "intensity x color is " + json_reader::show_rounded(power) +
+               ", over 1e+30 (the light's radiance would overflow float: an all-black .hdr/.exr)");
   if (auto g = only("range", positioned)) l.range = r.number_f(*g, 0, 1e30);
   // Cone angles in degrees, from the spot's axis: 0 <= inner <= outer, 0 < outer <= 90.
   double inner = 0.0, outer = 45.0;

@@ -56,6 +56,8 @@ template <class Check>
 void check_at(const Reader& r, const Node& spec, Check&& check) {
   try {
     check();
+  } catch (const std::bad_alloc&) {
+    r.fail(spec, "out of memory while loading it (the process's memory or address-space limit)");
   } catch (const std::exception& e) {
     r.fail(spec, e.what());
   }
@@ -127,6 +129,8 @@ class MeshLibrary {
   LoadedMesh& mesh(const Node& spec);
   // Warnings of the OBJ files read so far.
   std::vector<std::string>& warnings() { return warnings_; }
+  // The model files read so far (OBJ and MTL, glTF).
+  std::vector<std::string>& files() { return files_; }
 
  private:
   LoadedMesh build(const Node& spec);
@@ -140,6 +144,7 @@ class MeshLibrary {
   std::optional<Node> named_;
   std::map<std::string, LoadedMesh> cache_;  // by name ("#name") or by the spec's JSON text
   std::vector<std::string> warnings_;
+  std::vector<std::string> files_;
 };
 
 // One entry of /objects: appended to out.scene.objects, one object per drawn part.

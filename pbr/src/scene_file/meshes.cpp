@@ -45,6 +45,7 @@ Mesh baked(const Mesh& mesh, const glm::mat4& m) {
 ObjModel gltf_as_model(const GltfScene& g, std::uint64_t& texture_bytes) {
   ObjModel model;
   model.warnings = g.warnings;
+  model.files = g.files;
   std::set<const raster::Texture*> seen;
   for (std::size_t i = 0; i < g.objects.size(); ++i) {
     const Object& o = g.objects[i];
@@ -59,10 +60,16 @@ ObjModel gltf_as_model(const GltfScene& g, std::uint64_t& texture_bytes) {
 
 // pbr::fit_transform of the bounds of all `parts` (the function make_gallery uses too, so
 // gallery_spot.json matches it bit for bit).
-glm::mat4 fit_parts(const std::vector<std::shared_ptr<const Mesh>>& parts, float size) {
+// Empty when the bounds' extent overflows float (coordinates near ±3e38: the scale would be
+// 0, an empty image): the caller says so.
+std::optional<glm::mat4> fit_parts(const std::vector<std::shared_ptr<const Mesh>>& parts, float size) {
   constexpr float inf = std::numeric_limits<float>::infinity();
   Bounds all{glm::vec3(inf), glm::vec3(-inf)};
   for (const auto& mesh : parts) all = merge(all, bounds(*mesh));
+  const glm::vec3 e = all.extent(), c = all.centre();
+  if (!all.empty() && !(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z) && std::isfinite(c.x) &&
+                        std::isfinite(c.y) && std::isfinite(c.z)))
+    return std::nullopt;
   return pbr::fit_transform(all, size);
 }
 
@@ -111,7 +118,9 @@ LoadedMesh MeshLibrary::build(const Node& spec) {
     out = build_shape(spec);
   }
   if (fit) {
-    out.fit = fit_parts(out.parts, *fit);
+    const std::optional<glm::mat4> m = fit_parts(out.parts, *fit);
+    if (!m) r_.fail(*r_.member(spec, "fit"), "the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted");
+    out.fit = *m;
     out.has_fit = true;
   }
   return out;
@@ -127,6 +136,8 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   // charged once the model is read (its meshes' size is only known then too).
   ObjOptions options;
   options.texture_memory_limit = budget_.left();
+  options.roots = textures_.cache().roots();
+  options.memory_limit = budget_.left();
   const std::uint64_t textures_before = textures_.bytes();
   std::uint64_t gltf_texture_bytes = 0;
   std::string ext = path.extension().string();
@@ -137,6 +148,9 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
     // are not used here).
     check_at(r_, file, [&] {
       GltfOptions g;
+      g.roots = textures_.cache().roots();
+      if (const std::string problem = detail::outside_roots(path, g.roots); !problem.empty())
+        throw LoadError(path.string() + ": " + problem);
       g.image_limits.max_decoded_bytes = std::min<std::uint64_t>(g.image_limits.max_decoded_bytes, budget_.left());
       model = std::make_shared<ObjModel>(gltf_as_model(load_gltf(path, g), gltf_texture_bytes));
     });
@@ -144,6 +158,8 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
     check_at(r_, file, [&] { model = std::make_shared<ObjModel>(detail::load_obj(path, options, textures_.cache())); });
   }
   for (const std::string& w : model->warnings) warnings_.push_back(w);
+  files_.push_back(path.string());
+  files_.insert(files_.end(), model->files.begin(), model->files.end());
   LoadedMesh out;
   std::uint64_t v = 0, t = 0;
   for (const ObjShape& s : model->shapes) {

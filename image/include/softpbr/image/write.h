@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -35,9 +36,48 @@ void write_hdr(const std::filesystem::path& path, const ImageViewF& image, float
 std::vector<std::uint8_t> encode_exr(const ImageViewF& image, std::string_view name, float scale = 1.0f);
 void write_exr(const std::filesystem::path& path, const ImageViewF& image, float scale = 1.0f);
 
-// Writes `bytes` to a temporary file in the destination folder (".NAME.tmpNNN"), then
-// renames it over `path`. Throws std::runtime_error naming the path on failure, after
-// removing the temporary file; an existing file at `path` is then left as it was.
+// What an output may be: a new name in an existing folder the process may write, or an
+// existing regular file — never a symbolic link, device, named pipe, socket or folder
+// (rename() would replace the entry itself: a device node with a regular file) — with a
+// name within the folder's NAME_MAX and a path under PATH_MAX. Returns "" when `path` may
+// be written, else the problem, "cannot write: …" (without the path). OutputFiles checks
+// it; callers check it too before expensive work, so a bad output fails before rendering.
+std::string output_problem(const std::filesystem::path& path);
+
+// Several output files replaced all-or-nothing. add() writes each file's bytes completely
+// to a temporary file of its own in the destination's folder (an unnamed O_TMPFILE file,
+// or where the file system has none a new name ".NAME.tmp-XXXXXXXXXX" created with O_EXCL
+// and kept within NAME_MAX), synced to disk; commit() then renames every temporary over
+// its destination (an unnamed file whose destination does not exist is linked straight to
+// it: a process killed at any point leaves no temporary for a new output). A failure in add() — a full disk, a quota, a file size limit — throws
+// with no output replaced; the destructor (or discard()) removes the temporaries this
+// object created, and never any other file, so two processes writing the same name do not
+// disturb each other (the last rename wins, each file whole). A rename that fails in
+// commit() (the folder changed meanwhile) throws naming the outputs already replaced.
+class OutputFiles {
+ public:
+  OutputFiles() = default;
+  OutputFiles(const OutputFiles&) = delete;
+  OutputFiles& operator=(const OutputFiles&) = delete;
+  ~OutputFiles();
+
+  // Throws std::runtime_error "PATH: …": output_problem(), or the write failed.
+  void add(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
+  // Checks every destination again (output_problem's entry rule), then renames. Throws
+  // std::runtime_error "PATH: …" on failure.
+  void commit();
+  void discard() noexcept;
+
+ private:
+  struct Pending {
+    std::filesystem::path path, temporary;  // temporary: empty while the file has no name
+    int fd = -1;
+  };
+  std::vector<Pending> pending_;
+};
+
+// One file through OutputFiles: `path` is replaced by the whole of `bytes` or left as it
+// was. Throws std::runtime_error naming the path on failure.
 void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> bytes);
 
 }  // namespace softpbr::image

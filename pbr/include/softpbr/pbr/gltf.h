@@ -53,6 +53,9 @@ struct GltfOptions {
   raster::ThreadPool* pool = nullptr;     // decodes images and builds mip chains in parallel
   image::Limits image_limits{};           // per image, checked before decoding
   std::uint64_t max_file_bytes = std::uint64_t{1} << 31;  // the .gltf/.glb and each .bin
+  // When not empty, every external buffer and image must lie inside one of these folders
+  // (symbolic links and ".." resolved), as SceneLoadOptions::roots.
+  std::vector<std::filesystem::path> roots{};
 };
 
 struct GltfCamera {
@@ -67,6 +70,7 @@ struct GltfScene {
   std::vector<GltfCamera> cameras;
   std::vector<std::string> warnings;  // one per line
   std::size_t triangles = 0;
+  std::vector<std::string> files;     // the external buffers and images read (not the file itself)
 };
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options = {});

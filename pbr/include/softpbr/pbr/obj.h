@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -40,6 +41,7 @@ struct ObjModel {
   std::vector<std::pair<std::string, Material>> materials;    // every material of every mtllib
   std::vector<std::string> warnings;                          // tinyobjloader's and ours, one per line
   std::uint64_t texture_bytes = 0;  // texels of the materials' textures, mip levels included, each once
+  std::vector<std::string> files;   // the OBJ and MTL files read (not the texture images)
 };
 
 struct ObjOptions {
@@ -49,6 +51,13 @@ struct ObjOptions {
   // The texels of all the model's textures (mip levels included) may take at most this;
   // a map that would pass it is refused from its image header, before it is decoded.
   std::uint64_t texture_memory_limit = std::uint64_t{4} << 30;
+  // When not empty, the OBJ file, its MTL files and their maps must lie inside one of these
+  // folders (symbolic links and ".." resolved), as SceneLoadOptions::roots.
+  std::vector<std::filesystem::path> roots{};
+  // The parse's estimated peak memory (the text, tinyobjloader's arrays, the meshes built:
+  // about 100 bytes a face corner) may take at most this: checked after the validation
+  // pass has counted the elements, before anything is parsed into memory.
+  std::uint64_t memory_limit = std::numeric_limits<std::uint64_t>::max();
 };
 
 // Loads an OBJ file and the MTL libraries it names (looked up next to the OBJ file).

@@ -57,6 +57,7 @@ struct SceneFile {
   std::uint64_t texture_bytes = 0;  // texels of its textures, mip levels included (a shared image counts once)
   std::uint64_t triangles = 0;    // drawn per frame (a shared mesh counts once per object)
   std::vector<std::string> warnings;  // e.g. from OBJ files, one line each, naming the file
+  std::vector<std::string> inputs;    // the files read: the scene, models, MTL files, images
 };
 
 struct SceneLoadOptions {
@@ -68,6 +69,10 @@ struct SceneLoadOptions {
   // its disk cache (empty: none; see load_environment).
   raster::ThreadPool* pool = nullptr;
   std::filesystem::path environment_cache{};
+  // When not empty, every file the scene reads — models, MTL files, images, glTF buffers —
+  // must lie inside one of these folders once symbolic links and ".." are resolved (the
+  // scene file itself is the caller's choice). Empty: any file the process may read.
+  std::vector<std::filesystem::path> roots{};
 };
 
 // Reads and validates a scene file. Relative mesh and image paths resolve against the file's folder.
