@@ -21,6 +21,7 @@ enum class Key {
   R, F,                      // roughness up / down
   T,                         // toggle metallic
   P,                         // screenshot
+  B,                         // next environment (off, the built-in studio, each --env map)
   Escape,                    // quit
 };
 

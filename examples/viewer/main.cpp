@@ -2,7 +2,7 @@
 // SDL2 window (the window only displays the image: no GPU needed).
 //
 //   viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]
-//          [--software] [--script keys.txt] [--screenshot out.png]
+//          [--software] [--script keys.txt] [--screenshot out.png] [--env map.hdr ...]
 //
 // OBJ files join the mesh cycle (M) after the sphere grid, spot, the teapot, a torus and a cube. Controls:
 // viewer_state.h. --script replays a script (script.h) with a fixed time step and full
@@ -41,6 +41,7 @@ struct Options {
   bool software = false;
   std::string script, screenshot;
   std::vector<std::filesystem::path> objs;
+  std::vector<std::filesystem::path> envs;  // --env, repeatable: maps B cycles through
 };
 
 // The viewer: state, meshes, the softpbr renderer and the window.
@@ -51,6 +52,8 @@ class Viewer {
         window_("softpbr viewer", o.width, o.height, o.script.empty() && o.screenshot.empty(),
                 o.software || !o.script.empty() || !o.screenshot.empty()) {
     state_.mesh_count = meshes_.size();
+    environments_ = viewer::load_environments(o.envs, &renderer_.pool());
+    state_.environment_count = environments_.size();
     policy_.budget_ms = o.budget_ms;
     if (renderer_.threads() < renderer_.requested_threads())
       std::fprintf(stderr, "viewer: the system started %u of the %u threads asked for; rendering with %u\n",
@@ -62,7 +65,7 @@ class Viewer {
     const auto start = Clock::now();
     const int w = viewer::scaled_size(window_.width(), divisor), h = viewer::scaled_size(window_.height(), divisor);
     if (!target_ || target_->width() != w || target_->height() != h) target_.emplace(w, h);
-    const raster::Image8 image = viewer::render_view(state_, meshes_, renderer_, *target_);
+    const raster::Image8 image = viewer::render_view(state_, meshes_, renderer_, *target_, environments_);
     window_.draw(image);
     shown_divisor_ = divisor;
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -210,6 +213,7 @@ class Viewer {
 
   Options options_;
   std::vector<viewer::NamedMesh> meshes_;
+  viewer::Environments environments_;
   viewer::ViewerState state_;
   viewer::ResolutionPolicy policy_;
   raster::Renderer renderer_;
@@ -221,7 +225,7 @@ class Viewer {
 
 constexpr const char* kUsage =
     "usage: viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]\n"
-    "              [--software] [--script keys.txt] [--screenshot out.png]\n"
+    "              [--software] [--script keys.txt] [--screenshot out.png] [--env map.hdr ...]\n"
     "keys: WASD/arrows fly, Q/E down/up, Tab capture mouse, 1-9 presets, N next preset, 0 gallery,\n"
     "      M next mesh, C rotate lights, R/F roughness up/down, T metallic, P screenshot, Esc quit\n";
 
@@ -250,6 +254,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--software") o.software = true;
     else if (arg == "--script") o.script = text();
     else if (arg == "--screenshot") o.screenshot = text();
+    else if (arg == "--env") o.envs.emplace_back(text());
     else if (arg == "-h" || arg == "--help") {
       std::fputs(kUsage, stdout);
       std::exit(0);

@@ -65,7 +65,13 @@ std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
   return meshes;
 }
 
-pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes) {
+Environments load_environments(const std::vector<std::filesystem::path>& files, raster::ThreadPool* pool) {
+  Environments list{nullptr, pbr::Environment::studio()};
+  for (const std::filesystem::path& f : files) list.push_back(pbr::load_environment(f, {}, pool));
+  return list;
+}
+
+pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes, const Environments& environments) {
   pbr::GalleryOptions options;
   options.mesh = meshes.at(state.mesh).mesh;
   const bool single = state.material != kGalleryMaterial;
@@ -83,12 +89,16 @@ pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& m
   scene.camera = state.camera.camera();
   if (state.light_angle != 0.0f)
     for (pbr::Light& l : scene.lights) l.position = turn_about_y(l.position, state.light_angle);
+  if (state.environment != 0) {
+    scene.environment.map = environments.at(state.environment);
+    scene.background_mode = pbr::BackgroundMode::Environment;
+  }
   return scene;
 }
 
 raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes, raster::Renderer& renderer,
-                           raster::Target& target) {
-  pbr::render(build_scene(state, meshes), renderer, target);
+                           raster::Target& target, const Environments& environments) {
+  pbr::render(build_scene(state, meshes, environments), renderer, target);
   return pbr::tone_map_to_rgba8(target, pbr::gallery_output());
 }
 

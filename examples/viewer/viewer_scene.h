@@ -37,12 +37,21 @@ std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
                                    const std::vector<std::filesystem::path>& obj_files,
                                    std::vector<std::string>& warnings);
 
-// The scene for a state. Throws std::out_of_range if state.mesh is not in `meshes`.
-softpbr::pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes);
+// The environments B cycles through: entry 0 is none (null), then the built-in studio,
+// then each file (pbr::load_environment, prefiltered on `pool`).
+using Environments = std::vector<std::shared_ptr<const softpbr::pbr::Environment>>;
+Environments load_environments(const std::vector<std::filesystem::path>& files, softpbr::raster::ThreadPool* pool);
+
+// The scene for a state. Throws std::out_of_range if state.mesh is not in `meshes` (or
+// state.environment, when not 0, not in `environments`). With an environment the scene is
+// lit by it as well as by the lights and shows it as the background.
+softpbr::pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes,
+                                const Environments& environments = {});
 
 // Renders the state's scene into `target` and tone maps it to RGBA8.
 softpbr::raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes,
-                                    softpbr::raster::Renderer& renderer, softpbr::raster::Target& target);
+                                    softpbr::raster::Renderer& renderer, softpbr::raster::Target& target,
+                                    const Environments& environments = {});
 
 // "gold r 0.30 metal", "gallery": the material part of the title bar.
 std::string material_label(const ViewerState& state);

@@ -30,6 +30,7 @@ Effect press(ViewerState& s, Key key) {
     case Key::N: select_material(s, (s.material + 1) % preset_count()); break;
     case Key::M: s.mesh = s.mesh_count > 0 ? (s.mesh + 1) % s.mesh_count : 0; break;
     case Key::C: s.lights_rotating = !s.lights_rotating; break;
+    case Key::B: s.environment = s.environment_count > 0 ? (s.environment + 1) % s.environment_count : 0; break;
     case Key::R:
       if (s.material != kGalleryMaterial) s.roughness_steps = std::min(s.roughness_steps + 1, kRoughnessSteps);
       break;

@@ -11,6 +11,7 @@
 //   M                 next mesh (sphere grid, spot, teapot, torus, cube, OBJ files given)
 //   C                 start / stop the rotating lights
 //   R / F             roughness up / down by 0.05    T  toggle metallic (preset mode only)
+//   B                 next environment: off (the paper's lights), the built-in studio, each --env map
 //   P                 screenshot                      Escape  quit
 #pragma once
 
@@ -44,6 +45,8 @@ struct ViewerState {
   bool metallic = true;             // preset mode
   std::size_t mesh = 0;             // index into the mesh list
   std::size_t mesh_count = 1;       // how many meshes the list has (M cycles through them)
+  std::size_t environment = 0;        // 0: none; else an index into the environment list
+  std::size_t environment_count = 1;  // how many entries the list has (B cycles through them)
   bool lights_rotating = false;
   float light_angle = 0.0f;  // radians in [0, 2π): the lights' turn about the y axis
   bool captured = false;     // mouse captured: motion turns the camera

@@ -148,3 +148,21 @@ TEST_CASE("material labels name the preset with roughness and metallic or the ga
   s.roughness_steps = 1;
   CHECK(material_label(s) == "gold r 0.05 dielectric");
 }
+
+TEST_CASE("B cycles the environments: none, the studio, the --env maps; the scene is lit by the chosen one") {
+  viewer::ViewerState s;
+  const viewer::Environments envs = viewer::load_environments({}, nullptr);
+  REQUIRE(envs.size() == 2);
+  CHECK(envs[0] == nullptr);
+  s.environment_count = envs.size();
+  std::vector<std::string> warnings;
+  const auto meshes = viewer::load_meshes(SOFTPBR_ASSETS_DIR, {}, warnings);
+  CHECK(viewer::build_scene(s, meshes, envs).environment.map == nullptr);
+  viewer::apply(s, viewer::KeyDown{viewer::Key::B});
+  CHECK(s.environment == 1);
+  const softpbr::pbr::Scene lit = viewer::build_scene(s, meshes, envs);
+  CHECK(lit.environment.map == softpbr::pbr::Environment::studio());
+  CHECK(lit.background_mode == softpbr::pbr::BackgroundMode::Environment);
+  viewer::apply(s, viewer::KeyDown{viewer::Key::B});
+  CHECK(s.environment == 0);  // back to none
+}
