@@ -17,6 +17,12 @@
 //   decode_venice    image::load_imagef of the .hdr file's bytes (read once before timing)
 //   dfg_table        the split-sum table's computation as dfg_table() does it once per
 //                    process (32 × 32 dfg_reference(…, 1024)), one thread
+//   lookup/...       what a shaded pixel's lookups cost: Texture::sample_lod_batch() of 16
+//                    points (the packet form's call, as env_radiance and env_dfg make it) on
+//                    the built-in studio's level 0 (258², what the gallery's background
+//                    reads), level 2 (34²) and the DFG table (32²), at 65,536 points of octahedral coordinates
+//                    of directions spread over the sphere (a fixed integer hash); the
+//                    counter ns_per_lookup is per point
 // Issue 15's target: a 1024×512 environment prefiltered in ≤ 0.5 s on 2 threads.
 #include <benchmark/benchmark.h>
 
@@ -75,6 +81,45 @@ void dfg(benchmark::State& state) {
   }
 }
 
+// Octahedral coordinates (env_octahedral<float>) of `count` directions from a fixed hash.
+std::vector<float> lookup_points(int size, int count) {
+  std::vector<float> uv(static_cast<std::size_t>(count) * 2);
+  std::uint32_t h = 12345u;
+  auto next = [&] {
+    h ^= h << 13;
+    h ^= h >> 17;
+    h ^= h << 5;
+    return static_cast<float>(h >> 8) * (2.0f / 16777216.0f) - 1.0f;  // [−1, 1)
+  };
+  for (int i = 0; i < count; ++i) {
+    const pbr::EnvVec3<float> d{next(), next(), next()};
+    pbr::env_octahedral(d, size, uv[2 * static_cast<std::size_t>(i)], uv[2 * static_cast<std::size_t>(i) + 1]);
+  }
+  return uv;
+}
+
+void lookup(benchmark::State& state, const raster::Texture* texture, int size) {
+  constexpr int kPoints = 65536, kLanes = 16;
+  const std::vector<float> uv = lookup_points(size, kPoints);
+  std::vector<float> u(kPoints), v(kPoints), lod(kPoints, 0.0f), out(static_cast<std::size_t>(kPoints) * 4);
+  for (int i = 0; i < kPoints; ++i) {
+    u[static_cast<std::size_t>(i)] = uv[2 * static_cast<std::size_t>(i)];
+    v[static_cast<std::size_t>(i)] = uv[2 * static_cast<std::size_t>(i) + 1];
+  }
+  const raster::Sampler& s = pbr::Environment::level_sampler();
+  for (auto _ : state) {
+    for (int i = 0; i < kPoints; i += kLanes) {
+      float* o = out.data() + static_cast<std::size_t>(i) * 4;
+      texture->sample_lod_batch(s, kLanes,
+                                {u.data() + i, v.data() + i, nullptr, nullptr, nullptr, nullptr, lod.data() + i, o,
+                                 o + kLanes, o + 2 * kLanes, o + 3 * kLanes});
+    }
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["ns_per_lookup"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * kPoints, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -112,6 +157,13 @@ int main(int argc, char** argv) {
   if (!venice_bytes.empty())
     benchmark::RegisterBenchmark("decode_venice", decode, &venice_bytes)->UseRealTime()->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("dfg_table", dfg)->UseRealTime()->Unit(benchmark::kMillisecond);
+  static const std::shared_ptr<const pbr::Environment> studio = pbr::Environment::studio();
+  for (const int level : {0, 2}) {
+    const int side = studio->level(level).width();
+    const std::string name = "lookup/studio_level" + std::to_string(level) + "_" + std::to_string(side);
+    benchmark::RegisterBenchmark(name.c_str(), lookup, &studio->level(level), studio->level_size(level));
+  }
+  benchmark::RegisterBenchmark("lookup/dfg_32", lookup, &pbr::dfg_table(), pbr::kDfgSize - 2);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

@@ -165,6 +165,33 @@ BenchScene ibl_gallery_scene(int width, int height) {
   return b;
 }
 
+std::vector<BenchScene> ibl_gallery_variants(int width, int height) {
+  const BenchScene base = ibl_gallery_scene(width, height);
+  const std::string size = size_suffix(width, height);
+  std::vector<BenchScene> v;
+  auto variant = [&](const char* tag) -> BenchScene& {
+    v.push_back(base);
+    v.back().name = std::string("gallery_ibl_") + tag + "_" + size;
+    return v.back();
+  };
+  for (pbr::Object& o : variant("onelevel").scene.objects) {
+    const float level = static_cast<float>(static_cast<int>(o.material.roughness * 5.0f + 0.5f));
+    o.material.roughness = level / 5.0f;
+  }
+  variant("nobg").scene.background_mode = pbr::BackgroundMode::Color;
+  BenchScene& ambient = variant("ambient");
+  ambient.scene.environment = {};
+  ambient.scene.background_mode = pbr::BackgroundMode::Color;
+  BenchScene& bg = variant("bgonly");
+  bg.scene.objects.clear();
+  bg.triangles = 1;
+  BenchScene& empty = variant("empty");
+  empty.scene.objects.clear();
+  empty.scene.background_mode = pbr::BackgroundMode::Color;
+  empty.triangles = 0;
+  return v;
+}
+
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height) {
   pbr::GalleryOptions o = benchmark_gallery_options();
   o.mesh = std::make_shared<const pbr::Mesh>(pbr::merge_shapes(pbr::load_obj(obj)));

@@ -77,6 +77,16 @@ BenchScene textured_gallery_scene(int segments, int width, int height);
 // examples/scenes/gallery_ibl.json at width × height (see above). Throws SceneFileError.
 BenchScene ibl_gallery_scene(int width, int height);
 
+// Variants of ibl_gallery_scene() that split its frame time (bench_scenes only):
+//   gallery_ibl_onelevel   every roughness rounded to the nearest prefiltered level (i / 5):
+//                          one level lookup a sphere pixel instead of two
+//   gallery_ibl_nobg       the background a colour: no background pass
+//   gallery_ibl_ambient    no environment, the constant ambient (PbrShader without lights)
+//                          and a colour background: the raster work and tone map alone
+//   gallery_ibl_bgonly     the background pass alone (no objects)
+//   gallery_ibl_empty      nothing but the clear and the tone map of the cleared tiles
+std::vector<BenchScene> ibl_gallery_variants(int width, int height);
+
 // The gallery with each cell showing `obj` (fitted into a 0.8 cube). Throws as load_obj.
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height);
 
