@@ -14,7 +14,8 @@
 //   ratio        softpbr / llvmpipe: below 1 means softpbr is faster
 //   PSNR dB      between the two RGBA8 images (RGB channels); max diff: the largest
 //                difference of one channel in 8-bit steps; differ: share of RGB channels
-//                that differ at all
+//                that differ at all; mean diff: the mean absolute difference over the RGB
+//                channels, in 8-bit steps
 // --images DIR writes both images of every scene as PNGs (NAME_softpbr.png,
 // NAME_llvmpipe.png) to look at the differences.
 #include <sys/wait.h>
@@ -69,21 +70,23 @@ struct Difference {
   double psnr;
   int max;
   double differing;  // fraction of RGB channels
+  double mean;       // mean |difference| over the RGB channels, in 8-bit steps
 };
 Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
-  double sum = 0.0;
+  double sum = 0.0, abs_sum = 0.0;
   std::size_t n = 0, differing = 0;
   int max = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (i % 4 == 3) continue;
     const int d = static_cast<int>(a[i]) - static_cast<int>(b[i]);
     sum += static_cast<double>(d) * d;
+    abs_sum += std::abs(d);
     max = std::max(max, std::abs(d));
     differing += d != 0;
     ++n;
   }
   const double psnr = sum == 0.0 ? INFINITY : 10.0 * std::log10(255.0 * 255.0 / (sum / static_cast<double>(n)));
-  return {psnr, max, static_cast<double>(differing) / static_cast<double>(n)};
+  return {psnr, max, static_cast<double>(differing) / static_cast<double>(n), abs_sum / static_cast<double>(n)};
 }
 
 void run_child(const Options& o, unsigned threads) {
@@ -119,8 +122,8 @@ void run_child(const Options& o, unsigned threads) {
     }
     const double soft_ms = median(soft), llvm_ms = median(lp_ms);
     const Difference d = compare(image.rgba, gl.pixels());
-    std::printf("%-22s %7u %10.2f %11.2f %7.3f %8.1f %8d %7.3f%% %9zu\n", s.name.c_str(), threads, soft_ms, llvm_ms,
-                soft_ms / llvm_ms, d.psnr, d.max, 100.0 * d.differing, s.triangles);
+    std::printf("%-22s %7u %10.2f %11.2f %7.3f %8.1f %8d %9.5f %7.3f%% %9zu\n", s.name.c_str(), threads, soft_ms,
+                llvm_ms, soft_ms / llvm_ms, d.psnr, d.max, d.mean, 100.0 * d.differing, s.triangles);
     std::fflush(stdout);
     if (!o.images.empty()) {
       std::filesystem::create_directories(o.images);
@@ -169,8 +172,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("softpbr vs llvmpipe: median ms per frame to an RGBA8 image; ratio = softpbr / llvmpipe\n");
-  std::printf("%-22s %7s %10s %11s %7s %8s %8s %8s %9s\n", "scene", "threads", "softpbr ms", "llvmpipe ms", "ratio",
-              "PSNR dB", "max diff", "differ", "triangles");
+  std::printf("%-22s %7s %10s %11s %7s %8s %8s %9s %8s %9s\n", "scene", "threads", "softpbr ms", "llvmpipe ms",
+              "ratio", "PSNR dB", "max diff", "mean diff", "differ", "triangles");
   std::fflush(stdout);
   int status = 0;
   for (const unsigned t : o.threads) {

@@ -6,6 +6,7 @@
 #include <GL/glext.h>
 
 #include <algorithm>
+#include <initializer_list>
 #include <map>
 #include <span>
 #include <stdexcept>
@@ -15,6 +16,8 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "softpbr/dmath/dmath.h"
+#include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/raster/texture.h"
 
@@ -24,10 +27,11 @@ namespace {
 
 constexpr int kMaxLights = 8;
 
-// The shaders are compiled twice: as they are for PbrShader's objects, and with TEXTURED
-// defined for TexturedPbrShader's (a base colour texture read through the mesh's uv).
+// The object shaders are compiled per variant, when a scene needs it (load()): with TEXTURED
+// defined for TexturedPbrShader's objects (a base colour texture read through the mesh's
+// uv), with IBL (and MULTISCATTER) when the scene has an environment, and with ACES / SRGB
+// for the scene's output transform.
 const char* kVersion = "#version 330 core\n";
-const char* kTexturedDefine = "#define TEXTURED 1\n";
 
 const char* kVertexShader = R"(
 layout(location = 0) in vec3 a_position;
@@ -52,7 +56,97 @@ void main() {
 }
 )";
 
-// pbr/shading.h's shade() with Reinhard and gamma; names as there. TEXTURED: the base
+// OutputSettings' transform (pbr/tonemap.cpp, tone_map_operators.h): Reinhard (as it always
+// was here: c / (1 + c)) or, with ACES defined, the operators' limit to [0, 1e9] and
+// Narkowicz's fit clamped to [0, 1]; then the gamma curve or, with SRGB defined, the exact
+// piecewise sRGB curve. The RGBA8 buffer rounds the result to 8 bits.
+const char* kOutputTransform = R"(
+uniform float u_inv_gamma;
+vec3 output_transform(vec3 c) {
+#ifdef ACES
+  c = min(max(c, vec3(0.0)), vec3(1e9));
+  c = clamp((c * (2.51 * c + vec3(0.03))) / (c * (2.43 * c + vec3(0.59)) + vec3(0.14)), 0.0, 1.0);
+#else
+  c = c / (vec3(1.0) + c);  // Reinhard
+#endif
+#ifdef SRGB
+  return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - vec3(0.055), greaterThan(c, vec3(0.0031308)));
+#else
+  return pow(c, vec3(u_inv_gamma));
+#endif
+}
+)";
+
+// With IBL defined: pbr/environment.h's lookups and pbr/shading.h's ibl(), term for term, on
+// the same prefiltered data — the Environment's 6 octahedral levels (with their one-texel
+// borders) and dfg_table() as GL_RGBA32F textures, GL_LINEAR, clamp to edge, level 0 only
+// (textureLod 0, as sample_lod with Environment::level_sampler()), the 9 SH coefficients
+// as uniforms. As in softpbr, a level is read only when its weight is above 0 (uniform per
+// draw: the roughness is the material's).
+const char* kEnvironment = R"(
+uniform sampler2D u_env_level[6];
+uniform vec3 u_env_oct[6];  // per level: 0.5 size, 0.5 size + 1, 1 / (size + 2)
+uniform sampler2D u_dfg;
+uniform vec3 u_sh[9];
+uniform float u_env_cos;
+uniform float u_env_sin;
+uniform float u_env_intensity;
+vec3 to_environment(vec3 d) {
+  return vec3(u_env_cos * d.x - u_env_sin * d.z, d.y, u_env_sin * d.x + u_env_cos * d.z);
+}
+vec3 env_irradiance(vec3 d) {
+  float b[9] = float[9](1.0, d.y, d.z, d.x, d.x * d.y, d.y * d.z, 3.0 * d.z * d.z - 1.0, d.x * d.z,
+                        d.x * d.x - d.y * d.y);
+  vec3 c = u_sh[0];
+  for (int i = 1; i < 9; ++i) c = c + u_sh[i] * b[i];
+  return max(c, vec3(0.0)) * u_env_intensity;
+}
+vec2 env_octahedral(vec3 d, vec3 oct) {
+  float l1 = abs(d.x) + abs(d.y) + abs(d.z);
+  float inv = 1.0 / (l1 > 0.0 ? l1 : 1.0);
+  float px = d.x * inv, pz = d.z * inv;
+  bool lower = d.y < 0.0;
+  float fx = (1.0 - abs(pz)) * (px < 0.0 ? -1.0 : 1.0), fz = (1.0 - abs(px)) * (pz < 0.0 ? -1.0 : 1.0);
+  px = lower ? fx : px;
+  pz = lower ? fz : pz;
+  return vec2((px * oct.x + oct.y) * oct.z, (pz * oct.x + oct.y) * oct.z);
+}
+#define ENV_LEVEL(L)                                                     \
+  {                                                                      \
+    float dl = lod - float(L);                                           \
+    float w = max(1.0 - max(dl, -dl), 0.0);                              \
+    if (w > 0.0) c = c + w * textureLod(u_env_level[L], env_octahedral(d, u_env_oct[L]), 0.0).rgb; \
+  }
+vec3 env_radiance(vec3 d, float roughness) {
+  float lod = clamp(roughness, 0.0, 1.0) * 5.0;
+  vec3 c = vec3(0.0);
+  ENV_LEVEL(0) ENV_LEVEL(1) ENV_LEVEL(2) ENV_LEVEL(3) ENV_LEVEL(4) ENV_LEVEL(5)
+  return c * u_env_intensity;
+}
+)";
+
+// The background pass (pbr/src/scene.cpp's BackgroundShader): one triangle over the view,
+// each vertex carrying the world direction of its camera ray, no depth test or write; the
+// prefiltered radiance along the interpolated direction at u_bg_roughness (0: level 0).
+const char* kBackgroundVertex = R"(
+layout(location = 0) in vec4 a_clip;
+layout(location = 1) in vec3 a_direction;
+out vec3 v_direction;
+void main() {
+  v_direction = a_direction;
+  gl_Position = a_clip;
+}
+)";
+const char* kBackgroundFragment = R"(
+in vec3 v_direction;
+out vec4 o_color;
+uniform float u_bg_roughness;
+void main() {
+  o_color = vec4(output_transform(env_radiance(to_environment(v_direction), u_bg_roughness)), 1.0);
+}
+)";
+
+// pbr/shading.h's shade() with the output transform; names as there. TEXTURED: the base
 // colour is u_albedo × texture.rgb and F0 is computed from it per pixel, as
 // TexturedPbrShader's (textured_shading.h: base = base_color × vertex colour × texture.rgb,
 // the vertex colour 1 here; f0 = f0_of(base, metallic)); the ambient and diffuse terms read
@@ -77,7 +171,9 @@ uniform vec3 u_emissive;
 uniform int u_light_count;
 uniform vec3 u_light_position[8];
 uniform vec3 u_light_radiance[8];
-uniform float u_inv_gamma;
+#ifdef IBL
+uniform float u_roughness;
+#endif
 const float kPi = 3.14159265358979323846;
 const float kMinNoV = 1e-4;
 
@@ -108,6 +204,35 @@ vec3 brdf(vec3 n, vec3 l, vec3 v, vec3 albedo, vec3 f0) {
   vec3 kD = max(vec3(1.0) - F, vec3(0.0)) * (1.0 - u_metallic);
   return kD * albedo * (1.0 / kPi) + specular;
 }
+#ifdef IBL
+// pbr/shading.h's ibl(): split sum with Fresnel-with-roughness kS and, with MULTISCATTER,
+// Fdez-Agüera's energy compensation.
+vec3 ibl(vec3 n, vec3 v, vec3 albedo, vec3 f0) {
+  float n_dot_v = dot(n, v);
+  float NoV = clamp(n_dot_v, kMinNoV, 1.0);
+  vec3 r = n * (n_dot_v + n_dot_v) - v;
+  vec3 irr = env_irradiance(to_environment(n));
+  vec3 pre = env_radiance(to_environment(r), u_roughness);
+  vec2 ab = textureLod(u_dfg, vec2(NoV, u_roughness), 0.0).rg;
+  float A = ab.x, B = ab.y;
+  float c = 1.0 - NoV, c2 = c * c;
+  float c5 = c2 * c2 * c;
+  float smooth_ = 1.0 - u_roughness;
+  vec3 ks = f0 + (max(vec3(smooth_), f0) - f0) * c5;
+  vec3 fss_ess = ks * A + vec3(B);
+  vec3 diffuse;
+#ifdef MULTISCATTER
+  float ems = 1.0 - (A + B);
+  vec3 favg = f0 + (vec3(1.0) - f0) * (1.0 / 21.0);
+  vec3 fe = favg * ems;
+  vec3 fms_ems = fss_ess * fe / max(vec3(1.0) - fe, vec3(1e-3));
+  diffuse = fms_ems + albedo * (1.0 - u_metallic) * max(vec3(1.0) - (fss_ess + fms_ems), vec3(0.0));
+#else
+  diffuse = max(vec3(1.0) - ks, vec3(0.0)) * (1.0 - u_metallic) * albedo;
+#endif
+  return (irr * diffuse + pre * fss_ess) * u_ao;
+}
+#endif
 void main() {
   vec3 albedo = u_albedo, f0 = u_f0;
 #ifdef TEXTURED
@@ -125,16 +250,20 @@ void main() {
     float NoL = dot(n, l);
     if (NoL > 0.0) lo += brdf(n, l, v, albedo, f0) * (u_light_radiance[i] * (inv_dist * inv_dist)) * NoL;
   }
+#ifdef IBL
+  vec3 c = ibl(n, v, albedo, f0) + lo + u_emissive;
+#else
   vec3 c = u_ambient * albedo * u_ao + lo + u_emissive;
-  c = c / (vec3(1.0) + c);  // Reinhard
-  o_color = vec4(pow(c, vec3(u_inv_gamma)), 1.0);
+#endif
+  o_color = vec4(output_transform(c), 1.0);
 }
 )";
 
-GLuint compile(GLenum type, const char* source, bool textured) {
+GLuint compile(GLenum type, const std::string& defines, std::initializer_list<const char*> sources) {
   const GLuint s = glCreateShader(type);
-  const char* parts[] = {kVersion, textured ? kTexturedDefine : "", source};
-  glShaderSource(s, 3, parts, nullptr);
+  std::vector<const char*> parts{kVersion, defines.c_str()};
+  parts.insert(parts.end(), sources.begin(), sources.end());
+  glShaderSource(s, static_cast<GLsizei>(parts.size()), parts.data(), nullptr);
   glCompileShader(s);
   GLint ok = 0;
   glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
@@ -144,6 +273,23 @@ GLuint compile(GLenum type, const char* source, bool textured) {
     throw std::runtime_error(std::string("llvmpipe: GLSL compile error: ") + log);
   }
   return s;
+}
+
+GLuint link(GLuint vs, GLuint fs) {
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, vs);
+  glAttachShader(p, fs);
+  glLinkProgram(p);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("llvmpipe: GLSL link error: ") + log);
+  }
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  return p;
 }
 
 GLenum gl_wrap(raster::Wrap w) {
@@ -186,13 +332,21 @@ bool has_extension(const char* name) {
 struct LlvmpipeRenderer::Impl {
   OSMesaContext context = nullptr;
   int width = 0, height = 0;
-  // One program per shader: PbrShader's equation, and the same with the base colour texture.
+  // One program per variant of the object shader, by its defines (see kVersion).
   struct Program {
     GLuint id = 0;
     GLint u_model = -1, u_normal_matrix = -1, u_albedo = -1, u_f0 = -1, u_metallic = -1, u_alpha = -1, u_k = -1,
-          u_ao = -1, u_emissive = -1;
+          u_ao = -1, u_emissive = -1, u_roughness = -1;
   };
-  Program programs[2];  // [textured]
+  std::map<std::string, Program> programs;
+  // The environment: its levels and the DFG table as textures, the background pass.
+  GLuint env_levels[pbr::Environment::kLevels] = {};
+  GLuint dfg = 0;
+  const pbr::Environment* env_map = nullptr;  // what env_levels hold
+  GLuint background_program = 0;
+  std::string background_defines;
+  GLuint background_vao = 0, background_vbo = 0;
+  bool background = false;  // drawn this frame
   struct GpuMesh {
     GLuint vao = 0, vbo = 0, ebo = 0;
     GLsizei count = 0;
@@ -238,6 +392,87 @@ struct LlvmpipeRenderer::Impl {
     return it->second;
   }
 
+  Program& program(const std::string& defines) {
+    auto [it, fresh] = programs.try_emplace(defines);
+    Program& pr = it->second;
+    if (!fresh) return pr;
+    const bool ibl = defines.find("#define IBL") != std::string::npos;
+    const GLuint vs = compile(GL_VERTEX_SHADER, defines, {kVertexShader});
+    const GLuint fs = compile(GL_FRAGMENT_SHADER, defines,
+                              {kOutputTransform, ibl ? kEnvironment : "", kFragmentShader});
+    pr.id = link(vs, fs);
+    const GLuint p = pr.id;
+    pr.u_model = glGetUniformLocation(p, "u_model");
+    pr.u_normal_matrix = glGetUniformLocation(p, "u_normal_matrix");
+    pr.u_albedo = glGetUniformLocation(p, "u_albedo");
+    pr.u_f0 = glGetUniformLocation(p, "u_f0");
+    pr.u_metallic = glGetUniformLocation(p, "u_metallic");
+    pr.u_alpha = glGetUniformLocation(p, "u_alpha");
+    pr.u_k = glGetUniformLocation(p, "u_k");
+    pr.u_ao = glGetUniformLocation(p, "u_ao");
+    pr.u_emissive = glGetUniformLocation(p, "u_emissive");
+    pr.u_roughness = glGetUniformLocation(p, "u_roughness");
+    glUseProgram(p);
+    if (defines.find("#define TEXTURED") != std::string::npos)
+      glUniform1i(glGetUniformLocation(p, "u_base_color_texture"), 0);
+    return pr;
+  }
+
+  // A float texture of one level as GL_RGBA32F, linear, clamp to edge.
+  static GLuint upload_float(const raster::Texture& t) {
+    GLuint id = 0;
+    glGenTextures(1, &id);
+    glBindTexture(GL_TEXTURE_2D, id);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, t.width(), t.height(), 0, GL_RGBA, GL_FLOAT, t.texels_f().data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return id;
+  }
+
+  // The environment's textures (units 1–6: the levels, 7: the DFG table) and uniforms.
+  static constexpr int kLevelUnit = 1, kDfgUnit = 1 + pbr::Environment::kLevels;
+  void upload_environment(const pbr::Environment& env) {
+    if (env_map != &env) {
+      for (GLuint& id : env_levels)
+        if (id != 0) glDeleteTextures(1, &id);
+      for (int i = 0; i < pbr::Environment::kLevels; ++i) env_levels[i] = upload_float(env.level(i));
+      env_map = &env;
+    }
+    if (dfg == 0) dfg = upload_float(pbr::dfg_table());
+    for (int i = 0; i < pbr::Environment::kLevels; ++i) {
+      glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + kLevelUnit + i));
+      glBindTexture(GL_TEXTURE_2D, env_levels[i]);
+    }
+    glActiveTexture(GL_TEXTURE0 + kDfgUnit);
+    glBindTexture(GL_TEXTURE_2D, dfg);
+    glActiveTexture(GL_TEXTURE0);
+  }
+  static void set_environment_uniforms(GLuint p, const pbr::PreparedEnvironment& e) {
+    glUseProgram(p);
+    for (int i = 0; i < pbr::Environment::kLevels; ++i) {
+      std::string idx = "[";
+      idx += std::to_string(i);
+      idx += "]";
+      glUniform1i(glGetUniformLocation(p, ("u_env_level" + idx).c_str()), kLevelUnit + i);
+      // env_octahedral's constants for a level of side `size`, in float as there.
+      const int size = e.map->level_size(i);
+      const glm::vec3 oct(0.5f * static_cast<float>(size), 0.5f * static_cast<float>(size) + 1.0f,
+                          1.0f / static_cast<float>(size + 2));
+      glUniform3fv(glGetUniformLocation(p, ("u_env_oct" + idx).c_str()), 1, glm::value_ptr(oct));
+    }
+    glUniform1i(glGetUniformLocation(p, "u_dfg"), kDfgUnit);
+    const auto& sh = e.map->irradiance_sh();
+    glUniform3fv(glGetUniformLocation(p, "u_sh"), pbr::Environment::kShCount, glm::value_ptr(sh[0]));
+    glUniform1f(glGetUniformLocation(p, "u_env_cos"), e.cos_r);
+    glUniform1f(glGetUniformLocation(p, "u_env_sin"), e.sin_r);
+    glUniform1f(glGetUniformLocation(p, "u_env_intensity"), e.intensity);
+  }
+
   GLuint make_sampler(const raster::Sampler& s) {
     GLuint id = 0;
     glGenSamplers(1, &id);
@@ -267,35 +502,6 @@ LlvmpipeRenderer::LlvmpipeRenderer(int width, int height) : impl_(std::make_uniq
   if (!OSMesaMakeCurrent(impl_->context, pixels_.data(), GL_UNSIGNED_BYTE, width, height))
     throw std::runtime_error("llvmpipe: OSMesaMakeCurrent failed");
   OSMesaPixelStore(OSMESA_Y_UP, 0);  // row 0 at the top, as softpbr
-  for (const bool textured : {false, true}) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, textured);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader, textured);
-    Impl::Program& pr = impl_->programs[textured];
-    pr.id = glCreateProgram();
-    glAttachShader(pr.id, vs);
-    glAttachShader(pr.id, fs);
-    glLinkProgram(pr.id);
-    GLint ok = 0;
-    glGetProgramiv(pr.id, GL_LINK_STATUS, &ok);
-    if (!ok) throw std::runtime_error("llvmpipe: GLSL link error");
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    const GLuint p = pr.id;
-    pr.u_model = glGetUniformLocation(p, "u_model");
-    pr.u_normal_matrix = glGetUniformLocation(p, "u_normal_matrix");
-    pr.u_albedo = glGetUniformLocation(p, "u_albedo");
-    pr.u_f0 = glGetUniformLocation(p, "u_f0");
-    pr.u_metallic = glGetUniformLocation(p, "u_metallic");
-    pr.u_alpha = glGetUniformLocation(p, "u_alpha");
-    pr.u_k = glGetUniformLocation(p, "u_k");
-    pr.u_ao = glGetUniformLocation(p, "u_ao");
-    pr.u_emissive = glGetUniformLocation(p, "u_emissive");
-    if (textured) {
-      glUseProgram(p);
-      glUniform1i(glGetUniformLocation(p, "u_base_color_texture"), 0);
-    }
-  }
-  glUseProgram(impl_->programs[0].id);
   // Anisotropic filtering: core in GL 4.6, else ARB_ or EXT_texture_filter_anisotropic (one enum).
   for (const char* e : {"GL_ARB_texture_filter_anisotropic", "GL_EXT_texture_filter_anisotropic"})
     if (has_extension(e)) {
@@ -319,8 +525,16 @@ LlvmpipeRenderer::~LlvmpipeRenderer() {
   }
   for (auto& [texture, id] : impl_->textures) glDeleteTextures(1, &id);
   if (!impl_->samplers.empty()) glDeleteSamplers(static_cast<GLsizei>(impl_->samplers.size()), impl_->samplers.data());
-  for (const Impl::Program& pr : impl_->programs)
+  for (auto& [defines, pr] : impl_->programs)
     if (pr.id) glDeleteProgram(pr.id);
+  for (GLuint id : impl_->env_levels)
+    if (id != 0) glDeleteTextures(1, &id);
+  if (impl_->dfg != 0) glDeleteTextures(1, &impl_->dfg);
+  if (impl_->background_program != 0) glDeleteProgram(impl_->background_program);
+  if (impl_->background_vao != 0) {
+    glDeleteVertexArrays(1, &impl_->background_vao);
+    glDeleteBuffers(1, &impl_->background_vbo);
+  }
   if (impl_->context) OSMesaDestroyContext(impl_->context);
 }
 
@@ -344,20 +558,83 @@ bool check_textured(const pbr::Object& o) {
 }  // namespace
 
 void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& output) {
-  if (output.tone_map != pbr::ToneMap::Reinhard || output.exposure != 0.0f || !(output.gamma > 0.0f))
-    throw std::invalid_argument("llvmpipe: only Reinhard with a gamma curve and exposure 0");
+  if ((output.tone_map != pbr::ToneMap::Reinhard && output.tone_map != pbr::ToneMap::Aces) ||
+      output.exposure != 0.0f || !(output.gamma >= 0.0f))
+    throw std::invalid_argument("llvmpipe: only Reinhard or ACES, with the sRGB or a gamma curve, exposure 0");
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("llvmpipe: at most 8 lights");
   Impl& m = *impl_;
+  std::string output_defines;
+  if (output.tone_map == pbr::ToneMap::Aces) output_defines += "#define ACES 1\n";
+  if (output.gamma == 0.0f) output_defines += "#define SRGB 1\n";
+  pbr::PreparedEnvironment env;
+  std::string env_defines;
+  if (scene.environment.map) {
+    env = pbr::prepare_environment(scene.environment);
+    env_defines = env.multiscatter ? "#define IBL 1\n#define MULTISCATTER 1\n" : "#define IBL 1\n";
+    m.upload_environment(*scene.environment.map);
+  }
+  // The variants this scene draws with: [textured].
+  Impl::Program* variants[2] = {&m.program(output_defines + env_defines), nullptr};
+  const bool any_textured =
+      std::any_of(scene.objects.begin(), scene.objects.end(), [](const pbr::Object& o) { return check_textured(o); });
+  if (any_textured) {
+    if (scene.environment.map)
+      throw std::invalid_argument("llvmpipe: textured objects under an environment are not ported");
+    variants[1] = &m.program("#define TEXTURED 1\n" + output_defines);
+  }
+  m.background = scene.background_mode != pbr::BackgroundMode::Color;
+  if (m.background) {
+    if (!scene.environment.map) throw std::invalid_argument("llvmpipe: an environment background needs an environment");
+    if (m.background_program == 0 || m.background_defines != output_defines) {
+      if (m.background_program != 0) glDeleteProgram(m.background_program);
+      m.background_program =
+          link(compile(GL_VERTEX_SHADER, output_defines, {kBackgroundVertex}),
+               compile(GL_FRAGMENT_SHADER, output_defines, {kOutputTransform, kEnvironment, kBackgroundFragment}));
+      m.background_defines = output_defines;
+    }
+    const GLuint p = m.background_program;
+    Impl::set_environment_uniforms(p, env);
+    glUniform1f(glGetUniformLocation(p, "u_inv_gamma"), output.gamma > 0.0f ? 1.0f / output.gamma : 1.0f);
+    glUniform1f(glGetUniformLocation(p, "u_bg_roughness"),
+                scene.background_mode == pbr::BackgroundMode::Blur ? scene.background_blur : 0.0f);
+    // pbr/src/scene.cpp's background_triangle(), with the same dmath: clip (−1, −1), (3, −1),
+    // (−1, 3), each with the world direction of its camera ray.
+    const float aspect = static_cast<float>(m.width) / static_cast<float>(m.height);
+    const glm::mat3 to_world = glm::transpose(glm::mat3(scene.camera.view()));
+    const double half = 0.5 * static_cast<double>(scene.camera.fovy);
+    const auto ty = static_cast<float>(dmath::sin(half) / dmath::cos(half));
+    const float tx = ty * aspect;
+    const float corners[3][2] = {{-1.0f, -1.0f}, {3.0f, -1.0f}, {-1.0f, 3.0f}};
+    float vertices[3][7];
+    for (int i = 0; i < 3; ++i) {
+      const glm::vec3 d = to_world * glm::vec3(corners[i][0] * tx, corners[i][1] * ty, -1.0f);
+      const float v[7] = {corners[i][0], corners[i][1], 0.0f, 1.0f, d.x, d.y, d.z};
+      std::copy(v, v + 7, vertices[i]);
+    }
+    if (m.background_vao == 0) {
+      glGenVertexArrays(1, &m.background_vao);
+      glGenBuffers(1, &m.background_vbo);
+    }
+    glBindVertexArray(m.background_vao);
+    glBindBuffer(GL_ARRAY_BUFFER, m.background_vbo);
+    glBufferData(GL_ARRAY_BUFFER, sizeof vertices, vertices, GL_STATIC_DRAW);
+    glVertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(4 * sizeof(float)));
+    glEnableVertexAttribArray(0);
+    glEnableVertexAttribArray(1);
+  }
   const glm::mat4 vp =
       scene.camera.projection(static_cast<float>(m.width) / static_cast<float>(m.height)) * scene.camera.view();
-  for (const Impl::Program& pr : m.programs) {
-    const GLuint p = pr.id;
+  for (const Impl::Program* pr : variants) {
+    if (pr == nullptr) continue;
+    const GLuint p = pr->id;
     glUseProgram(p);
     glUniformMatrix4fv(glGetUniformLocation(p, "u_view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
     glUniform3fv(glGetUniformLocation(p, "u_eye"), 1, glm::value_ptr(scene.camera.position));
     glUniform3fv(glGetUniformLocation(p, "u_ambient"), 1, glm::value_ptr(scene.ambient));
-    glUniform1f(glGetUniformLocation(p, "u_inv_gamma"), 1.0f / output.gamma);
+    glUniform1f(glGetUniformLocation(p, "u_inv_gamma"), output.gamma > 0.0f ? 1.0f / output.gamma : 1.0f);
     glUniform1i(glGetUniformLocation(p, "u_light_count"), static_cast<GLint>(scene.lights.size()));
+    if (scene.environment.map && pr == variants[0]) Impl::set_environment_uniforms(p, env);
     for (std::size_t i = 0; i < scene.lights.size(); ++i) {
       const pbr::Light& l = scene.lights[i];
       if (l.type != pbr::LightType::Point || l.range != 0.0f)
@@ -401,7 +678,7 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
       }
       g.count = static_cast<GLsizei>(o.mesh->indices.size());
     }
-    Impl::Draw d{&g, &m.programs[textured], 0, 0, o.transform, glm::transpose(glm::inverse(glm::mat3(o.transform))),
+    Impl::Draw d{&g, variants[textured], 0, 0, o.transform, glm::transpose(glm::inverse(glm::mat3(o.transform))),
                  pbr::prepare_material(o.material)};
     if (textured) {
       d.texture = m.upload(*o.material.base_color_texture.texture);
@@ -417,6 +694,13 @@ void LlvmpipeRenderer::render() {
   glClearColor(m.clear.r, m.clear.g, m.clear.b, m.clear.a);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (m.background) {
+    glDisable(GL_DEPTH_TEST);  // no test, no write
+    glUseProgram(m.background_program);
+    glBindVertexArray(m.background_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glEnable(GL_DEPTH_TEST);
+  }
   const Impl::Program* current = nullptr;
   for (const Impl::Draw& d : m.draws) {
     const Impl::Program& p = *d.program;
@@ -433,6 +717,7 @@ void LlvmpipeRenderer::render() {
     glUniform1f(p.u_k, d.material.k);
     glUniform1f(p.u_ao, d.material.ao);
     glUniform3fv(p.u_emissive, 1, glm::value_ptr(d.material.emissive));
+    if (p.u_roughness >= 0) glUniform1f(p.u_roughness, d.material.roughness);
     if (d.texture != 0) {
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, d.texture);

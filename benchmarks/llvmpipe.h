@@ -15,6 +15,14 @@
 // modes, filters, LOD bias and limits and, when llvmpipe has anisotropic filtering, its
 // max_anisotropy; the base colour is u_albedo × texture(...).rgb where TexturedPbrShader
 // multiplies it, and F0 follows from it per pixel.
+//
+// A scene with an environment (issue 15) is drawn from the same prefiltered data: the
+// Environment's 6 octahedral levels (one-texel borders included) and pbr::dfg_table() as
+// GL_RGBA32F textures (linear, clamp to edge, level 0), the 9 SH coefficients, rotation and
+// intensity as uniforms; the GLSL is pbr/shading.h's ibl() and environment.h's lookups term
+// for term in place of the ambient term, and the background pass (BackgroundShader: one
+// triangle carrying the camera rays, no depth test) first. The output transform is
+// Reinhard or ACES, then a gamma or the exact sRGB curve, as OutputSettings says.
 #pragma once
 
 #include <cstdint>
@@ -37,10 +45,11 @@ class LlvmpipeRenderer {
   LlvmpipeRenderer(const LlvmpipeRenderer&) = delete;
   LlvmpipeRenderer& operator=(const LlvmpipeRenderer&) = delete;
 
-  // Uploads the scene's meshes and textures and sets its uniforms (outside any timing).
-  // Point lights only, and of the textures only a base colour texture (uv set 0, no UV
-  // transform) on an opaque single-sided material (the benchmark scenes have nothing
-  // else); throws std::invalid_argument otherwise.
+  // Uploads the scene's meshes, textures and environment, compiles the shader variants it
+  // needs and sets its uniforms (outside any timing). Point lights only, of the textures
+  // only a base colour texture (uv set 0, no UV transform) on an opaque single-sided
+  // material and not under an environment, tone map Reinhard or ACES with exposure 0 (the
+  // benchmark scenes have nothing else); throws std::invalid_argument otherwise.
   void load(const pbr::Scene& scene, const pbr::OutputSettings& output);
 
   // One frame: clear + one draw per object + glFinish.

@@ -12,6 +12,7 @@
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/pbr/obj.h"
+#include "softpbr/pbr/scene_file.h"
 
 namespace softpbr::bench {
 
@@ -151,6 +152,46 @@ BenchScene textured_gallery_scene(int segments, int width, int height) {
   return b;
 }
 
+BenchScene ibl_gallery_scene(int width, int height) {
+  pbr::SceneFile file =
+      pbr::load_scene_file(std::filesystem::path(SOFTPBR_SOURCE_DIR) / "examples" / "scenes" / "gallery_ibl.json");
+  BenchScene b;
+  b.name = "gallery_ibl_" + size_suffix(width, height);
+  b.width = width;
+  b.height = height;
+  b.scene = std::move(file.scene);
+  b.output = file.render.output;
+  b.triangles = count_triangles(b.scene);
+  return b;
+}
+
+std::vector<BenchScene> ibl_gallery_variants(int width, int height) {
+  const BenchScene base = ibl_gallery_scene(width, height);
+  const std::string size = size_suffix(width, height);
+  std::vector<BenchScene> v;
+  auto variant = [&](const char* tag) -> BenchScene& {
+    v.push_back(base);
+    v.back().name = std::string("gallery_ibl_") + tag + "_" + size;
+    return v.back();
+  };
+  for (pbr::Object& o : variant("onelevel").scene.objects) {
+    const float level = static_cast<float>(static_cast<int>(o.material.roughness * 5.0f + 0.5f));
+    o.material.roughness = level / 5.0f;
+  }
+  variant("nobg").scene.background_mode = pbr::BackgroundMode::Color;
+  BenchScene& ambient = variant("ambient");
+  ambient.scene.environment = {};
+  ambient.scene.background_mode = pbr::BackgroundMode::Color;
+  BenchScene& bg = variant("bgonly");
+  bg.scene.objects.clear();
+  bg.triangles = 1;
+  BenchScene& empty = variant("empty");
+  empty.scene.objects.clear();
+  empty.scene.background_mode = pbr::BackgroundMode::Color;
+  empty.triangles = 0;
+  return v;
+}
+
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height) {
   pbr::GalleryOptions o = benchmark_gallery_options();
   o.mesh = std::make_shared<const pbr::Mesh>(pbr::merge_shapes(pbr::load_obj(obj)));
@@ -174,6 +215,7 @@ std::vector<BenchScene> all_scenes(const std::filesystem::path& shared_models) {
   scenes.push_back(textured_fill_scene(1920, 1080, "tex", {8.0f, 8.0f}, 1));
   scenes.push_back(textured_fill_scene(1920, 1080, "aniso16", {30.0f, 4.0f}, 16));
   scenes.push_back(textured_gallery_scene(64, 1920, 1080));
+  scenes.push_back(ibl_gallery_scene(1920, 1080));
   const struct {
     const char* name;
     const char* file;

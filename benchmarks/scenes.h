@@ -20,6 +20,14 @@
 //   fill8x_aniso16 the same planes with u scaled 7.5× more than v (30 × 4): 8 probes along
 //                  u (max_anisotropy 16), λ 0.4–0.9
 //   gallery64_tex  the 64-segment gallery, the texture on every sphere (uv_sphere's UVs)
+//
+// Image-based lighting (issue 15):
+//   gallery_ibl    examples/scenes/gallery_ibl.json as the scene file has it (5 × 7 uv
+//                  spheres of 64 segments × 32 rings: gold, copper, aluminium, titanium,
+//                  red plastic, roughness 0.05 → 1; no lights; lit by the built-in studio
+//                  Environment::studio() alone, the environment as the background; ACES,
+//                  sRGB), at the benchmark's size instead of the file's 1280×720. The
+//                  studio is prefiltered once, when the scene is loaded (not per frame).
 #pragma once
 
 #include <filesystem>
@@ -66,12 +74,25 @@ BenchScene textured_fill_scene(int width, int height, const std::string& tag, gl
 // gallery_scene() with benchmark_texture() on every sphere (trilinear, isotropic).
 BenchScene textured_gallery_scene(int segments, int width, int height);
 
+// examples/scenes/gallery_ibl.json at width × height (see above). Throws SceneFileError.
+BenchScene ibl_gallery_scene(int width, int height);
+
+// Variants of ibl_gallery_scene() that split its frame time (bench_scenes only):
+//   gallery_ibl_onelevel   every roughness rounded to the nearest prefiltered level (i / 5):
+//                          one level lookup a sphere pixel instead of two
+//   gallery_ibl_nobg       the background a colour: no background pass
+//   gallery_ibl_ambient    no environment, the constant ambient (PbrShader without lights)
+//                          and a colour background: the raster work and tone map alone
+//   gallery_ibl_bgonly     the background pass alone (no objects)
+//   gallery_ibl_empty      nothing but the clear and the tone map of the cleared tiles
+std::vector<BenchScene> ibl_gallery_variants(int width, int height);
+
 // The gallery with each cell showing `obj` (fitted into a 0.8 cube). Throws as load_obj.
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height);
 
 // Every scene of issue 6: gallery 64 at 1080p, 16 and 256 segments at 1080p, 64 at
 // 512×512, fill at 1080p; issue 13's textured fill (trilinear and 16× anisotropic) and
-// textured 64-segment gallery at 1080p; and the shared meshes when `shared_models` exists
+// textured 64-segment gallery at 1080p; issue 15's IBL gallery at 1080p; and the shared meshes when `shared_models` exists
 // (skipped cleanly, with a note on stderr, otherwise).
 std::vector<BenchScene> all_scenes(const std::filesystem::path& shared_models);
 
