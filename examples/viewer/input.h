@@ -21,6 +21,7 @@ enum class Key {
   R, F,                      // roughness up / down
   T,                         // toggle metallic
   P,                         // screenshot
+  V,                         // toggle 4× MSAA
   Escape,                    // quit
 };
 
