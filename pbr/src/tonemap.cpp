@@ -362,22 +362,24 @@ void ToneMapper::resolve(const raster::Target& target, int x0, int y0, int x1, i
 
 void ToneMapper::encode_multisampled(const raster::Target& target, int x0, int y0, int x1, int y1,
                                      raster::Image8& image, EncodeKernel kernel) const {
-  // The rectangle resolved into a 1-sample target of its size, encoded, copied into place.
-  const int w = x1 - x0, h = y1 - y0;
-  if (w <= 0 || h <= 0) return;
-  raster::Target resolved(w, h);
-  resolve(target, x0, y0, x1, y1, resolved.colors().data(), static_cast<std::size_t>(w));
-  raster::Image8 piece;
-  piece.width = w;
-  piece.height = h;
-  piece.rgba.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  // Blocks of up to kBlock² pixels resolved into a 1-sample scratch target, encoded into a
+  // scratch image, copied into place. The scratch buffers belong to the thread (a frame's
+  // tiles run on the pool's threads), so a frame allocates nothing after the first tile.
+  constexpr int kBlock = 64;
+  thread_local raster::Target resolved(kBlock, kBlock);
+  thread_local raster::Image8 piece{kBlock, kBlock, std::vector<std::uint8_t>(kBlock * kBlock * 4)};
   const ToneMapper& encoder = settings_.resolve == Resolve::ToneMapped && display_ ? *display_ : *this;
-  encoder.encode(resolved, 0, 0, w, h, piece, kernel);
-  for (int y = 0; y < h; ++y)
-    std::memcpy(image.rgba.data() + ((static_cast<std::size_t>(y0 + y) * static_cast<std::size_t>(image.width)) +
-                                     static_cast<std::size_t>(x0)) * 4,
-                piece.rgba.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w) * 4,
-                static_cast<std::size_t>(w) * 4);
+  glm::vec4* const scratch = resolved.colors().data();
+  for (int by = y0; by < y1; by += kBlock)
+    for (int bx = x0; bx < x1; bx += kBlock) {
+      const int w = std::min(kBlock, x1 - bx), h = std::min(kBlock, y1 - by);
+      resolve(target, bx, by, bx + w, by + h, scratch, kBlock);
+      encoder.encode(resolved, 0, 0, w, h, piece, kernel);
+      for (int y = 0; y < h; ++y)
+        std::memcpy(image.rgba.data() + ((static_cast<std::size_t>(by + y) * static_cast<std::size_t>(image.width)) +
+                                         static_cast<std::size_t>(bx)) * 4,
+                    piece.rgba.data() + static_cast<std::size_t>(y) * kBlock * 4, static_cast<std::size_t>(w) * 4);
+    }
 }
 
 raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSettings& s) {

@@ -46,10 +46,14 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
     }
     return;
   }
-  for (int s = 0; s < kMs; ++s) {
-    if (!(mask & (1u << s))) continue;
-    const std::size_t i = static_cast<std::size_t>(s) * target.plane + idx;
-    target.colors[i] = blend(state.blend, src, target.colors[i]);
+  if (state.blend == Blend::Replace) {
+    for (unsigned m = mask; m != 0; m &= m - 1)
+      target.colors[static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx] = src;
+    return;
+  }
+  for (unsigned m = mask; m != 0; m &= m - 1) {
+    const std::size_t i = static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx;
+    target.colors[i] = blend(Blend::Over, src, target.colors[i]);
   }
 }
 
@@ -275,8 +279,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           const V4 l2 = sw2 * V4(t.inv_area);
           simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(sample_z[s]);
           float* const plane_depths = depths + static_cast<std::size_t>(s) * target.plane;
-          for (int j = 0; j < 4; ++j) {
-            if (!(covered[s] & (1u << j))) continue;
+          for (unsigned c = covered[s]; c != 0; c &= c - 1) {
+            const int j = std::countr_zero(c);
             const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
             if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
             if (early_depth_write) plane_depths[idx] = sample_z[s][j];
