@@ -13,6 +13,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
 
@@ -209,4 +210,27 @@ TEST_CASE("MSAA resolves, measured on the gallery's highlights: tone mapping eac
     CHECK(brighter >= darker);  // the linear resolve's bias: bright samples dominate
     if (exposure > 0.0f) CHECK(brighter > 0);
   }
+}
+
+TEST_CASE("scene files: render.msaa takes 1, 4 or 8 and render.resolve a resolve name; the memory estimate counts the samples") {
+  const auto parse = [](const std::string& render) {
+    return pbr::parse_scene_file(R"({"objects": [], "render": )" + render + "}", "s.json", ".");
+  };
+  CHECK(parse("{}").render.msaa == 1);
+  CHECK(parse(R"({"msaa": 4})").render.msaa == 4);
+  CHECK(parse(R"({"msaa": 8})").render.msaa == 8);
+  CHECK(parse("{}").render.output.resolve == pbr::Resolve::ToneMapped);
+  CHECK(parse(R"({"resolve": "linear"})").render.output.resolve == pbr::Resolve::Linear);
+  for (const std::string bad : {R"({"msaa": 2})", R"({"msaa": 16})", R"({"msaa": "4"})", R"({"resolve": "box"})"}) {
+    CAPTURE(bad);
+    try {
+      parse(bad);
+      FAIL("expected a SceneFileError");
+    } catch (const pbr::SceneFileError& e) {
+      const std::string what = e.what();
+      CHECK(what.find("s.json: /render/") == 0);
+    }
+  }
+  CHECK(pbr::image_memory(1920, 1080, 4) == pbr::image_memory(1920, 1080) + 1920ull * 1080 * 4 * 20);
+  CHECK(pbr::image_memory(1920, 1080, 8) > pbr::image_memory(1920, 1080, 4));
 }
