@@ -113,11 +113,7 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
     for (int lane = 0; lane < b.count; ++lane)
       write_samples<kMs>(state, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, b.sample_mask[lane],
                          b.sample_depth[lane], b.index[lane], target);
-    b.count = 0;
-    return;
-  }
-  // The blend mode decided once per packet: replacing does not read the target.
-  if (state.alpha_test) {
+  } else if (state.alpha_test) {  // the blend mode decided once per packet: replacing does not read the target
     // Lanes in submission order, each tested against the depths the lanes before it wrote.
     for (int lane = 0; lane < b.count; ++lane) {
       if (!(out[3][lane] >= state.alpha_ref)) continue;
@@ -332,13 +328,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
             float zs[kMs];
             for (int s = 0; s < kMs; ++s) zs[s] = sample_z[s][j];
             write_samples<kMs>(state, src, lane_samples[j], zs, idx, target);
-            continue;
+          } else {
+            if (state.alpha_test) {
+              if (!(src.a >= state.alpha_ref)) continue;
+              if (depth_write) depths[idx] = z[j];
+            }
+            colors[idx] = blend(state.blend, src, colors[idx]);
           }
-          if (state.alpha_test) {
-            if (!(src.a >= state.alpha_ref)) continue;
-            if (depth_write) depths[idx] = z[j];
-          }
-          colors[idx] = blend(state.blend, src, colors[idx]);
         }
       } else {
         for (int j = 0; j < 4; ++j) {
