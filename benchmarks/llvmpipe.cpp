@@ -332,6 +332,7 @@ bool has_extension(const char* name) {
 struct LlvmpipeRenderer::Impl {
   OSMesaContext context = nullptr;
   int width = 0, height = 0;
+  GLuint fbo = 0, color_rb = 0, depth_rb = 0;  // multisampled only
   // One program per variant of the object shader, by its defines (see kVersion).
   struct Program {
     GLuint id = 0;
@@ -490,7 +491,7 @@ struct LlvmpipeRenderer::Impl {
   }
 };
 
-LlvmpipeRenderer::LlvmpipeRenderer(int width, int height) : impl_(std::make_unique<Impl>()) {
+LlvmpipeRenderer::LlvmpipeRenderer(int width, int height, int samples) : impl_(std::make_unique<Impl>()) {
   const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24, OSMESA_STENCIL_BITS, 0,
                          OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
                          OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
@@ -509,6 +510,28 @@ LlvmpipeRenderer::LlvmpipeRenderer(int width, int height) : impl_(std::make_uniq
       glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &impl_->max_anisotropy);
       break;
     }
+  if (samples > 1) {
+    GLint most = 0;
+    glGetIntegerv(GL_MAX_SAMPLES, &most);
+    if (most < samples)
+      throw std::runtime_error("llvmpipe: " + std::to_string(samples) + " samples asked, GL_MAX_SAMPLES is " +
+                               std::to_string(most));
+    glGenRenderbuffers(1, &impl_->color_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, impl_->color_rb);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, width, height);
+    glGenRenderbuffers(1, &impl_->depth_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, impl_->depth_rb);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH_COMPONENT24, width, height);
+    glGenFramebuffers(1, &impl_->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, impl_->fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, impl_->color_rb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, impl_->depth_rb);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("llvmpipe: the multisampled framebuffer is incomplete");
+    GLint got = 0;
+    glGetIntegerv(GL_SAMPLES, &got);
+    if (got != samples) throw std::runtime_error("llvmpipe: the framebuffer has " + std::to_string(got) + " samples");
+  }
   glViewport(0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -534,6 +557,11 @@ LlvmpipeRenderer::~LlvmpipeRenderer() {
   if (impl_->background_vao != 0) {
     glDeleteVertexArrays(1, &impl_->background_vao);
     glDeleteBuffers(1, &impl_->background_vbo);
+  }
+  if (impl_->fbo) {
+    glDeleteFramebuffers(1, &impl_->fbo);
+    glDeleteRenderbuffers(1, &impl_->color_rb);
+    glDeleteRenderbuffers(1, &impl_->depth_rb);
   }
   if (impl_->context) OSMesaDestroyContext(impl_->context);
 }
@@ -691,6 +719,7 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
 
 void LlvmpipeRenderer::render() {
   Impl& m = *impl_;
+  if (m.fbo) glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
   glClearColor(m.clear.r, m.clear.g, m.clear.b, m.clear.a);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -725,6 +754,11 @@ void LlvmpipeRenderer::render() {
     }
     glBindVertexArray(d.mesh->vao);
     glDrawElements(GL_TRIANGLES, d.mesh->count, GL_UNSIGNED_INT, nullptr);
+  }
+  if (m.fbo) {  // the resolve: a box filter of the samples into the single-sampled buffer
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m.fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glBlitFramebuffer(0, 0, m.width, m.height, 0, 0, m.width, m.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   }
   glFinish();
 }

@@ -39,8 +39,11 @@ class LlvmpipeRenderer {
  public:
   // Creates an OSMesa core-profile (3.3) context rendering into a width × height RGBA8
   // buffer. llvmpipe reads LP_NUM_THREADS when its screen is created, i.e. with the first
-  // context of the process: set it before. Throws std::runtime_error on failure.
-  LlvmpipeRenderer(int width, int height);
+  // context of the process: set it before. With samples > 1 (4 or 8) frames draw into a
+  // multisampled framebuffer object (RGBA8 and 24-bit depth renderbuffers) and are resolved
+  // into the RGBA8 buffer by glBlitFramebuffer, inside render(). Throws std::runtime_error
+  // on failure.
+  LlvmpipeRenderer(int width, int height, int samples = 1);
   ~LlvmpipeRenderer();
   LlvmpipeRenderer(const LlvmpipeRenderer&) = delete;
   LlvmpipeRenderer& operator=(const LlvmpipeRenderer&) = delete;
@@ -52,7 +55,7 @@ class LlvmpipeRenderer {
   // benchmark scenes have nothing else); throws std::invalid_argument otherwise.
   void load(const pbr::Scene& scene, const pbr::OutputSettings& output);
 
-  // One frame: clear + one draw per object + glFinish.
+  // One frame: clear + one draw per object (+ the resolve blit when multisampled) + glFinish.
   void render();
 
   // The last frame, RGBA8, row 0 at the top (as softpbr's Image8).

@@ -46,6 +46,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   a.threads_opt = c->add_option("--threads", a.threads, "Worker threads, 0 = all cores (the image is the same for any)");
   a.tile_opt = c->add_option("--tile-size", a.tile_size, "Screen tile size, even, 8..4096 (the image is the same for any)");
   a.tonemap_opt = c->add_option("--tonemap", a.tonemap, "Tone map: none, reinhard, aces, neutral");
+  a.msaa_opt = c->add_option("--msaa", a.msaa, "Samples a pixel: 1 (no antialiasing), 4 or 8 (MSAA; overrides render.msaa)");
   a.exposure_opt = c->add_option("--exposure", a.exposure, "Exposure in stops (colour x 2^E before tone mapping)");
   a.frames_opt = c->add_option("--frames", a.frames,
                                "Frame range A..B (inclusive): the turntable animation of the scene's camera and "
@@ -281,6 +282,12 @@ int run_render(const RenderArgs& a) {
     if (!tone_map) throw Error(kExitUsage, "--tonemap: expected one of none, reinhard, aces, neutral, got \"" + a.tonemap + "\"");
   }
   if (a.exposure_opt->count()) in_range("--exposure", a.exposure, -64.0f, 64.0f);
+  if (a.msaa_opt->count() && !raster::valid_sample_count(a.msaa))
+    throw Error(kExitUsage, "--msaa: expected 1, 4 or 8, got " + std::to_string(a.msaa));
+  if (a.env_intensity_opt->count() && !(a.env_intensity >= 0.0f && a.env_intensity <= 1e6f))
+    throw Error(kExitUsage, "--env-intensity: expected a number in [0, 1e6], got " + std::to_string(a.env_intensity));
+  if (a.env_rotation_opt->count() && !std::isfinite(a.env_rotation))
+    throw Error(kExitUsage, "--env-rotation: expected a finite number of degrees");
   if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
     throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
   if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
@@ -351,11 +358,12 @@ int run_render(const RenderArgs& a) {
   if (a.tile_opt->count()) s.tile_size = a.tile_size;
   if (tone_map) s.output.tone_map = *tone_map;
   if (a.exposure_opt->count()) s.output.exposure = a.exposure;
+  if (a.msaa_opt->count()) s.msaa = a.msaa;
 
   // 3. Memory, before the target is allocated.
   const std::uint64_t physical = physical_memory();
   const std::uint64_t limit = physical ? std::min(memory_limit, physical) : memory_limit;
-  const std::uint64_t needed = pbr::image_memory(s.width, s.height) + file.mesh_bytes + file.texture_bytes;
+  const std::uint64_t needed = pbr::image_memory(s.width, s.height, s.msaa) + file.mesh_bytes + file.texture_bytes;
   if (needed > limit) {
     const bool from_cli = a.width_opt->count() || a.height_opt->count();
     const std::string where = from_cli ? "--width " + std::to_string(s.width) + " --height " + std::to_string(s.height)
@@ -375,7 +383,7 @@ int run_render(const RenderArgs& a) {
   if (renderer.threads() < renderer.requested_threads() && !a.quiet)
     std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
                  renderer.threads(), renderer.requested_threads(), renderer.threads());
-  raster::Target target(s.width, s.height);
+  raster::Target target(s.width, s.height, s.msaa);
   Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(frame_count));
   std::size_t done = 0, skipped = 0;
   for (long j = 0; j < frame_count; ++j) {

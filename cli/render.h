@@ -12,7 +12,7 @@ namespace softpbr::cli {
 struct RenderArgs {
   std::string scene;
   std::vector<std::string> outputs;
-  int width = 0, height = 0, threads = 0, tile_size = 0;
+  int width = 0, height = 0, threads = 0, tile_size = 0, msaa = 1;
   std::string tonemap;
   float exposure = 0.0f;
   std::string frames, shard;
@@ -30,7 +30,7 @@ struct RenderArgs {
   CLI::Option *width_opt = nullptr, *height_opt = nullptr, *threads_opt = nullptr, *tile_opt = nullptr,
               *tonemap_opt = nullptr, *exposure_opt = nullptr, *frames_opt = nullptr, *shard_opt = nullptr,
               *camera_opt = nullptr, *env_opt = nullptr, *env_intensity_opt = nullptr, *env_rotation_opt = nullptr,
-              *background_opt = nullptr;
+              *background_opt = nullptr, *msaa_opt = nullptr;
 };
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);

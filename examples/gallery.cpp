@@ -21,7 +21,7 @@ namespace raster = softpbr::raster;
 
 int main(int argc, char** argv) {
   std::string out = "gallery.png";
-  int width = 1280, height = 720;
+  int width = 1280, height = 720, msaa = 1;
   std::string obj;
   raster::RendererOptions options;
   for (int i = 1; i < argc; ++i) {
@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
       else if (arg == "--threads") options.threads = static_cast<unsigned>(std::max(0, value()));
       else if (arg == "--tile-size") options.tile_size = value();
       else if (arg == "--lanes") options.lanes = value();
+      else if (arg == "--msaa") msaa = value();
       else if (arg == "--spot") obj = SOFTPBR_ASSETS_DIR "/models/spot/spot_triangulated.obj";
       else if (arg == "--obj") {
         if (i + 1 >= argc) throw std::invalid_argument("--obj needs a file");
@@ -44,7 +45,7 @@ int main(int argc, char** argv) {
       else if (arg == "-h" || arg == "--help") {
         std::printf(
             "usage: gallery [out.png] [--width W] [--height H] [--threads N] [--tile-size T] [--lanes L]\n"
-            "               [--spot | --obj mesh.obj]\n");
+            "               [--msaa 1|4|8] [--spot | --obj mesh.obj]\n");
         return 0;
       } else out = arg;
     } catch (const std::exception& e) {
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
   }
   try {
     raster::Renderer renderer(options);
-    raster::Target target(width, height);
+    raster::Target target(width, height, msaa);
     pbr::GalleryOptions gallery;
     if (!obj.empty()) {
       const pbr::ObjModel model = pbr::load_obj(obj);

@@ -87,11 +87,12 @@ inline std::vector<int> render_pixel_triangles(raster::Renderer& renderer, int w
 // pixel as the rasterizer does. A centre on an edge counts when the edge is a top edge
 // (exactly horizontal, the third vertex below it) or a left edge (not horizontal, the
 // third vertex on its right) — the D3D10 rule, whatever the winding.
-inline bool reference_covers(Point a, Point b, Point c, int px, int py) {
+// reference_covers_point() takes the point (cx, cy) in 1/256 pixel instead: a pixel's
+// sample (MSAA) at its centre plus the sample's offset.
+inline bool reference_covers_point(Point a, Point b, Point c, std::int64_t cx, std::int64_t cy) {
   auto snap = [](double v) { return static_cast<std::int64_t>(std::floor(v * 256.0 + 0.5)); };
   const std::int64_t x[3] = {snap(a.x), snap(b.x), snap(c.x)};
   const std::int64_t y[3] = {snap(a.y), snap(b.y), snap(c.y)};
-  const std::int64_t cx = std::int64_t{px} * 256 + 128, cy = std::int64_t{py} * 256 + 128;
   auto side = [](std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by, std::int64_t qx,
                  std::int64_t qy) {
     const std::int64_t d = (bx - ax) * (qy - ay) - (by - ay) * (qx - ax);
@@ -117,6 +118,10 @@ inline bool reference_covers(Point a, Point b, Point c, int px, int py) {
     if (!top_or_left) return false;
   }
   return true;
+}
+
+inline bool reference_covers(Point a, Point b, Point c, int px, int py) {
+  return reference_covers_point(a, b, c, std::int64_t{px} * 256 + 128, std::int64_t{py} * 256 + 128);
 }
 
 // Reference hit counts of triangles given as three points each, row-major.

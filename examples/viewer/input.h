@@ -22,6 +22,7 @@ enum class Key {
   T,                         // toggle metallic
   P,                         // screenshot
   B,                         // next environment (off, the built-in studio, each --env map)
+  V,                         // toggle 4× MSAA
   Escape,                    // quit
 };
 

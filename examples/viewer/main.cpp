@@ -64,7 +64,8 @@ class Viewer {
   double draw(int divisor) {
     const auto start = Clock::now();
     const int w = viewer::scaled_size(window_.width(), divisor), h = viewer::scaled_size(window_.height(), divisor);
-    if (!target_ || target_->width() != w || target_->height() != h) target_.emplace(w, h);
+    if (!target_ || target_->width() != w || target_->height() != h || target_->samples() != state_.msaa)
+      target_.emplace(w, h, state_.msaa);
     const raster::Image8 image = viewer::render_view(state_, meshes_, renderer_, *target_, environments_);
     window_.draw(image);
     shown_divisor_ = divisor;
@@ -203,10 +204,10 @@ class Viewer {
 
   void update_title(double ms) {
     char title[256];
-    std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s | %u threads%s", ms,
+    std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s%s | %u threads%s", ms,
                   ms > 0.0 ? 1000.0 / ms : 0.0, viewer::material_label(state_).c_str(),
                   meshes_[state_.mesh].name.c_str(), target_->width(), target_->height(),
-                  shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
+                  target_->samples() > 1 ? " 4x MSAA" : "", shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
                   state_.lights_rotating ? " | lights rotating" : "");
     window_.set_title(title);
   }
@@ -227,7 +228,7 @@ constexpr const char* kUsage =
     "usage: viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]\n"
     "              [--software] [--script keys.txt] [--screenshot out.png] [--env map.hdr ...]\n"
     "keys: WASD/arrows fly, Q/E down/up, Tab capture mouse, 1-9 presets, N next preset, 0 gallery,\n"
-    "      M next mesh, C rotate lights, R/F roughness up/down, T metallic, P screenshot, Esc quit\n";
+    "      M next mesh, C rotate lights, R/F roughness up/down, T metallic, V 4x MSAA, P screenshot, Esc quit\n";
 
 Options parse(int argc, char** argv) {
   Options o;

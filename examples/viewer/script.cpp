@@ -35,7 +35,7 @@ struct LineParser {
   }
   Key key(std::size_t i) const {
     const auto k = key_from_name(words[i]);
-    if (!k) fail("unknown key \"" + std::string(words[i]) + "\" (keys: w a s d q e up down left right tab 0-9 n m c r f t p escape)");
+    if (!k) fail("unknown key \"" + std::string(words[i]) + "\" (keys: w a s d q e up down left right tab 0-9 n m c r f t v p escape)");
     return *k;
   }
   // Whole pixels, as SDL reports mouse motion.

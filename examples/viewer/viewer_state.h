@@ -12,6 +12,7 @@
 //   C                 start / stop the rotating lights
 //   R / F             roughness up / down by 0.05    T  toggle metallic (preset mode only)
 //   B                 next environment: off (the paper's lights), the built-in studio, each --env map
+//   V                 toggle 4× MSAA (antialiased edges, docs/design.md "MSAA")
 //   P                 screenshot                      Escape  quit
 #pragma once
 
@@ -50,6 +51,7 @@ struct ViewerState {
   bool lights_rotating = false;
   float light_angle = 0.0f;  // radians in [0, 2π): the lights' turn about the y axis
   bool captured = false;     // mouse captured: motion turns the camera
+  int msaa = 1;              // samples a pixel: 1 or 4 (V toggles)
   bool quit = false;
   std::array<bool, kKeyCount> held{};  // keys currently down
 

@@ -133,14 +133,18 @@ SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOpti
   return file;
 }
 
-std::uint64_t image_memory(int width, int height) {
+std::uint64_t image_memory(int width, int height, int samples) {
   // Target colour (16) + depth (4), then the largest output's buffers, one output at a
   // time: PNG 8 (Image8 + encoding), .hdr 16 (float RGB + RGBE), .exr up to 52 (four float
   // planes and tinyexr's compression buffers). Measured peak resident memory of a 2048²
   // render of lights.json: 30 bytes a pixel with .png, 34 with .hdr, 50 with .exr.
+  // MSAA adds the multisampled target (colour and depth per sample); the 1-sample target
+  // above then holds the resolved image.
   constexpr std::uint64_t kBytesPerPixel = 72;
-  return static_cast<std::uint64_t>(std::max(width, 0)) * static_cast<std::uint64_t>(std::max(height, 0)) *
-         kBytesPerPixel;
+  const std::uint64_t pixels =
+      static_cast<std::uint64_t>(std::max(width, 0)) * static_cast<std::uint64_t>(std::max(height, 0));
+  const std::uint64_t multisampled = samples > 1 ? pixels * static_cast<std::uint64_t>(samples) * 20 : 0;
+  return pixels * kBytesPerPixel + multisampled;
 }
 
 std::string format_bytes(std::uint64_t bytes) {

@@ -36,6 +36,14 @@ std::string_view tone_map_name(ToneMap op) {
   }
 }
 
+std::optional<Resolve> resolve_from_name(std::string_view name) {
+  if (name == "tonemapped") return Resolve::ToneMapped;
+  if (name == "linear") return Resolve::Linear;
+  return std::nullopt;
+}
+
+std::string_view resolve_name(Resolve r) { return r == Resolve::Linear ? "linear" : "tonemapped"; }
+
 glm::vec3 apply_tone_map(ToneMap op, glm::vec3 c) {
   using tone_map_operators::tone_map;
   switch (op) {
@@ -86,6 +94,8 @@ inline std::uint32_t table_key(float v) {
 
 ToneMapper::ToneMapper(const OutputSettings& s)
     : settings_(checked(s)), scale_(exposure_scale(s.exposure)), thresholds_(transfer_thresholds(s.gamma)) {
+  if (s.resolve == Resolve::ToneMapped && !(s.tone_map == ToneMap::None && scale_ == 1.0f))
+    display_ = std::make_shared<const ToneMapper>(OutputSettings{0.0f, ToneMap::None, s.gamma, Resolve::ToneMapped});
   first_.resize(kLastKey + 1);
   std::size_t below = 0;
   for (std::uint32_t k = 0; k <= kLastKey; ++k) {
@@ -267,6 +277,7 @@ void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, in
 
 void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
                         EncodeKernel kernel) const {
+  if (target.samples() > 1) return encode_multisampled(target, x0, y0, x1, y1, image, kernel);
   const Job job{&target, x0, y0, x1, y1, scale_, {padded_.data(), first_.data(), thresholds_[0], steps_, packed_.empty() ? nullptr : packed_.data(), packed_base_}, &image};
   if (kernel != EncodeKernel::Scalar) return encode_lanes(kernel, settings_.tone_map, job);
   const auto run = [&]<ToneMap kOp>() {
@@ -280,12 +291,103 @@ void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, in
   }
 }
 
+namespace {
+// The mean of kS values, as raster::resolve_box sums them: pairwise in sample order.
+template <int kS, class F>
+inline F box_mean(const F (&v)[kS]) {
+  if constexpr (kS == 4) return ((v[0] + v[1]) + (v[2] + v[3])) * F(0.25f);
+  else return (((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]))) * F(0.125f);
+}
+
+// Resolve::ToneMapped for pixels [x0, x1) of row y: exposure and the tone map per sample
+// (tone_map_operators, lanes of 4 pixels then single pixels: the same operations per
+// lane), the box mean of each channel; alpha is the mean of the linear alphas.
+template <ToneMap kOp, int kS>
+void resolve_tone_mapped_row(const glm::vec4* colors, std::size_t plane, std::size_t row, int x0, int x1, float scale,
+                             glm::vec4* out) {
+  using V = simd::Vec<4>;
+  int x = x0;
+  for (; x + 4 <= x1; x += 4, out += 4) {
+    V r[kS], g[kS], b[kS], a[kS];
+    for (int s = 0; s < kS; ++s) {
+      simd::load_deinterleave4<4>(&colors[static_cast<std::size_t>(s) * plane + row + static_cast<std::size_t>(x)].r,
+                                  r[s], g[s], b[s], a[s]);
+      r[s] *= V(scale);
+      g[s] *= V(scale);
+      b[s] *= V(scale);
+      tone_map_operators::tone_map<kOp>(r[s], g[s], b[s]);
+    }
+    alignas(16) float ch[4][4];
+    box_mean(r).store(ch[0]);
+    box_mean(g).store(ch[1]);
+    box_mean(b).store(ch[2]);
+    box_mean(a).store(ch[3]);
+    for (int i = 0; i < 4; ++i) out[i] = {ch[0][i], ch[1][i], ch[2][i], ch[3][i]};
+  }
+  for (; x < x1; ++x, ++out) {
+    float r[kS], g[kS], b[kS], a[kS];
+    for (int s = 0; s < kS; ++s) {
+      const glm::vec4& c = colors[static_cast<std::size_t>(s) * plane + row + static_cast<std::size_t>(x)];
+      r[s] = c.r * scale, g[s] = c.g * scale, b[s] = c.b * scale, a[s] = c.a;
+      tone_map_operators::tone_map<kOp>(r[s], g[s], b[s]);
+    }
+    *out = {box_mean(r), box_mean(g), box_mean(b), box_mean(a)};
+  }
+}
+}  // namespace
+
+void ToneMapper::resolve(const raster::Target& target, int x0, int y0, int x1, int y1, glm::vec4* out,
+                         std::size_t out_width) const {
+  if (settings_.resolve == Resolve::Linear || target.samples() == 1)
+    return raster::resolve_box(target, x0, y0, x1, y1, out, out_width);
+  const std::size_t width = static_cast<std::size_t>(target.width());
+  const std::size_t plane = width * static_cast<std::size_t>(target.height());
+  const glm::vec4* colors = target.colors().data();
+  const auto run = [&]<ToneMap kOp, int kS>() {
+    for (int y = y0; y < y1; ++y)
+      resolve_tone_mapped_row<kOp, kS>(colors, plane, static_cast<std::size_t>(y) * width, x0, x1, scale_,
+                                       out + static_cast<std::size_t>(y - y0) * out_width);
+  };
+  const auto with_samples = [&]<ToneMap kOp>() {
+    if (target.samples() == 4) run.template operator()<kOp, 4>();
+    else run.template operator()<kOp, 8>();
+  };
+  switch (settings_.tone_map) {
+    case ToneMap::None: return with_samples.template operator()<ToneMap::None>();
+    case ToneMap::Reinhard: return with_samples.template operator()<ToneMap::Reinhard>();
+    case ToneMap::Aces: return with_samples.template operator()<ToneMap::Aces>();
+    default: return with_samples.template operator()<ToneMap::Neutral>();
+  }
+}
+
+void ToneMapper::encode_multisampled(const raster::Target& target, int x0, int y0, int x1, int y1,
+                                     raster::Image8& image, EncodeKernel kernel) const {
+  // Blocks of up to kBlock² pixels resolved into a 1-sample scratch target, encoded into a
+  // scratch image, copied into place. The scratch buffers belong to the thread (a frame's
+  // tiles run on the pool's threads), so a frame allocates nothing after the first tile.
+  constexpr int kBlock = 64;
+  thread_local raster::Target resolved(kBlock, kBlock);
+  thread_local raster::Image8 piece{kBlock, kBlock, std::vector<std::uint8_t>(kBlock * kBlock * 4)};
+  const ToneMapper& encoder = settings_.resolve == Resolve::ToneMapped && display_ ? *display_ : *this;
+  glm::vec4* const scratch = resolved.colors().data();
+  for (int by = y0; by < y1; by += kBlock)
+    for (int bx = x0; bx < x1; bx += kBlock) {
+      const int w = std::min(kBlock, x1 - bx), h = std::min(kBlock, y1 - by);
+      resolve(target, bx, by, bx + w, by + h, scratch, kBlock);
+      encoder.encode(resolved, 0, 0, w, h, piece, kernel);
+      for (int y = 0; y < h; ++y)
+        std::memcpy(image.rgba.data() + ((static_cast<std::size_t>(by + y) * static_cast<std::size_t>(image.width)) +
+                                         static_cast<std::size_t>(bx)) * 4,
+                    piece.rgba.data() + static_cast<std::size_t>(y) * kBlock * 4, static_cast<std::size_t>(w) * 4);
+    }
+}
+
 raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSettings& s) {
   const ToneMapper mapper(s);
   raster::Image8 image;
   image.width = target.width();
   image.height = target.height();
-  image.rgba.resize(target.colors().size() * 4);
+  image.rgba.resize(static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()) * 4);
   mapper.encode(target, 0, 0, target.width(), target.height(), image);
   return image;
 }
@@ -302,10 +404,12 @@ image::ImageViewF colour_view(const raster::Target& target) {
 }  // namespace
 
 void write_hdr(const std::filesystem::path& path, const raster::Target& target, float exposure) {
+  if (target.samples() > 1) return write_hdr(path, raster::resolve_box(target), exposure);
   image::write_hdr(path, colour_view(target), exposure_scale(exposure));
 }
 
 void write_exr(const std::filesystem::path& path, const raster::Target& target, float exposure) {
+  if (target.samples() > 1) return write_exr(path, raster::resolve_box(target), exposure);
   image::write_exr(path, colour_view(target), exposure_scale(exposure));
 }
 

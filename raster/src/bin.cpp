@@ -99,7 +99,7 @@ void assemble_chunk(const DrawGeometry& geometry, std::span<const std::uint32_t>
                     std::size_t last, const TileGrid& grid, TriangleChunk& chunk) {
   const TransformedVertices& verts = geometry.vertices;
   const int nvar = verts.varyings;
-  const Viewport viewport{grid.width, grid.height};
+  const Viewport viewport{grid.width, grid.height, grid.sample_reach};
   const FaceFilter faces(geometry.state);
   const TileIndexer tile_of(grid.tile_size);
   const std::size_t tiles = grid.count();

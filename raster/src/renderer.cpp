@@ -21,18 +21,20 @@ int checked_tile_size(int tile) {
 // Clears a tile. A tile no triangle touches is written with streaming stores (simd.h):
 // nothing will read it soon, so it need not be fetched into the cache first.
 void clear_tile(const TargetPixels& target, const TileRect& r, const ClearValues& clear, bool streaming) {
-  glm::vec4* colors = target.colors;
-  float* depths = target.depths;
   const float color[4] = {clear.color.r, clear.color.g, clear.color.b, clear.color.a};
   const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
-  for (int y = r.y0; y < r.y1; ++y) {
-    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width);
-    if (streaming) {
-      simd::stream_fill4(reinterpret_cast<float*>(colors + row + r.x0), color, n);
-    } else {
-      std::fill(colors + row + r.x0, colors + row + r.x1, clear.color);
+  for (int s = 0; s < target.samples; ++s) {  // each sample plane (target.h)
+    glm::vec4* colors = target.colors + static_cast<std::size_t>(s) * target.plane;
+    float* depths = target.depths + static_cast<std::size_t>(s) * target.plane;
+    for (int y = r.y0; y < r.y1; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width);
+      if (streaming) {
+        simd::stream_fill4(reinterpret_cast<float*>(colors + row + r.x0), color, n);
+      } else {
+        std::fill(colors + row + r.x0, colors + row + r.x1, clear.color);
+      }
+      std::fill(depths + row + r.x0, depths + row + r.x1, clear.depth);
     }
-    std::fill(depths + row + r.x0, depths + row + r.x1, clear.depth);
   }
   if (streaming) simd::stream_fence();
 }
@@ -62,6 +64,7 @@ void Renderer::begin_frame(Target& target) {
   if (target_) throw std::logic_error("Renderer::begin_frame: a frame is already open");
   target_ = &target;
   grid_ = TileGrid(target.width(), target.height(), tile_size_);
+  grid_.sample_reach = sample_reach(target.samples());
   draws_.clear();
   clear_.reset();
   pending_bytes_ = 0;

@@ -1,6 +1,8 @@
 // Render targets, resolve to 8 bits and content hashes.
 #include "softpbr/raster/target.h"
 
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -9,12 +11,36 @@
 
 namespace softpbr::raster {
 
-Target::Target(int width, int height) : width_(width), height_(height) {
+namespace {
+constexpr SampleOffset kCentre[1] = {{0, 0}};
+void check_samples(int samples) {
+  if (!valid_sample_count(samples))
+    throw std::invalid_argument("samples: " + std::to_string(samples) + " is not 1, 4 or 8");
+}
+}  // namespace
+
+std::span<const SampleOffset> sample_offsets(int samples) {
+  check_samples(samples);
+  if (samples == 4) return kSamplePattern4;
+  if (samples == 8) return kSamplePattern8;
+  return kCentre;
+}
+
+int sample_reach(int samples) {
+  int reach = 0;
+  for (const SampleOffset& o : sample_offsets(samples)) reach = std::max({reach, std::abs(o.x), std::abs(o.y)});
+  return reach * 16;
+}
+
+Target::Target(int width, int height, int samples) : width_(width), height_(height), samples_(samples) {
   if (width < 1 || height < 1 || width > kMaxTargetSize || height > kMaxTargetSize)
     throw std::invalid_argument("Target: size " + std::to_string(width) + "x" + std::to_string(height) +
                                 " is outside 1x1 .. " + std::to_string(kMaxTargetSize) + "x" +
                                 std::to_string(kMaxTargetSize));
-  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  if (!valid_sample_count(samples))
+    throw std::invalid_argument("Target: " + std::to_string(samples) + " samples a pixel: expected 1, 4 or 8");
+  const std::size_t n =
+      static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(samples);
   color_.assign(n, glm::vec4(0, 0, 0, 1));
   depth_.assign(n, 1.0f);
 }
@@ -32,7 +58,38 @@ void Target::clear_depth(float depth) {
   std::fill(depth_.begin(), depth_.end(), depth);
 }
 
-Image8 resolve_srgb8(const Target& target) {
+void resolve_box(const Target& source, int x0, int y0, int x1, int y1, glm::vec4* out, std::size_t out_width) {
+  const std::size_t plane = static_cast<std::size_t>(source.width()) * static_cast<std::size_t>(source.height());
+  const glm::vec4* c = source.colors().data();
+  const int samples = source.samples();
+  for (int y = y0; y < y1; ++y) {
+    glm::vec4* o = out + static_cast<std::size_t>(y - y0) * out_width;
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(source.width());
+    for (int x = x0; x < x1; ++x, ++o) {
+      const glm::vec4* p = c + row + static_cast<std::size_t>(x);
+      if (samples == 1) {
+        *o = *p;
+      } else if (samples == 4) {
+        *o = ((p[0] + p[plane]) + (p[2 * plane] + p[3 * plane])) * 0.25f;
+      } else {
+        *o = (((p[0] + p[plane]) + (p[2 * plane] + p[3 * plane])) +
+              ((p[4 * plane] + p[5 * plane]) + (p[6 * plane] + p[7 * plane]))) *
+             0.125f;
+      }
+    }
+  }
+}
+
+Target resolve_box(const Target& source) {
+  Target out(source.width(), source.height());
+  resolve_box(source, 0, 0, source.width(), source.height(), out.colors().data(), static_cast<std::size_t>(source.width()));
+  std::copy_n(source.depths().begin(), out.depths().size(), out.depths().begin());
+  return out;
+}
+
+Image8 resolve_srgb8(const Target& source) {
+  if (source.samples() > 1) return resolve_srgb8(resolve_box(source));
+  const Target& target = source;
   Image8 image;
   image.width = target.width();
   image.height = target.height();

@@ -71,6 +71,15 @@ TEST_CASE("M cycles the meshes and wraps and C Tab T toggle and P asks for a scr
   CHECK(s.quit);
 }
 
+TEST_CASE("V toggles 4x MSAA on and off") {
+  ViewerState s;
+  CHECK(s.msaa == 1);
+  tap(s, Key::V);
+  CHECK(s.msaa == 4);
+  tap(s, Key::V);
+  CHECK(s.msaa == 1);
+}
+
 TEST_CASE("a key held down is pressed once: repeated key-down events do not toggle again") {
   ViewerState s;
   apply(s, KeyDown{Key::C});

@@ -7,7 +7,7 @@
 namespace softpbr::pbr::scene_file {
 
 void read_render(const Reader& r, const Node& spec, SceneFile& out) {
-  r.object(spec, {"width", "height", "tonemap", "exposure", "gamma", "background", "threads", "tile_size"});
+  r.object(spec, {"width", "height", "tonemap", "exposure", "gamma", "background", "threads", "tile_size", "msaa", "resolve"});
   RenderSettings& s = out.render;
   if (auto w = r.member(spec, "width")) s.width = static_cast<int>(r.integer(*w, 1, raster::kMaxTargetSize));
   if (auto h = r.member(spec, "height")) s.height = static_cast<int>(r.integer(*h, 1, raster::kMaxTargetSize));
@@ -32,6 +32,11 @@ void read_render(const Reader& r, const Node& spec, SceneFile& out) {
     s.tile_size = static_cast<int>(r.integer(*t, raster::kMinTileSize, raster::kMaxTileSize));
     if (!raster::valid_tile_size(s.tile_size)) r.fail(*t, "expected an even tile size, got " + std::to_string(s.tile_size));
   }
+  if (auto m = r.member(spec, "msaa")) {
+    s.msaa = static_cast<int>(r.integer(*m, 1, raster::kMaxSamples));
+    if (!raster::valid_sample_count(s.msaa)) r.fail(*m, "expected 1, 4 or 8 samples, got " + std::to_string(s.msaa));
+  }
+  if (auto v = r.member(spec, "resolve")) s.output.resolve = *resolve_from_name(r.choice(*v, {"tonemapped", "linear"}));
 }
 
 void read_animation(const Reader& r, const Node& spec, Animation& a) {

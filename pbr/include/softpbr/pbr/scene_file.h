@@ -47,6 +47,7 @@ struct RenderSettings {
   OutputSettings output{0.0f, ToneMap::Reinhard, 0.0f};  // exposure, tone map, gamma (0 = sRGB)
   unsigned threads = 0;                                    // 0: all hardware threads
   int tile_size = 64;
+  int msaa = 1;  // samples a pixel: 1, 4 or 8 (raster::Target)
 };
 
 struct SceneFile {
@@ -87,8 +88,9 @@ SceneFile parse_scene_file(std::string_view text, const std::string& name, const
 inline Scene animate(const SceneFile& file, long frame) { return animate(file.scene, file.animation, frame); }
 
 // Estimated bytes of the buffers a width × height render allocates: the float colour and
-// depth target and the largest output's buffers (.exr's: 72 bytes a pixel in all).
-std::uint64_t image_memory(int width, int height);
+// depth target and the largest output's buffers (.exr's: 72 bytes a pixel in all); with
+// `samples` > 1 (MSAA) also the multisampled target (20 bytes a sample) the resolve reads.
+std::uint64_t image_memory(int width, int height, int samples = 1);
 
 // "1.5 GiB", "12.0 MiB", "640 B": for messages.
 std::string format_bytes(std::uint64_t bytes);

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -33,17 +34,36 @@ enum class ToneMap {
 std::optional<ToneMap> tone_map_from_name(std::string_view name);
 std::string_view tone_map_name(ToneMap op);
 
+// How a multisampled target (MSAA) becomes one colour a pixel; both are box filters over
+// the pixel's samples (raster::resolve_box's pairwise sum in sample order), and give a
+// pixel whose samples are all equal exactly the colour a 1-sample target would.
+enum class Resolve : std::uint8_t {
+  // Exposure and tone map per sample, then the mean, then the transfer curve: an edge
+  // between a highlight far above 1 and a dark surface blends the displayed colours, with
+  // no dark halo (the default; docs/design.md, MSAA, has the measurement).
+  ToneMapped,
+  // The mean of the linear samples, then exposure → tone map → curve: physically the
+  // pixel's mean radiance, as a GPU's resolve blit before a tone-mapping pass.
+  Linear
+};
+
+// "tonemapped", "linear" ↔ Resolve.
+std::optional<Resolve> resolve_from_name(std::string_view name);
+std::string_view resolve_name(Resolve r);
+
 struct OutputSettings {
   float exposure = 0.0f;      // photographic stops: colour × 2^exposure before tone mapping
   ToneMap tone_map = ToneMap::Reinhard;
   float gamma = 0.0f;         // 0: the exact sRGB curve; > 0: encoded = linear^(1/gamma), e.g. 2.2
+  Resolve resolve = Resolve::ToneMapped;  // multisampled targets only
 };
 
 // Applies one tone-mapping operator to linear colour (after exposure).
 glm::vec3 apply_tone_map(ToneMap op, glm::vec3 c);
 
-// Tone maps and encodes the target's colour to 8 bits; alpha stays linear. Throws
-// std::invalid_argument for a non-finite exposure or a gamma that is negative or not finite.
+// Tone maps and encodes the target's colour to 8 bits; alpha stays linear. A multisampled
+// target is resolved as settings.resolve says. Throws std::invalid_argument for a
+// non-finite exposure or a gamma that is negative or not finite.
 raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSettings& settings);
 
 // The same output transform prepared once, to encode a target piece by piece (e.g. each
@@ -75,7 +95,7 @@ class ToneMapper {
 
   // Tone maps and encodes pixels [x0, x1) × [y0, y1) of `target` into `image` (of the
   // target's size; rgba holds width × height × 4 bytes), with the widest kernel this CPU
-  // runs.
+  // runs. A multisampled target's pixels are resolved first (OutputSettings::resolve).
   void encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image) const;
   // The same with a given kernel (tests and benchmarks); it must be supported().
   void encode(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
@@ -97,7 +117,15 @@ class ToneMapper {
   // The 8-bit code of a tone-mapped value: the number of thresholds ≤ v (0 for NaN).
   std::uint8_t encode(float v) const;
 
+  // The resolve of multisampled pixels [x0, x1) × [y0, y1) of `target` into `out`
+  // (out_width pixels a row): for Resolve::ToneMapped the mean of the samples' tone-mapped
+  // colours (then encoded with the transfer curve alone), for Linear raster::resolve_box.
+  void resolve(const raster::Target& target, int x0, int y0, int x1, int y1, glm::vec4* out,
+               std::size_t out_width) const;
+
  private:
+  void encode_multisampled(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
+                           EncodeKernel kernel) const;
   OutputSettings settings_;
   float scale_;
   std::array<float, 255> thresholds_;
@@ -112,11 +140,14 @@ class ToneMapper {
   // value's code is one lookup and an integer comparison of its low bits. Empty otherwise.
   std::vector<std::uint32_t> packed_;
   std::uint32_t packed_base_ = 0;
+  // Resolve::ToneMapped: the transfer curve alone (no exposure, tone map None), for the
+  // resolved tone-mapped values; null when this mapper is that already.
+  std::shared_ptr<const ToneMapper> display_;
 };
 
 // Writes the linear colour (× 2^exposure, no tone map) as a Radiance RGBE .hdr file
 // (image::write_hdr: alpha dropped, negative and non-finite values stored as 0),
-// atomically. Throws std::invalid_argument for a non-finite exposure, std::runtime_error
+// atomically; a multisampled target is resolved (raster::resolve_box) first. Throws std::invalid_argument for a non-finite exposure, std::runtime_error
 // naming the path when writing fails.
 void write_hdr(const std::filesystem::path& path, const raster::Target& target, float exposure = 0.0f);
 

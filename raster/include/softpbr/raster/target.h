@@ -1,9 +1,12 @@
-// softpbr/raster/target.h — render targets (float RGBA colour + float depth) and their
-// resolve to 8-bit sRGB images.
+// softpbr/raster/target.h — render targets (float RGBA colour + float depth, 1, 4 or 8
+// samples a pixel) and their resolve to 8-bit sRGB images.
 //
 // A Target is what a frame draws into: linear float RGBA (straight values as the shaders
 // write them; the "over" blend expects premultiplied alpha) and a float depth buffer,
-// row-major with row 0 at the top of the image.
+// row-major with row 0 at the top of the image. A multisampled target (MSAA, 4 or 8
+// samples) holds a colour and a depth per sample, at the standard D3D/Vulkan positions
+// (sample_positions()); the rasterizer tests coverage, depth and blends per sample and
+// shades once per pixel, and resolve_box() averages the samples into one colour a pixel.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +21,29 @@
 namespace softpbr::raster {
 
 // Largest width or height of a target: keeps fixed-point edge functions inside int64
-// (see detail/setup.h) and a full target under 16384² × 20 bytes ≈ 5 GiB.
+// (see detail/setup.h) and a 1-sample target under 16384² × 20 bytes ≈ 5 GiB (8× MSAA: 40 GiB,
+// which memory estimates such as the command's --max-memory refuse first).
 inline constexpr int kMaxTargetSize = 16384;
+
+// Samples a pixel of a target: 1 (no MSAA, the sample at the pixel centre), 4 or 8.
+inline constexpr int kMaxSamples = 8;
+constexpr bool valid_sample_count(int samples) { return samples == 1 || samples == 4 || samples == 8; }
+
+// A sample's offset from its pixel centre in 1/16 pixel (+x right, +y down), as D3D's
+// standard sample patterns and Vulkan's standardSampleLocations give them: 4× (−2, −6),
+// (6, −2), (−6, 2), (2, 6); 8× (1, −3), (−1, 3), (5, 1), (−3, −5), (−5, 5), (−7, −1),
+// (3, 7), (7, −7). On the rasterizer's grid of 1/256 pixel they are exact (× 16).
+struct SampleOffset {
+  int x, y;
+};
+inline constexpr SampleOffset kSamplePattern4[4] = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
+inline constexpr SampleOffset kSamplePattern8[8] = {{1, -3}, {-1, 3}, {5, 1}, {-3, -5},
+                                                    {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
+// The offsets of a pattern of `samples` (1: the centre only). Throws std::invalid_argument
+// unless valid_sample_count(samples).
+std::span<const SampleOffset> sample_offsets(int samples);
+// Largest |offset| of any sample of the pattern, in 1/256 pixel (0, 96 or 112).
+int sample_reach(int samples);
 
 namespace detail {
 struct FrameAccess;
@@ -35,27 +59,40 @@ struct ClearedTiles {
 }  // namespace detail
 
 // The pixels of a target as the tile kernels write them: the renderer hands them out
-// while a frame owns the target.
+// while a frame owns the target. Sample s of pixel i is colors[s · plane + i].
 struct TargetPixels {
   glm::vec4* colors;
   float* depths;
   int width;
   int height;
+  int samples = 1;
+  std::size_t plane = 0;  // width × height
 };
 
 class Target {
  public:
-  // Throws std::invalid_argument unless 1 <= width, height <= kMaxTargetSize.
-  Target(int width, int height);
+  // Throws std::invalid_argument unless 1 <= width, height <= kMaxTargetSize and
+  // valid_sample_count(samples).
+  Target(int width, int height, int samples = 1);
 
   int width() const { return width_; }
   int height() const { return height_; }
+  int samples() const { return samples_; }
+
+  // Bytes a target of this size holds (colour and depth of every sample), for estimates
+  // made before allocating one.
+  static std::uint64_t bytes(int width, int height, int samples = 1) {
+    return static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) *
+           static_cast<std::uint64_t>(samples) * (sizeof(glm::vec4) + sizeof(float));
+  }
 
   void clear(glm::vec4 color = {0, 0, 0, 1}, float depth = 1.0f);
   void clear_color(glm::vec4 color);
   void clear_depth(float depth);
 
-  // Direct access to the pixels: index y * width() + x.
+  // Direct access to the pixels: index y * width() + x. A multisampled target stores its
+  // samples as planes: sample s of pixel i at index s * width() * height() + i, so the
+  // spans hold samples() planes and color(x, y)/depth(x, y) are sample 0's.
   //
   // A target remembers which of its tiles a renderer's last frame left holding only the
   // frame's clear values; the next frame that clears to the same values leaves those
@@ -71,6 +108,8 @@ class Target {
   const glm::vec4& color(int x, int y) const { return color_[index(x, y)]; }
   float& depth(int x, int y) { forget_cleared_tiles(); return depth_[index(x, y)]; }
   float depth(int x, int y) const { return depth_[index(x, y)]; }
+  const glm::vec4& sample_color(int x, int y, int sample) const { return color_[sample_index(x, y, sample)]; }
+  float sample_depth(int x, int y, int sample) const { return depth_[sample_index(x, y, sample)]; }
 
  private:
   friend struct detail::FrameAccess;
@@ -79,8 +118,13 @@ class Target {
   std::size_t index(int x, int y) const {
     return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) + static_cast<std::size_t>(x);
   }
+  std::size_t sample_index(int x, int y, int sample) const {
+    return static_cast<std::size_t>(sample) * static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) +
+           index(x, y);
+  }
   int width_;
   int height_;
+  int samples_;
   std::vector<glm::vec4> color_;
   std::vector<float> depth_;
   detail::ClearedTiles cleared_;
@@ -98,7 +142,10 @@ struct FrameAccess {
     return known;
   }
   static void set_cleared_tiles(Target& t, ClearedTiles known) { t.cleared_ = std::move(known); }
-  static TargetPixels pixels(Target& t) { return {t.color_.data(), t.depth_.data(), t.width_, t.height_}; }
+  static TargetPixels pixels(Target& t) {
+    return {t.color_.data(), t.depth_.data(), t.width_, t.height_, t.samples_,
+            static_cast<std::size_t>(t.width_) * static_cast<std::size_t>(t.height_)};
+  }
 };
 }  // namespace detail
 
@@ -106,12 +153,23 @@ struct FrameAccess {
 // also writes it (image::write_png).
 using Image8 = image::Image8;
 
+// Box-filter resolve of a multisampled target: the mean of each pixel's samples, as a
+// pairwise sum in sample order ((s0 + s1) + (s2 + s3), …) times 1/samples, so a pixel whose
+// samples are all equal resolves to exactly that value and one half covered by 1 and half
+// by 0 to exactly 0.5. Pixels [x0, x1) × [y0, y1) of `source` go to `out` (row-major,
+// `out_width` pixels a row, the rectangle's top-left pixel at out[0]). A 1-sample target
+// is copied.
+void resolve_box(const Target& source, int x0, int y0, int x1, int y1, glm::vec4* out, std::size_t out_width);
+// The whole target resolved into a 1-sample target of its size (depth: sample 0's).
+Target resolve_box(const Target& source);
+
 // Linear colour → 8-bit sRGB (colour channels through the exact sRGB curve, alpha
-// linear). Values are clamped to [0, 1]; NaN becomes 0. Tone mapping belongs to pbr/.
+// linear). Values are clamped to [0, 1]; NaN becomes 0. Tone mapping belongs to pbr/. A
+// multisampled target is resolved first (resolve_box).
 Image8 resolve_srgb8(const Target& target);
 
 // 64-bit FNV-1a over the colour buffer's float bits (little-endian byte order, row-major,
-// RGBA): equal hashes mean equal pixels, for determinism tests and golden checks.
+// RGBA; every sample plane in order): equal hashes mean equal pixels, for determinism tests and golden checks.
 std::uint64_t hash_colors(const Target& target);
 // The same over the depth buffer.
 std::uint64_t hash_depths(const Target& target);

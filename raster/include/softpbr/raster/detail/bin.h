@@ -33,6 +33,7 @@ struct TileGrid {
   int height = 0;
   int columns = 0;
   int rows = 0;
+  int sample_reach = 0;  // of the target's sample pattern (Viewport::sample_reach)
 
   TileGrid() = default;
   TileGrid(int target_width, int target_height, int tile);

@@ -8,6 +8,11 @@
 // functions, depth, varyings, derivatives — is computed from the triangle's plane
 // equations at that pixel alone, never accumulated along a span, so it cannot depend on
 // where a tile or span starts.
+//
+// kMs is the target's samples a pixel (1, 4, 8). With MSAA a pixel is covered when one of
+// its samples is (the same edge functions at the sample positions); depth is tested and
+// written per sample, the pixel is shaded once (at its centre) and its colour written and
+// blended into the covered samples that passed (docs/design.md, MSAA).
 
 namespace softpbr::raster::detail::SOFTPBR_TARGET_NS {
 
@@ -25,12 +30,41 @@ inline glm::vec4 blend(Blend mode, glm::vec4 src, glm::vec4 dst) {
   return {src.r + dst.r * k, src.g + dst.g * k, src.b + dst.b * k, src.a + dst.a * k};
 }
 
+// MSAA: writes a pixel's colour `src` into its samples in `mask` (bit s: sample s) — for an
+// alpha-tested draw, those whose depth `sample_depth` still passes (it writes them too).
+template <int kMs>
+inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned mask, const float* sample_depth,
+                          std::size_t idx, const TargetPixels& target) {
+  if (state.alpha_test) {
+    if (!(src.a >= state.alpha_ref)) return;
+    for (int s = 0; s < kMs; ++s) {
+      if (!(mask & (1u << s))) continue;
+      const std::size_t i = static_cast<std::size_t>(s) * target.plane + idx;
+      if (!depth_passes(state.depth_test, sample_depth[s], target.depths[i])) continue;
+      if (state.depth_write) target.depths[i] = sample_depth[s];
+      target.colors[i] = blend(state.blend, src, target.colors[i]);
+    }
+    return;
+  }
+  if (state.blend == Blend::Replace) {
+    for (unsigned m = mask; m != 0; m &= m - 1)
+      target.colors[static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx] = src;
+    return;
+  }
+  for (unsigned m = mask; m != 0; m &= m - 1) {
+    const std::size_t i = static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx;
+    target.colors[i] = blend(Blend::Over, src, target.colors[i]);
+  }
+}
+
 // Shades the buffered lanes with fragment_packet<Vec<W>> (or <float> for W = 1), writes them.
 // Depth was written when the lanes passed the depth test (see raster_triangle); colour is
 // written here in lane order, so a pixel that two buffered triangles cover ends up blended
 // in submission order.
-template <int W, class S, int kN>
-void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, glm::vec4* colors, float* depths) {
+template <int W, int kMs, class S, int kN>
+void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, const TargetPixels& target) {
+  glm::vec4* const colors = target.colors;
+  float* const depths = target.depths;
   using V = typename S::Varyings;
   using F = std::conditional_t<W == 1, float, simd::Lanes<W, SOFTPBR_ISA>>;
   SOFTPBR_DCHECK(b.count >= 0 && b.count <= W);
@@ -75,8 +109,11 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
   } else {
     c.r.store(out[0]), c.g.store(out[1]), c.b.store(out[2]), c.a.store(out[3]);
   }
-  // The blend mode decided once per packet: replacing does not read the target.
-  if (state.alpha_test) {
+  if constexpr (kMs > 1) {
+    for (int lane = 0; lane < b.count; ++lane)
+      write_samples<kMs>(state, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, b.sample_mask[lane],
+                         b.sample_depth[lane], b.index[lane], target);
+  } else if (state.alpha_test) {  // the blend mode decided once per packet: replacing does not read the target
     // Lanes in submission order, each tested against the depths the lanes before it wrote.
     for (int lane = 0; lane < b.count; ++lane) {
       if (!(out[3][lane] >= state.alpha_ref)) continue;
@@ -100,7 +137,7 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
 // W = 0: the shader's scalar fragment(); W ≥ 1: packets of W lanes through fragment_packet.
 // Packets fill across the triangles of a tile (one facing per packet): small triangles
 // still shade full packets. `packet` carries the lanes waiting from earlier triangles.
-template <int W, Shader S>
+template <int W, int kMs, Shader S>
 void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
                      const Triangle& t, const TileRect& tile, const TargetPixels& target, PacketFor<W, S>& packet) {
   using V = typename S::Varyings;
@@ -141,7 +178,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   float* depths = target.depths;
   if constexpr (W > 0) {
     if (packet.front_facing != t.front_facing) {
-      flush_packet<W>(shader, packet, state, colors, depths);
+      flush_packet<W, kMs>(shader, packet, state, target);
       packet.front_facing = t.front_facing;
     }
   }
@@ -156,6 +193,16 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   };
   // Three named values, not an array, so that they stay in registers.
   const I64x4 step0 = lane_step(0), step1 = lane_step(1), step2 = lane_step(2);
+  // MSAA: each sample's offset of the three edge functions from their pixel-centre values
+  // (sample offsets are 1/16 pixel, 16 fixed-point units).
+  constexpr int kSamples = kMs > 1 ? kMs : 1;
+  std::int64_t sample_edge[3][kSamples];
+  if constexpr (kMs > 1) {
+    const SampleOffset* offsets = kMs == 4 ? kSamplePattern4 : kSamplePattern8;
+    for (int i = 0; i < 3; ++i)
+      for (int s = 0; s < kMs; ++s)
+        sample_edge[i][s] = std::int64_t{t.a[i]} * (offsets[s].x * 16) + std::int64_t{t.b[i]} * (offsets[s].y * 16);
+  }
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
     // Lanes 2 and 3 (the quad's lower row) exist only inside the tile.
@@ -171,10 +218,25 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       const I64x4 e2 = (I64x4{} + (t.a[2] * sx + row2)) + step2;
       // A lane is inside when all three edge values are non-negative: the sign bit of
       // their OR is clear.
-      const I64x4 negative = (e0 | e1 | e2) >> 63;  // −1 where some edge is < 0
-      unsigned mask = ~static_cast<unsigned>((negative[0] & 1) | (negative[1] & 2) | (negative[2] & 4) |
-                                             (negative[3] & 8)) &
-                      rows & (qx + 1 < tile.x1 ? 0xFu : 0x5u);
+      const unsigned in_tile = rows & (qx + 1 < tile.x1 ? 0xFu : 0x5u);
+      unsigned mask;
+      // MSAA: covered[s] has bit j when sample s of lane j is inside.
+      unsigned covered[kSamples];
+      if constexpr (kMs == 1) {
+        const I64x4 negative = (e0 | e1 | e2) >> 63;  // −1 where some edge is < 0
+        mask = ~static_cast<unsigned>((negative[0] & 1) | (negative[1] & 2) | (negative[2] & 4) | (negative[3] & 8)) &
+               in_tile;
+      } else {
+        mask = 0;
+        for (int s = 0; s < kMs; ++s) {
+          const I64x4 negative =
+              ((e0 + sample_edge[0][s]) | (e1 + sample_edge[1][s]) | (e2 + sample_edge[2][s])) >> 63;
+          covered[s] =
+              ~static_cast<unsigned>((negative[0] & 1) | (negative[1] & 2) | (negative[2] & 4) | (negative[3] & 8)) &
+              in_tile;
+          mask |= covered[s];
+        }
+      }
       if (mask == 0) continue;
 
       // Unbiased edge values as floats: the screen-space barycentric weights × 2·area.
@@ -193,11 +255,36 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         const V4 l2 = w2 * V4(t.inv_area);
         simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(z);
       }
-      for (int j = 0; j < 4; ++j) {
-        if (!(mask & (1u << j))) continue;
-        const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-        if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
-        else if (early_depth_write) depths[idx] = z[j];
+      // MSAA: depth per sample from the same plane equation at the sample, tested and
+      // written per sample; lane_samples[j] keeps the samples of lane j that passed.
+      alignas(16) float sample_z[kSamples][4];
+      unsigned lane_samples[4] = {0, 0, 0, 0};
+      if constexpr (kMs == 1) {
+        for (int j = 0; j < 4; ++j) {
+          if (!(mask & (1u << j))) continue;
+          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
+          else if (early_depth_write) depths[idx] = z[j];
+        }
+      } else {
+        for (int s = 0; s < kMs; ++s) {
+          if (covered[s] == 0) continue;
+          const V4 sw1(__builtin_convertvector(e1 + (sample_edge[1][s] + t.bias[1]), V4::native));
+          const V4 sw2(__builtin_convertvector(e2 + (sample_edge[2][s] + t.bias[2]), V4::native));
+          const V4 l1 = sw1 * V4(t.inv_area);
+          const V4 l2 = sw2 * V4(t.inv_area);
+          simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(sample_z[s]);
+          float* const plane_depths = depths + static_cast<std::size_t>(s) * target.plane;
+          for (unsigned c = covered[s]; c != 0; c &= c - 1) {
+            const int j = std::countr_zero(c);
+            const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+            if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
+            if (early_depth_write) plane_depths[idx] = sample_z[s][j];
+            lane_samples[j] |= 1u << s;
+          }
+        }
+        mask = 0;
+        for (int j = 0; j < 4; ++j) mask |= lane_samples[j] != 0 ? 1u << j : 0u;
       }
       if (mask == 0) continue;
 
@@ -237,11 +324,17 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
                               t.front_facing};
           const glm::vec4 src = shader.fragment(f);
           const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          if (state.alpha_test) {
-            if (!(src.a >= state.alpha_ref)) continue;
-            if (depth_write) depths[idx] = z[j];
+          if constexpr (kMs > 1) {
+            float zs[kMs];
+            for (int s = 0; s < kMs; ++s) zs[s] = sample_z[s][j];
+            write_samples<kMs>(state, src, lane_samples[j], zs, idx, target);
+          } else {
+            if (state.alpha_test) {
+              if (!(src.a >= state.alpha_ref)) continue;
+              if (depth_write) depths[idx] = z[j];
+            }
+            colors[idx] = blend(state.blend, src, colors[idx]);
           }
-          colors[idx] = blend(state.blend, src, colors[idx]);
         }
       } else {
         for (int j = 0; j < 4; ++j) {
@@ -259,7 +352,12 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
           packet.depth[lane] = z[j];
           packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          if (packet.count == W) flush_packet<W>(shader, packet, state, colors, depths);
+          if constexpr (kMs > 1) {
+            packet.sample_mask[lane] = static_cast<std::uint8_t>(lane_samples[j]);
+            if (state.alpha_test)
+              for (int s = 0; s < kMs; ++s) packet.sample_depth[lane][s] = sample_z[s][j];
+          }
+          if (packet.count == W) flush_packet<W, kMs>(shader, packet, state, target);
         }
       }
     }
@@ -267,15 +365,15 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
 }
 
 // Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`,
-// W lanes at a time (W = 0: scalar fragment(), one pixel at a time).
-template <int W, Shader S>
+// W lanes at a time (W = 0: scalar fragment(), one pixel at a time), kMs samples a pixel.
+template <int W, int kMs, Shader S>
 SOFTPBR_KERNEL void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  const TargetPixels& target) {
   PacketFor<W, S> packet;
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
-      raster_triangle<W>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
-  if constexpr (W > 0) flush_packet<W>(shader, packet, geometry.state, target.colors, target.depths);
+      raster_triangle<W, kMs>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
+  if constexpr (W > 0) flush_packet<W, kMs>(shader, packet, geometry.state, target);
 }
 
 }  // namespace softpbr::raster::detail::SOFTPBR_TARGET_NS

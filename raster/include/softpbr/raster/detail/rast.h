@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <type_traits>
 
@@ -35,6 +36,10 @@ struct PacketBuffer {
   alignas(64) float pos_y[W];
   alignas(64) float depth[W];
   std::size_t index[W];  // pixel index in the target
+  // MSAA: the samples of each lane's pixel that are covered and passed the depth test (bit
+  // s: sample s), and their depths (alpha-tested draws test and write them when flushing).
+  std::uint8_t sample_mask[W];
+  float sample_depth[W][kMaxSamples];
   int count = 0;
   bool front_facing = true;  // of every lane (a packet holds one facing)
 };
@@ -54,15 +59,19 @@ namespace detail {
 template <int W, Shader S>
 void dispatch_tile(simd::Isa isa, const S& shader, const DrawGeometry& geometry, std::size_t tile,
                    const TileRect& rect, const TargetPixels& target) {
-  SOFTPBR_DISPATCH(isa, raster_tile<W, S>)(shader, geometry, tile, rect, target);
+  switch (target.samples) {
+    case 4: return SOFTPBR_DISPATCH(isa, raster_tile<W, 4, S>)(shader, geometry, tile, rect, target);
+    case 8: return SOFTPBR_DISPATCH(isa, raster_tile<W, 8, S>)(shader, geometry, tile, rect, target);
+    default: return SOFTPBR_DISPATCH(isa, raster_tile<W, 1, S>)(shader, geometry, tile, rect, target);
+  }
 }
 }  // namespace detail
 
 // Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`:
 // `lanes` pixels per fragment_packet() call (1, 4, 8 or 16; 0: the build's widest native
 // width) when the shader has one, else one pixel at a time through fragment(); with the
-// kernel compiled for `isa`, which the CPU must support. The same bits for every lane
-// count and instruction set.
+// kernel compiled for `isa`, which the CPU must support; per sample for a multisampled
+// target (target.samples). The same bits for every lane count and instruction set.
 template <Shader S>
 void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  const TargetPixels& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {

@@ -49,6 +49,10 @@ struct Triangle {
 struct Viewport {
   int width;
   int height;
+  // Largest offset of a sample from its pixel centre, in 1/256 pixel (0 without MSAA,
+  // sample_reach() in target.h): widens the pixel bounds of a triangle to every pixel one of
+  // whose samples may lie inside it.
+  int sample_reach = 0;
 };
 
 // A vertex after the viewport transform.
@@ -63,7 +67,7 @@ struct ScreenVertex {
 ScreenVertex project(const glm::vec4& clip, Viewport viewport);
 
 // Sets up the triangle with screen vertices `v` and varyings `ids`. Returns false when it
-// covers no pixel centre (zero area, culled, or off the target).
+// covers no sample (zero area, culled, or off the target).
 bool setup_triangle(const ScreenVertex v[3], const std::uint32_t ids[3], Viewport viewport,
                     const DrawState& state, Triangle& out);
 
@@ -97,7 +101,7 @@ struct FaceFilter {
 
 // The rest of setup_triangle() for a triangle of non-zero `area` (screen_area()) that
 // culling kept; `front` says whether it faces the viewer. Returns false when its bounding
-// box holds no pixel centre of the target; `out` is written only when it returns true.
+// box holds no sample of the target; `out` is written only when it returns true.
 inline bool setup_kept_triangle(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
                                 std::uint32_t id0, std::uint32_t id1, std::uint32_t id2, std::int64_t area,
                                 bool front, Viewport viewport, Triangle& out) {
@@ -108,17 +112,20 @@ inline bool setup_kept_triangle(const ScreenVertex& v0, const ScreenVertex& v1, 
   const std::uint32_t i1 = clockwise ? id1 : id2;
   const std::uint32_t i2 = clockwise ? id2 : id1;
 
-  // Pixels whose centre (i·256 + 128) can lie in the triangle's bounding box. Coordinates
-  // are within ±2^23, so int32 holds every step; >> floors (arithmetic shift, C++20).
-  constexpr std::int32_t scale = kSubpixelScale, half = scale / 2;
+  // Pixels whose centre (i·256 + 128), or one of whose samples (up to sample_reach from
+  // it), can lie in the triangle's bounding box. Coordinates are within ±2^23, so int32
+  // holds every step; >> floors (arithmetic shift, C++20).
+  constexpr std::int32_t scale = kSubpixelScale;
+  const std::int32_t up = scale / 2 + viewport.sample_reach;
   const std::int32_t min_fx = std::min(std::min(v0.x, p1.x), p2.x);
   const std::int32_t max_fx = std::max(std::max(v0.x, p1.x), p2.x);
   const std::int32_t min_fy = std::min(std::min(v0.y, p1.y), p2.y);
   const std::int32_t max_fy = std::max(std::max(v0.y, p1.y), p2.y);
-  const std::int32_t min_px = std::max(0, (min_fx - half + scale - 1) >> kSubpixelBits);
-  const std::int32_t min_py = std::max(0, (min_fy - half + scale - 1) >> kSubpixelBits);
-  const std::int32_t max_px = std::min(viewport.width - 1, (max_fx - half) >> kSubpixelBits);
-  const std::int32_t max_py = std::min(viewport.height - 1, (max_fy - half) >> kSubpixelBits);
+  const std::int32_t min_px = std::max(0, (min_fx - up + scale - 1) >> kSubpixelBits);
+  const std::int32_t min_py = std::max(0, (min_fy - up + scale - 1) >> kSubpixelBits);
+  const std::int32_t down = scale / 2 - viewport.sample_reach;
+  const std::int32_t max_px = std::min(viewport.width - 1, (max_fx - down) >> kSubpixelBits);
+  const std::int32_t max_py = std::min(viewport.height - 1, (max_fy - down) >> kSubpixelBits);
   if (min_px > max_px || min_py > max_py) return false;
 
   // Edge i runs from vertex i+1 to vertex i+2: E_i(p) = orient(v[i+1], v[i+2], p)

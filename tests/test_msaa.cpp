@@ -1,0 +1,443 @@
+// MSAA in the rasterizer: the sample patterns, per-sample coverage (the top-left rule at
+// every sample, against the independent reference of raster_helpers.h), watertightness per
+// sample by additive counting, per-sample depth, the box resolve, clears and fast clears of
+// multisampled targets, and shading once per pixel.
+#include <cstdint>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "raster_helpers.h"
+#include "softpbr/raster/raster.h"
+
+namespace {
+
+namespace raster = softpbr::raster;
+using softpbr::test::Point;
+
+// A flat colour per vertex (no perspective: w = 1), shaded per pixel; packets too.
+struct FlatShader {
+  struct Vertex {
+    glm::vec4 position;
+    glm::vec4 color;
+  };
+  struct Varyings {
+    glm::vec4 color;
+  };
+  glm::vec4 vertex(const Vertex& in, Varyings& out) const {
+    out.color = in.color;
+    return in.position;
+  }
+  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const { return f.v.color; }
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    return {p.v[0], p.v[1], p.v[2], p.v[3]};
+  }
+};
+
+// A vertex at pixel coordinates (x, y) and window depth `depth`.
+FlatShader::Vertex at(double x, double y, int width, int height, float depth, glm::vec4 color) {
+  glm::vec4 p = softpbr::test::pixel_to_clip(x, y, width, height);
+  p.z = 2.0f * depth - 1.0f;
+  return {p, color};
+}
+
+// The hit count of sample s of every pixel after drawing `points` (three per triangle) with
+// the counting shader (blend "over" with alpha 0 adds 1 to .r), into a width × height target
+// of `samples`. Returned as counts[s][pixel].
+template <class S>
+std::vector<std::vector<int>> sample_counts(raster::Renderer& renderer, int width, int height, int samples,
+                                            const std::vector<Point>& points) {
+  std::vector<glm::vec4> positions;
+  std::vector<std::uint32_t> indices;
+  for (const Point& p : points) {
+    indices.push_back(static_cast<std::uint32_t>(positions.size()));
+    positions.push_back(softpbr::test::pixel_to_clip(p.x, p.y, width, height));
+  }
+  raster::Target target(width, height, samples);
+  renderer.begin_frame(target, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+  renderer.draw(S{}, std::span<const glm::vec4>(positions), indices, softpbr::test::counting_state());
+  renderer.end_frame();
+  std::vector<std::vector<int>> counts(static_cast<std::size_t>(samples));
+  for (int s = 0; s < samples; ++s)
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) counts[s].push_back(static_cast<int>(target.sample_color(x, y, s).r));
+  return counts;
+}
+
+// The reference's count for sample s of every pixel.
+std::vector<std::vector<int>> reference_sample_counts(int width, int height, int samples,
+                                                      const std::vector<Point>& points) {
+  const auto offsets = raster::sample_offsets(samples);
+  std::vector<std::vector<int>> counts(static_cast<std::size_t>(samples));
+  for (int s = 0; s < samples; ++s)
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        const std::int64_t cx = std::int64_t{x} * 256 + 128 + offsets[s].x * 16;
+        const std::int64_t cy = std::int64_t{y} * 256 + 128 + offsets[s].y * 16;
+        int n = 0;
+        for (std::size_t t = 0; t + 2 < points.size(); t += 3)
+          n += softpbr::test::reference_covers_point(points[t], points[t + 1], points[t + 2], cx, cy) ? 1 : 0;
+        counts[s].push_back(n);
+      }
+  return counts;
+}
+
+// Random triangles whose vertices lie on the 1/16-pixel grid of the sample offsets, so that
+// many edges pass exactly through samples (where only the top-left rule decides).
+std::vector<Point> grid_triangles(std::mt19937& rng, int count, int width, int height) {
+  std::uniform_int_distribution<int> gx(-16, width * 16 + 16), gy(-16, height * 16 + 16);
+  std::vector<Point> points;
+  for (int i = 0; i < 3 * count; ++i) points.push_back({gx(rng) / 16.0, gy(rng) / 16.0});
+  return points;
+}
+
+}  // namespace
+
+TEST_CASE("MSAA sample patterns are the standard D3D/Vulkan 4x and 8x positions, distinct and inside the pixel") {
+  const auto one = raster::sample_offsets(1);
+  REQUIRE(one.size() == 1);
+  CHECK(one[0].x == 0);
+  CHECK(one[0].y == 0);
+  const std::vector<std::pair<int, int>> four = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
+  const std::vector<std::pair<int, int>> eight = {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
+  for (const auto& [n, expected] : {std::pair{4, four}, std::pair{8, eight}}) {
+    CAPTURE(n);
+    const auto o = raster::sample_offsets(n);
+    REQUIRE(o.size() == expected.size());
+    std::set<std::pair<int, int>> distinct;
+    for (std::size_t i = 0; i < o.size(); ++i) {
+      CHECK(o[i].x == expected[i].first);
+      CHECK(o[i].y == expected[i].second);
+      CHECK(o[i].x >= -8);
+      CHECK(o[i].x < 8);
+      CHECK(o[i].y >= -8);
+      CHECK(o[i].y < 8);
+      distinct.insert({o[i].x, o[i].y});
+    }
+    CHECK(distinct.size() == o.size());
+  }
+  CHECK(raster::sample_reach(1) == 0);
+  CHECK(raster::sample_reach(4) == 96);
+  CHECK(raster::sample_reach(8) == 112);
+  CHECK_THROWS_AS(raster::sample_offsets(2), std::invalid_argument);
+  CHECK_THROWS_AS(raster::Target(4, 4, 2), std::invalid_argument);
+  CHECK_THROWS_AS(raster::Target(4, 4, 16), std::invalid_argument);
+  CHECK_THROWS_AS(raster::Target(4, 4, 0), std::invalid_argument);
+}
+
+TEST_CASE("a multisampled target holds a colour and a depth per sample, and clears and frames clear every sample") {
+  for (const int n : {4, 8}) {
+    CAPTURE(n);
+    raster::Target t(5, 3, n);
+    CHECK(t.samples() == n);
+    CHECK(t.colors().size() == static_cast<std::size_t>(15 * n));
+    CHECK(t.depths().size() == static_cast<std::size_t>(15 * n));
+    CHECK(raster::Target::bytes(5, 3, n) == static_cast<std::uint64_t>(15 * n * 20));
+    t.clear({0.25f, 0.5f, 0.75f, 1.0f}, 0.5f);
+    for (const glm::vec4& c : t.colors()) CHECK(c == glm::vec4(0.25f, 0.5f, 0.75f, 1.0f));
+    for (const float d : t.depths()) CHECK(d == 0.5f);
+    // A frame that clears writes every sample of every tile (tiles of 8: partial ones too).
+    raster::Target big(37, 21, n);
+    big.clear({9, 9, 9, 9}, 0.0f);
+    raster::Renderer r({.threads = 2, .tile_size = 8});
+    r.begin_frame(big, raster::ClearValues{{0.1f, 0.2f, 0.3f, 0.4f}, 0.75f});
+    r.end_frame();
+    for (const glm::vec4& c : big.colors()) CHECK(c == glm::vec4(0.1f, 0.2f, 0.3f, 0.4f));
+    for (const float d : big.depths()) CHECK(d == 0.75f);
+    const raster::Target resolved = raster::resolve_box(big);
+    CHECK(resolved.samples() == 1);
+    for (const glm::vec4& c : resolved.colors()) CHECK(c == glm::vec4(0.1f, 0.2f, 0.3f, 0.4f));  // exactly
+  }
+}
+
+TEST_CASE("per-sample coverage of random triangles on the sample grid is the reference top-left rule at every sample") {
+  std::mt19937 rng(16);
+  constexpr int kW = 21, kH = 17;
+  for (const int n : {1, 4, 8}) {
+    CAPTURE(n);
+    const std::vector<Point> points = grid_triangles(rng, 60, kW, kH);
+    const auto expected = reference_sample_counts(kW, kH, n, points);
+    int covered = 0;
+    for (const auto& plane : expected)
+      for (const int c : plane) covered += c;
+    REQUIRE(covered > 500);  // not trivially empty
+    for (const int lanes : {1, 4, 8, 16})
+      for (const int tile : {8, 64}) {
+        CAPTURE(lanes);
+        CAPTURE(tile);
+        raster::Renderer r({.threads = 2, .tile_size = tile, .lanes = lanes});
+        CHECK(sample_counts<softpbr::test::CountPacketShader>(r, kW, kH, n, points) == expected);
+      }
+    raster::Renderer scalar({.threads = 1, .tile_size = 16});
+    CHECK(sample_counts<softpbr::test::CountShader>(scalar, kW, kH, n, points) == expected);
+  }
+}
+
+TEST_CASE("top-left rule per sample: an edge through a column of samples gives them to exactly one of two triangles") {
+  // Vertical and horizontal edges through the samples of pixel (4, 4) at each sample's
+  // offset: the two triangles of a split square share the edge; every sample of the target
+  // is counted once, never twice or zero times inside the square.
+  for (const int n : {4, 8}) {
+    CAPTURE(n);
+    for (const raster::SampleOffset& o : raster::sample_offsets(n)) {
+      const double ex = 4.5 + o.x / 16.0, ey = 4.5 + o.y / 16.0;
+      const std::vector<Point> vertical = {{1, 1}, {ex, 1}, {ex, 8}, {1, 1}, {ex, 8}, {1, 8},
+                                           {ex, 1}, {8, 1}, {8, 8}, {ex, 1}, {8, 8}, {ex, 8}};
+      const std::vector<Point> horizontal = {{1, 1}, {8, 1}, {8, ey}, {1, 1}, {8, ey}, {1, ey},
+                                             {1, ey}, {8, ey}, {8, 8}, {1, ey}, {8, 8}, {1, 8}};
+      for (const auto* points : {&vertical, &horizontal}) {
+        raster::Renderer r({.threads = 1, .tile_size = 8});
+        const auto counts = sample_counts<softpbr::test::CountPacketShader>(r, 10, 10, n, *points);
+        CHECK(counts == reference_sample_counts(10, 10, n, *points));
+        for (const auto& plane : counts)
+          for (const int c : plane) CHECK(c <= 1);
+        // Pixel (4, 4) lies inside the square: each of its samples once.
+        for (int s = 0; s < n; ++s) CHECK(counts[s][4 * 10 + 4] == 1);
+      }
+    }
+  }
+}
+
+TEST_CASE("watertight per sample: a jittered grid mesh and a fan cover every sample inside once, none outside") {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> jitter(-5, 5);  // 1/16 pixel
+  constexpr int kW = 30, kH = 30, kCells = 7;
+  const double lo = 2.5, hi = 27.5, step = (hi - lo) / kCells;
+  std::vector<std::vector<Point>> grid(kCells + 1, std::vector<Point>(kCells + 1));
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) {
+      const bool inner = i > 0 && i < kCells && j > 0 && j < kCells;
+      grid[j][i] = {lo + i * step + (inner ? jitter(rng) / 16.0 : 0.0), lo + j * step + (inner ? jitter(rng) / 16.0 : 0.0)};
+    }
+  std::vector<Point> mesh;
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const Point a = grid[j][i], b = grid[j][i + 1], c = grid[j + 1][i + 1], d = grid[j + 1][i];
+      if ((i + j) % 2) mesh.insert(mesh.end(), {a, b, c, a, c, d});
+      else mesh.insert(mesh.end(), {a, b, d, b, c, d});
+    }
+  // A fan of 40 thin triangles around a centre on the sample grid.
+  std::vector<Point> fan;
+  const Point centre{15.0 + 3 / 16.0, 14.0 - 5 / 16.0};
+  std::vector<Point> rim;
+  for (int k = 0; k < 10; ++k) rim.push_back({lo + k * (hi - lo) / 10, lo});
+  for (int k = 0; k < 10; ++k) rim.push_back({hi, lo + k * (hi - lo) / 10});
+  for (int k = 0; k < 10; ++k) rim.push_back({hi - k * (hi - lo) / 10, hi});
+  for (int k = 0; k < 10; ++k) rim.push_back({lo, hi - k * (hi - lo) / 10});
+  for (std::size_t k = 0; k < rim.size(); ++k) fan.insert(fan.end(), {centre, rim[k], rim[(k + 1) % rim.size()]});
+  for (const auto* points : {&mesh, &fan})
+    for (const int n : {4, 8}) {
+      CAPTURE(n);
+      raster::Renderer r({.threads = 2, .tile_size = 8, .lanes = 8});
+      const auto counts = sample_counts<softpbr::test::CountPacketShader>(r, kW, kH, n, *points);
+      const auto offsets = raster::sample_offsets(n);
+      int inside = 0;
+      for (int s = 0; s < n; ++s)
+        for (int y = 0; y < kH; ++y)
+          for (int x = 0; x < kW; ++x) {
+            const double sx = x + 0.5 + offsets[s].x / 16.0, sy = y + 0.5 + offsets[s].y / 16.0;
+            const bool strictly_inside = sx > lo && sx < hi && sy > lo && sy < hi;
+            const bool outside = sx < lo || sx > hi || sy < lo || sy > hi;
+            const int c = counts[s][static_cast<std::size_t>(y) * kW + x];
+            if (strictly_inside) {
+              CHECK(c == 1);
+              ++inside;
+            }
+            if (outside) CHECK(c == 0);
+            CHECK(c <= 1);
+          }
+      CHECK(inside > 600 * n);
+    }
+}
+
+TEST_CASE("a pixel half covered by a triangle resolves to exactly half, at 4x and 8x, along x and along y") {
+  for (const int n : {4, 8})
+    for (const bool along_x : {true, false}) {
+      CAPTURE(n);
+      CAPTURE(along_x);
+      constexpr int kW = 8, kH = 8;
+      const glm::vec4 white(1.0f);
+      // A rectangle whose edge runs through the centres of column (row) 4: half of each
+      // pattern's samples lie on either side.
+      const double e = 4.5;
+      std::vector<FlatShader::Vertex> v;
+      for (const auto& [x, y] : along_x ? std::vector<std::pair<double, double>>{{0, 0}, {e, 0}, {e, 8}, {0, 8}}
+                                        : std::vector<std::pair<double, double>>{{0, 0}, {8, 0}, {8, e}, {0, e}})
+        v.push_back(at(x, y, kW, kH, 0.5f, white));
+      const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+      raster::Target target(kW, kH, n);
+      raster::Renderer r({.threads = 1, .tile_size = 8});
+      r.begin_frame(target, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(v), idx);
+      r.end_frame();
+      const raster::Target resolved = raster::resolve_box(target);
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+          const int c = along_x ? x : y;
+          const float expected = c < 4 ? 1.0f : c == 4 ? 0.5f : 0.0f;
+          CAPTURE(x);
+          CAPTURE(y);
+          CHECK(resolved.color(x, y) == glm::vec4(expected));
+        }
+      // The 8-bit resolve: the half pixel is sRGB(0.5) = 188.
+      const raster::Image8 image = raster::resolve_srgb8(target);
+      const std::size_t px = along_x ? 4 * 4 : 4 * kW * 4;
+      CHECK(static_cast<int>(image.rgba[px]) == 188);
+    }
+}
+
+TEST_CASE("depth is tested and written per sample: two surfaces crossing inside a pixel split its samples") {
+  // Surface A at depth 0.5 everywhere (red), then B (blue), whose depth grows along x and
+  // crosses 0.5 at the centres of column 4: per sample, B wins exactly left of the centre.
+  constexpr int kW = 8, kH = 4;
+  for (const int n : {4, 8})
+    for (const int lanes : {1, 8}) {
+      CAPTURE(n);
+      CAPTURE(lanes);
+      const glm::vec4 red(1, 0, 0, 1), blue(0, 0, 1, 1);
+      auto depth_b = [](double x) { return static_cast<float>(0.5 + (x - 4.5) * 0.1); };
+      std::vector<FlatShader::Vertex> a, b;
+      for (const auto& [x, y] : {std::pair{0.0, 0.0}, {8.0, 0.0}, {8.0, 4.0}, {0.0, 4.0}}) {
+        a.push_back(at(x, y, kW, kH, 0.5f, red));
+        b.push_back(at(x, y, kW, kH, depth_b(x), blue));
+      }
+      const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+      raster::Target target(kW, kH, n);
+      raster::Renderer r({.threads = 1, .tile_size = 8, .lanes = lanes});
+      r.begin_frame(target, raster::ClearValues{{0, 0, 0, 1}, 1.0f});
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(a), idx);
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(b), idx);
+      r.end_frame();
+      const auto offsets = raster::sample_offsets(n);
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+          for (int s = 0; s < n; ++s) {
+            const double sx = x + 0.5 + offsets[s].x / 16.0;
+            const bool b_nearer = sx < 4.5;
+            CAPTURE(x);
+            CAPTURE(s);
+            CHECK(target.sample_color(x, y, s) == (b_nearer ? blue : red));
+            if (b_nearer) CHECK(target.sample_depth(x, y, s) < 0.5f);
+            else CHECK(target.sample_depth(x, y, s) == 0.5f);
+          }
+    }
+}
+
+TEST_CASE("a multisampled pixel is shaded once, at its centre, and its colour goes to every covered sample") {
+  // A shader that returns its fragment position: a pixel covered by one triangle gets the
+  // same colour in every covered sample, the pixel centre's.
+  struct PosShader {
+    using Vertex = glm::vec4;
+    struct Varyings {};
+    glm::vec4 vertex(const Vertex& in, Varyings&) const { return in; }
+    glm::vec4 fragment(const raster::Fragment<Varyings>& f) const { return {f.pos.x, f.pos.y, 1.0f, 1.0f}; }
+  };
+  constexpr int kW = 16, kH = 16;
+  const std::vector<glm::vec4> tri = {softpbr::test::pixel_to_clip(1.2, 0.7, kW, kH),
+                                      softpbr::test::pixel_to_clip(15.1, 6.3, kW, kH),
+                                      softpbr::test::pixel_to_clip(3.3, 14.9, kW, kH)};
+  const std::vector<std::uint32_t> idx = {0, 1, 2};
+  for (const int n : {4, 8}) {
+    raster::Target target(kW, kH, n);
+    raster::Renderer r({.threads = 1, .tile_size = 8});
+    r.begin_frame(target, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+    r.draw(PosShader{}, std::span<const glm::vec4>(tri), idx);
+    r.end_frame();
+    int partial = 0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        int covered = 0;
+        for (int s = 0; s < n; ++s) {
+          const glm::vec4 c = target.sample_color(x, y, s);
+          if (c.b == 0.0f) continue;
+          ++covered;
+          CHECK(c == glm::vec4(x + 0.5f, y + 0.5f, 1.0f, 1.0f));
+        }
+        partial += covered > 0 && covered < n;
+      }
+    CHECK(partial > 10);  // edges cross pixels: those are shaded once too
+  }
+}
+
+TEST_CASE("a multisampled target's fast clear gives a fresh target's bits frame after frame") {
+  constexpr int kW = 70, kH = 50;
+  auto quad = [](double x0, double y0, double x1, double y1, glm::vec4 c) {
+    std::vector<FlatShader::Vertex> v;
+    for (const auto& [x, y] : {std::pair{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}) v.push_back(at(x, y, kW, kH, 0.3f, c));
+    return v;
+  };
+  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  const raster::ClearValues clear{{0.2f, 0.1f, 0.0f, 1.0f}, 1.0f};
+  for (const int n : {4, 8}) {
+    CAPTURE(n);
+    raster::Renderer r({.threads = 2, .tile_size = 16});
+    raster::Target reused(kW, kH, n);
+    const std::vector<std::vector<FlatShader::Vertex>> frames = {quad(3.3, 4.1, 40.7, 30.2, {1, 0, 0, 1}),
+                                                                  quad(30.1, 20.6, 66.9, 47.3, {0, 1, 0, 1}),
+                                                                  quad(0.6, 0.4, 9.5, 9.5, {0, 0, 1, 1})};
+    for (const auto& v : frames) {
+      r.begin_frame(reused, clear);
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(v), idx);
+      r.end_frame();
+      raster::Target fresh(kW, kH, n);
+      r.begin_frame(fresh, clear);
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(v), idx);
+      r.end_frame();
+      CHECK(raster::hash_colors(reused) == raster::hash_colors(fresh));
+      CHECK(raster::hash_depths(reused) == raster::hash_depths(fresh));
+    }
+  }
+}
+
+namespace {
+// A shader whose alpha is 0 left of x = 6: those pixels are discarded (no colour, no
+// depth); the rest of the quad writes depth per covered sample.
+struct CutShader {
+  using Vertex = glm::vec4;
+  struct Varyings {};
+  glm::vec4 vertex(const Vertex& in, Varyings&) const { return in; }
+  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const { return {1, 1, 1, f.pos.x < 6.0f ? 0.0f : 1.0f}; }
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    return {F(1.0f), F(1.0f), F(1.0f), softpbr::simd::select(p.pos_x < F(6.0f), F(0.0f), F(1.0f))};
+  }
+};
+}  // namespace
+
+TEST_CASE("alpha-tested draws test and write depth per sample after shading") {
+  constexpr int kW = 12, kH = 6;
+  std::vector<glm::vec4> v;
+  for (const auto& [x, y] : {std::pair{1.5, 0.0}, {10.5, 0.0}, {10.5, 6.0}, {1.5, 6.0}}) {
+    glm::vec4 p = softpbr::test::pixel_to_clip(x, y, kW, kH);
+    p.z = 0.0f;  // window depth 0.5
+    v.push_back(p);
+  }
+  const std::vector<std::uint32_t> idx = {0, 1, 2, 0, 2, 3};
+  raster::DrawState state;
+  state.alpha_test = true;
+  for (const int n : {4, 8})
+    for (const int lanes : {1, 4, 16}) {
+      CAPTURE(n);
+      CAPTURE(lanes);
+      raster::Target target(kW, kH, n);
+      raster::Renderer r({.threads = 1, .tile_size = 8, .lanes = lanes});
+      r.begin_frame(target, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+      r.draw(CutShader{}, std::span<const glm::vec4>(v), idx, state);
+      r.end_frame();
+      const auto offsets = raster::sample_offsets(n);
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+          for (int s = 0; s < n; ++s) {
+            const double sx = x + 0.5 + offsets[s].x / 16.0;
+            const bool drawn = x >= 6 && sx > 1.5 && sx < 10.5;
+            CAPTURE(x);
+            CAPTURE(s);
+            CHECK(target.sample_depth(x, y, s) == (drawn ? 0.5f : 1.0f));
+            CHECK(target.sample_color(x, y, s).a == (drawn ? 1.0f : 0.0f));
+          }
+    }
+}
