@@ -104,7 +104,10 @@ TEST_CASE("MSAA sample patterns are the standard D3D/Vulkan 4x and 8x positions,
   CHECK(one[0].y == 0);
   const std::vector<std::pair<int, int>> four = {{-2, -6}, {6, -2}, {-6, 2}, {2, 6}};
   const std::vector<std::pair<int, int>> eight = {{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}};
-  for (const auto& [n, expected] : {std::pair{4, four}, std::pair{8, eight}}) {
+  for (const auto& entry : {std::pair{4, four}, std::pair{8, eight}}) {
+    // Not a structured binding: Clang 14 cannot capture one in CAPTURE's lambda.
+    const int n = entry.first;
+    const auto& expected = entry.second;
     CAPTURE(n);
     const auto o = raster::sample_offsets(n);
     REQUIRE(o.size() == expected.size());
