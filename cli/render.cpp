@@ -140,15 +140,9 @@ void apply_environment(const RenderArgs& a, pbr::SceneFile& f, raster::ThreadPoo
       f.mesh_bytes += s.environment.map->bytes();
     }
   }
-  if (a.env_intensity_opt->count()) {
-    if (!(a.env_intensity >= 0.0f && a.env_intensity <= 1e6f))
-      throw Error(kExitUsage, "--env-intensity: expected a number in [0, 1e6], got " + std::to_string(a.env_intensity));
-    s.environment.intensity = a.env_intensity;
-  }
-  if (a.env_rotation_opt->count()) {
-    if (!std::isfinite(a.env_rotation)) throw Error(kExitUsage, "--env-rotation: expected a finite number of degrees");
-    s.environment.rotation = a.env_rotation;
-  }
+  // Both values were checked with the other options, before any work.
+  if (a.env_intensity_opt->count()) s.environment.intensity = a.env_intensity;
+  if (a.env_rotation_opt->count()) s.environment.rotation = a.env_rotation;
   if (a.background_opt->count()) {
     const std::string& b = a.background;
     if (b == "environment" || b == "blur") {

@@ -56,21 +56,12 @@ TEST_CASE("textured scenes have the same bits for every thread count, tile size,
     raster::Target reference(g.width - 7, g.height - 3);  // partial edge tiles
     pbr::render(scene, reference_renderer, reference);
     const std::uint64_t color = raster::hash_colors(reference), depth = raster::hash_depths(reference);
-    int config = 0;
-    for (const unsigned threads : {1u, 2u, 3u})
-      for (const int tile : {8, 32, 64})
-        for (const int lanes : {1, 4, 8, 16})
-          for (const bool dispatch : {false, true}) {
-            if (++config % 3 != 0 && !(lanes == 16 && dispatch)) continue;  // a spread of the grid
-            CAPTURE(threads);
-            CAPTURE(tile);
-            CAPTURE(lanes);
-            CAPTURE(dispatch);
-            raster::Renderer r({.threads = threads, .tile_size = tile, .lanes = lanes, .dispatch = dispatch});
-            raster::Target t(g.width - 7, g.height - 3);
-            pbr::render(scene, r, t);
-            CHECK(raster::hash_colors(t) == color);
-            CHECK(raster::hash_depths(t) == depth);
-          }
+    test::for_spread_of_render_configs(3, 0, [&](const raster::RendererOptions& options) {
+      raster::Renderer r(options);
+      raster::Target t(g.width - 7, g.height - 3);
+      pbr::render(scene, r, t);
+      CHECK(raster::hash_colors(t) == color);
+      CHECK(raster::hash_depths(t) == depth);
+    });
   }
 }

@@ -8,14 +8,37 @@
 #include <string>
 #include <vector>
 
+#include <doctest/doctest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/raster/renderer.h"
 #include "softpbr/raster/texture.h"
 
 namespace softpbr::test {
+
+// Calls fn(options) for a spread of the thread (1–3) × tile (8, 32, 64) × lane width (1, 4,
+// 8, 16) × dispatch grid: every `stride`-th configuration, and 16 dispatched lanes (at tile
+// `wide_tile` only, or at every tile when it is 0). Callers CAPTURE what they need; the
+// configuration is captured here.
+template <class Fn>
+void for_spread_of_render_configs(int stride, int wide_tile, Fn&& fn) {
+  int config = 0;
+  for (const unsigned threads : {1u, 2u, 3u})
+    for (const int tile : {8, 32, 64})
+      for (const int lanes : {1, 4, 8, 16})
+        for (const bool dispatch : {false, true}) {
+          const bool wide = lanes == 16 && dispatch && (wide_tile == 0 || tile == wide_tile);
+          if (++config % stride != 0 && !wide) continue;
+          CAPTURE(threads);
+          CAPTURE(tile);
+          CAPTURE(lanes);
+          CAPTURE(dispatch);
+          fn(softpbr::raster::RendererOptions{.threads = threads, .tile_size = tile, .lanes = lanes, .dispatch = dispatch});
+        }
+}
 
 namespace pbr = softpbr::pbr;
 namespace raster = softpbr::raster;
