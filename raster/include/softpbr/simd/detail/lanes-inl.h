@@ -29,20 +29,40 @@ struct Lanes<N, SOFTPBR_ISA> {
   void store(float* p) const { __builtin_memcpy(p, &v, sizeof(native)); }
   float operator[](int i) const { return v[i]; }
 
-  friend Lanes operator+(Lanes a, Lanes b) { return Lanes(a.v + b.v); }
-  friend Lanes operator-(Lanes a, Lanes b) { return Lanes(a.v - b.v); }
-  friend Lanes operator*(Lanes a, Lanes b) { return Lanes(a.v * b.v); }
-  friend Lanes operator/(Lanes a, Lanes b) { return Lanes(a.v / b.v); }
-  friend Lanes operator-(Lanes a) { return Lanes(-a.v); }
+  Lanes operator-() const { return Lanes(-v); }
   Lanes& operator+=(Lanes b) { v += b.v; return *this; }
   Lanes& operator-=(Lanes b) { v -= b.v; return *this; }
   Lanes& operator*=(Lanes b) { v *= b.v; return *this; }
-
-  friend Mask operator<(Lanes a, Lanes b) { return Mask(a.v < b.v); }
-  friend Mask operator<=(Lanes a, Lanes b) { return Mask(a.v <= b.v); }
-  friend Mask operator>(Lanes a, Lanes b) { return Mask(a.v > b.v); }
-  friend Mask operator>=(Lanes a, Lanes b) { return Mask(a.v >= b.v); }
 };
+
+// The binary operators are free function templates, not friends defined in the class: GCC
+// 12 compiles an in-class friend of a class template without the `#pragma GCC target` of
+// the region it is written in, so a 16-lane compare inlined into an AVX-512 kernel came
+// out as 16 scalar vcomiss (and a call where it could not inline). Each takes two lane
+// vectors, or a lane vector and a float broadcast to every lane (what the friends' implicit
+// conversion gave).
+#define SOFTPBR_LANES_BINARY(op, Result)                                                \
+  template <int N>                                                                      \
+  inline Result<N, SOFTPBR_ISA> operator op(Lanes<N, SOFTPBR_ISA> a, Lanes<N, SOFTPBR_ISA> b) { \
+    return Result<N, SOFTPBR_ISA>(a.v op b.v);                                          \
+  }                                                                                     \
+  template <int N>                                                                      \
+  inline Result<N, SOFTPBR_ISA> operator op(Lanes<N, SOFTPBR_ISA> a, float s) {         \
+    return Result<N, SOFTPBR_ISA>(a.v op Lanes<N, SOFTPBR_ISA>(s).v);                   \
+  }                                                                                     \
+  template <int N>                                                                      \
+  inline Result<N, SOFTPBR_ISA> operator op(float s, Lanes<N, SOFTPBR_ISA> b) {         \
+    return Result<N, SOFTPBR_ISA>(Lanes<N, SOFTPBR_ISA>(s).v op b.v);                   \
+  }
+SOFTPBR_LANES_BINARY(+, Lanes)
+SOFTPBR_LANES_BINARY(-, Lanes)
+SOFTPBR_LANES_BINARY(*, Lanes)
+SOFTPBR_LANES_BINARY(/, Lanes)
+SOFTPBR_LANES_BINARY(<, LaneMask)
+SOFTPBR_LANES_BINARY(<=, LaneMask)
+SOFTPBR_LANES_BINARY(>, LaneMask)
+SOFTPBR_LANES_BINARY(>=, LaneMask)
+#undef SOFTPBR_LANES_BINARY
 
 template <int N>
 struct LaneMask<N, SOFTPBR_ISA> {
@@ -50,11 +70,18 @@ struct LaneMask<N, SOFTPBR_ISA> {
   native m;  // all ones (−1) where true
   LaneMask() = default;
   explicit LaneMask(native n) : m(n) {}
-  friend LaneMask operator&(LaneMask a, LaneMask b) { return LaneMask(a.m & b.m); }
-  friend LaneMask operator|(LaneMask a, LaneMask b) { return LaneMask(a.m | b.m); }
-  friend LaneMask operator!(LaneMask a) { return LaneMask(~a.m); }
+  LaneMask operator!() const { return LaneMask(~m); }
   bool operator[](int i) const { return m[i] != 0; }
 };
+
+template <int N>
+inline LaneMask<N, SOFTPBR_ISA> operator&(LaneMask<N, SOFTPBR_ISA> a, LaneMask<N, SOFTPBR_ISA> b) {
+  return LaneMask<N, SOFTPBR_ISA>(a.m & b.m);
+}
+template <int N>
+inline LaneMask<N, SOFTPBR_ISA> operator|(LaneMask<N, SOFTPBR_ISA> a, LaneMask<N, SOFTPBR_ISA> b) {
+  return LaneMask<N, SOFTPBR_ISA>(a.m | b.m);
+}
 
 // Lane-wise choice: a vector conditional (a blend at any register width; a mask lane is
 // all ones or all zeros).
@@ -63,14 +90,15 @@ inline Lanes<N, SOFTPBR_ISA> select(LaneMask<N, SOFTPBR_ISA> m, Lanes<N, SOFTPBR
   return Lanes<N, SOFTPBR_ISA>(m.m ? a.v : b.v);
 }
 
-// min/max as comparisons, std::min's rule (b < a ? b : a), as for float.
+// min/max as comparisons, std::min's rule (b < a ? b : a), as for float: one vector
+// conditional (vminps/vmaxps or a compare and a blend).
 template <int N>
 inline Lanes<N, SOFTPBR_ISA> min(Lanes<N, SOFTPBR_ISA> a, Lanes<N, SOFTPBR_ISA> b) {
-  return select(b < a, b, a);
+  return Lanes<N, SOFTPBR_ISA>(b.v < a.v ? b.v : a.v);
 }
 template <int N>
 inline Lanes<N, SOFTPBR_ISA> max(Lanes<N, SOFTPBR_ISA> a, Lanes<N, SOFTPBR_ISA> b) {
-  return select(a < b, b, a);
+  return Lanes<N, SOFTPBR_ISA>(a.v < b.v ? b.v : a.v);
 }
 
 template <int N>

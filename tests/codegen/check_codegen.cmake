@@ -1,0 +1,37 @@
+# ctest simd_codegen: disassembles tests/codegen/probe.cpp's object and checks that the
+# AVX-512 copy of compare_select16 does its compares as vector compares (vcmpps into a
+# mask register) and none as scalar compares (vcomiss/vucomiss).
+#   cmake -DOBJDUMP=… -DOBJECT=… -P check_codegen.cmake
+execute_process(COMMAND "${OBJDUMP}" -d --no-show-raw-insn "${OBJECT}" OUTPUT_VARIABLE asm RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${OBJDUMP} -d ${OBJECT} failed (${rc})")
+endif()
+# The function's body: the lines from its label (its mangled name holds the namespace
+# avx512 and the name compare_select16) to the next label.
+string(REPLACE ";" "," asm "${asm}")
+string(REPLACE "\n" ";" lines "${asm}")
+set(inside OFF)
+set(found OFF)
+set(body "")
+foreach(line IN LISTS lines)
+  if(line MATCHES "^[0-9a-f]+ <([^>]*)>:")
+    set(inside OFF)
+    if(CMAKE_MATCH_1 MATCHES "codegen_probe.*avx512.*compare_select16")
+      set(inside ON)
+      set(found ON)
+    endif()
+  elseif(inside)
+    string(APPEND body "${line}\n")
+  endif()
+endforeach()
+if(NOT found)
+  message(FATAL_ERROR "avx512::compare_select16 not found in ${OBJECT}")
+endif()
+string(REGEX MATCHALL "v?u?comiss" scalar "${body}")
+string(REGEX MATCHALL "vcmp[a-z_]*ps" vector "${body}")
+list(LENGTH scalar n_scalar)
+list(LENGTH vector n_vector)
+message(STATUS "avx512::compare_select16: ${n_vector} vector compares, ${n_scalar} scalar compares")
+if(n_scalar GREATER 0 OR n_vector LESS 2)
+  message(FATAL_ERROR "16-lane compares in the AVX-512 kernel are not vector compares:\n${body}")
+endif()
