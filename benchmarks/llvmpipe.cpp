@@ -125,8 +125,9 @@ vec3 env_radiance(vec3 d, float roughness) {
 }
 )";
 
-// The background pass (pbr/src/scene.cpp's BackgroundShader): one triangle over the view,
-// each vertex carrying the world direction of its camera ray, no depth test or write; the
+// The background pass (pbr/src/scene.cpp's BackgroundShader): one triangle over the view at
+// the far plane, drawn after the objects with the depth test ≤ and no depth write, each
+// vertex carrying the world direction of its camera ray; the
 // prefiltered radiance along the interpolated direction at u_bg_roughness (0: level 0).
 const char* kBackgroundVertex = R"(
 layout(location = 0) in vec4 a_clip;
@@ -636,7 +637,7 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
     float vertices[3][7];
     for (int i = 0; i < 3; ++i) {
       const glm::vec3 d = to_world * glm::vec3(corners[i][0] * tx, corners[i][1] * ty, -1.0f);
-      const float v[7] = {corners[i][0], corners[i][1], 0.0f, 1.0f, d.x, d.y, d.z};
+      const float v[7] = {corners[i][0], corners[i][1], 1.0f, 1.0f, d.x, d.y, d.z};
       std::copy(v, v + 7, vertices[i]);
     }
     if (m.background_vao == 0) {
@@ -723,13 +724,6 @@ void LlvmpipeRenderer::render() {
   glClearColor(m.clear.r, m.clear.g, m.clear.b, m.clear.a);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  if (m.background) {
-    glDisable(GL_DEPTH_TEST);  // no test, no write
-    glUseProgram(m.background_program);
-    glBindVertexArray(m.background_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glEnable(GL_DEPTH_TEST);
-  }
   const Impl::Program* current = nullptr;
   for (const Impl::Draw& d : m.draws) {
     const Impl::Program& p = *d.program;
@@ -754,6 +748,15 @@ void LlvmpipeRenderer::render() {
     }
     glBindVertexArray(d.mesh->vao);
     glDrawElements(GL_TRIANGLES, d.mesh->count, GL_UNSIGNED_INT, nullptr);
+  }
+  if (m.background) {  // after the objects, at the far plane: depth test ≤, no depth write
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    glUseProgram(m.background_program);
+    glBindVertexArray(m.background_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
   }
   if (m.fbo) {  // the resolve: a box filter of the samples into the single-sampled buffer
     glBindFramebuffer(GL_READ_FRAMEBUFFER, m.fbo);

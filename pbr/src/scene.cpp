@@ -68,8 +68,8 @@ struct ObjectDraw {
   float distance2 = 0.0f;  // blended objects: from the eye to the centre of their bounds
 };
 
-// The background pass: one triangle over the whole target (clip x, y in {−1, 3}), no depth
-// test or write, each vertex carrying the world direction of the camera ray through it.
+// The background pass: one triangle over the whole target (clip x, y in {−1, 3}) at the far
+// plane (clip z = w = 1), each vertex carrying the world direction of the camera ray through it.
 // The direction is linear in screen space (w = 1), so the interpolated varying is the
 // ray through each pixel; the shader reads the environment along it.
 struct BackgroundShader {
@@ -114,7 +114,7 @@ std::array<BackgroundShader::Vertex, 3> background_triangle(const Camera& camera
   std::array<BackgroundShader::Vertex, 3> v{};
   const float corners[3][2] = {{-1.0f, -1.0f}, {3.0f, -1.0f}, {-1.0f, 3.0f}};
   for (int i = 0; i < 3; ++i) {
-    v[static_cast<std::size_t>(i)].clip = glm::vec4(corners[i][0], corners[i][1], 0.0f, 1.0f);
+    v[static_cast<std::size_t>(i)].clip = glm::vec4(corners[i][0], corners[i][1], 1.0f, 1.0f);
     v[static_cast<std::size_t>(i)].direction = to_world * glm::vec3(corners[i][0] * tx, corners[i][1] * ty, -1.0f);
   }
   return v;
@@ -213,6 +213,19 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
 
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f});
   try {
+    const auto draw_objects = [&](const std::vector<ObjectDraw>& list) {
+      for (const ObjectDraw& d : list) {
+        if (d.textured)
+          renderer.draw(d.shader, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, d.state);
+        else
+          renderer.draw(d.plain, d.mesh->vertices, d.mesh->indices, d.state);
+      }
+    };
+    draw_objects(opaque);
+    // The background after the opaque objects, at the far plane (depth 1, the clear value)
+    // with the depth test ≤ and no depth write: only pixels (samples) no opaque object
+    // covered are shaded, as a GPU engine draws its skybox. The image is the same as
+    // drawing it first: an opaque draw replaces what is beneath it.
     if (scene.background_mode != BackgroundMode::Color) {
       BackgroundShader bg;
       bg.environment = env;
@@ -220,17 +233,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       const auto tri = background_triangle(
           scene.camera, static_cast<float>(target.width()) / static_cast<float>(target.height()));
       raster::DrawState state;
-      state.depth_test = raster::DepthTest::Always;
+      state.depth_test = raster::DepthTest::LessEqual;
       state.depth_write = false;
       renderer.draw(bg, std::span<const BackgroundShader::Vertex>(tri), state);
     }
-    for (const auto* list : {&opaque, &blended})
-      for (const ObjectDraw& d : *list) {
-        if (d.textured)
-          renderer.draw(d.shader, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, d.state);
-        else
-          renderer.draw(d.plain, d.mesh->vertices, d.mesh->indices, d.state);
-      }
+    draw_objects(blended);
   } catch (...) {
     renderer.end_frame();
     throw;
