@@ -1,0 +1,89 @@
+// `softpbr --version` (see version.h). SOFTPBR_VERSION and SOFTPBR_BUILD_TYPE come from
+// cli/CMakeLists.txt (this file only), the compiler from its own macros.
+#include "version.h"
+
+#include <cstdio>
+
+#include "cli_error.h"
+#include "softpbr/simd/isa.h"
+#include "softpbr/simd/simd.h"
+
+#ifndef SOFTPBR_VERSION
+#define SOFTPBR_VERSION "unknown"
+#endif
+#ifndef SOFTPBR_BUILD_TYPE
+#define SOFTPBR_BUILD_TYPE "unknown"
+#endif
+
+namespace softpbr::cli {
+
+namespace {
+
+std::string compiler() {
+#if defined(__clang__)
+  return "Clang " __clang_version__;
+#elif defined(__GNUC__)
+  return "GCC " __VERSION__;
+#else
+  return "unknown";
+#endif
+}
+
+const char* architecture() {
+#if defined(__x86_64__)
+  return "x86-64";
+#elif defined(__aarch64__)
+  return "AArch64";
+#else
+  return "other";
+#endif
+}
+
+int default_lanes(simd::Isa isa) {
+  // As raster::Renderer picks them when RendererOptions::lanes is 0 (renderer.cpp).
+  return isa == simd::Isa::Avx512 ? 16 : isa == simd::Isa::Avx2 ? 8 : simd::kNativeWidth;
+}
+
+}  // namespace
+
+std::string version_text() {
+  std::string build = SOFTPBR_BUILD_TYPE;
+  if (build.empty()) build = "none";
+#if defined(__OPTIMIZE__)
+  build += " (optimized)";
+#else
+  build += " (not optimized)";
+#endif
+  std::string kernels = "baseline (" + std::to_string(simd::kNativeWidth) + " lanes)";
+#if SOFTPBR_SIMD_X86_TARGETS
+  kernels += ", avx2 (8), avx512 (16)";
+  const simd::Isa cpu = simd::cpu_isa();
+#else
+  // Unoptimized or non-x86 builds run every kernel's baseline copy (softpbr/simd/isa.h).
+  const simd::Isa cpu = simd::Isa::Baseline;
+#endif
+  std::string text = "softpbr " SOFTPBR_VERSION "\n";
+  text += "compiler   " + compiler() + ", " + architecture() + "\n";
+  text += "build      " + build + ", -ffp-contract=off\n";
+  text += "simd       lane widths 1, 4, 8, 16; kernels compiled for " + kernels + "\n";
+  text += "this cpu   " + std::string(simd::isa_name(cpu)) + ": " + std::to_string(default_lanes(cpu)) +
+          " lanes by default (the image is the same for any width)\n";
+  return text;
+}
+
+CLI::App* add_version_command(CLI::App& app) {
+  app.set_version_flag("--version", [] {
+    std::string t = version_text();
+    if (!t.empty() && t.back() == '\n') t.pop_back();  // CLI11 adds the newline
+    return t;
+  }, "Print the version, compiler, build type and SIMD targets, and exit");
+  CLI::App* c = app.add_subcommand("version", "Print the version, compiler, build type and SIMD targets (as --version)");
+  return c;
+}
+
+int run_version() {
+  std::fputs(version_text().c_str(), stdout);
+  return std::fflush(stdout) == 0 && !std::ferror(stdout) ? kExitOk : kExitOutput;
+}
+
+}  // namespace softpbr::cli
