@@ -585,6 +585,15 @@ batch)
   out=$("$softpbr" render tri.gltf two.gltf -o "sharded/x{index}.png" --shard 3/4 "${size[@]}")
   [ "$out" = "shard 3/4: no input of the 2 is this shard's (nothing to render)
 0 inputs: 0 rendered, 0 skipped (already complete), 0 failed" ] && pass "an empty shard says so" || fail "empty shard: $out"
+  # The progress line counts models (on a terminal only: script(1) gives the command one).
+  mkdir pr
+  "$softpbr" render tri.gltf two.gltf -o pr/ --width 32 --height 24 >/dev/null 2>progress.txt
+  grep -q "softpbr: model" progress.txt && fail "progress written to a stderr that is not a terminal"
+  if command -v script >/dev/null; then
+    rm -f pr/*
+    script -qc "'$softpbr' render tri.gltf two.gltf -o pr/ --width 32 --height 24 >/dev/null" /dev/null >progress.txt
+    grep -q "softpbr: model two.gltf, 2/2 done" progress.txt && pass "batch progress line on a terminal" || fail "no batch progress: $(cat -v progress.txt)"
+  fi
   # Scene files and models mixed: each scene keeps its own render settings.
   "$softpbr" render "$scenes/lights.json" tri.gltf -o "mix/{name}.png" -q 2>err.txt && fail "a missing folder was accepted" || true
   mkdir mix

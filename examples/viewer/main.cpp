@@ -81,7 +81,7 @@ class Viewer {
     window_.present();
     softpbr::image::write_png(path, image);
     std::printf("viewer: wrote %s (%dx%d, %s, %s)\n", path.string().c_str(), image.width, image.height,
-                meshes_[state_.mesh].name.c_str(), viewer::material_label(state_).c_str());
+                meshes_[state_.mesh].name.c_str(), material_text().c_str());
   }
 
   void run_script(const std::vector<viewer::ScriptCommand>& commands) {
@@ -217,6 +217,11 @@ class Viewer {
     }
   }
 
+  // The title's material: a glTF model is drawn with its own.
+  std::string material_text() const {
+    return meshes_[state_.mesh].model.empty() ? viewer::material_label(state_) : std::string("own materials");
+  }
+
   // A dropped file joins the mesh list and is shown; one that does not load is one line on
   // stderr, and the view stays as it was.
   bool open_dropped(const std::string& file) {
@@ -249,7 +254,7 @@ class Viewer {
   void update_title(double ms) {
     char title[256];
     std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s%s | %u threads%s", ms,
-                  ms > 0.0 ? 1000.0 / ms : 0.0, viewer::material_label(state_).c_str(),
+                  ms > 0.0 ? 1000.0 / ms : 0.0, material_text().c_str(),
                   meshes_[state_.mesh].name.c_str(), target_->width(), target_->height(),
                   target_->samples() > 1 ? " 4x MSAA" : "", shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
                   state_.lights_rotating ? " | lights rotating" : "");
