@@ -142,12 +142,13 @@ int info_gltf(const std::string& path) {
   std::printf("  scenes     %zu", info.scenes);
   if (info.default_scene >= 0) std::printf(" (default %d)", info.default_scene);
   std::printf("\n  nodes      %zu\n", info.nodes);
-  std::printf("  meshes     %zu (%zu primitives, %zu triangles, each mesh counted once)\n", info.meshes.size(),
-              info.primitives(), info.triangles());
+  auto plural = [](std::size_t n) { return n == 1 ? "" : "s"; };
+  std::printf("  meshes     %zu (%zu primitive%s, %zu triangles, each mesh counted once)\n", info.meshes.size(),
+              info.primitives(), plural(info.primitives()), info.triangles());
   for (std::size_t i = 0; i < info.meshes.size(); ++i) {
     const pbr::GltfMeshInfo& m = info.meshes[i];
-    std::printf("    %-3zu %-24s %4zu primitives %10zu triangles", i, or_unnamed(m.name).c_str(), m.primitives.size(),
-                m.triangles);
+    std::printf("    %-3zu %-24s %4zu %-10s %10zu triangles", i, or_unnamed(m.name).c_str(), m.primitives.size(),
+                m.primitives.size() == 1 ? "primitive" : "primitives", m.triangles);
     if (m.morph_targets) std::printf("  %zu morph targets", m.morph_targets);
     std::printf("\n");
   }
@@ -157,7 +158,8 @@ int info_gltf(const std::string& path) {
     degenerate += find_problems(*o.mesh).degenerate;
     drawn += o.mesh->triangle_count();
   }
-  std::printf("  drawn      %zu primitives, %zu triangles (the scene's nodes)\n", scene.objects.size(), drawn);
+  std::printf("  drawn      %zu primitive%s, %zu triangles (the scene's nodes)\n", scene.objects.size(),
+              plural(scene.objects.size()), drawn);
   const pbr::Bounds all = pbr::world_bounds(scene.objects);
   if (all.empty()) {
     std::printf("  bounds     (empty)\n");

@@ -198,8 +198,10 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
     GltfImageInfo ii;
     ii.name = im.name;
     ii.mime_type = im.mimeType;
-    ii.location = !im.uri.empty() ? (im.uri.rfind("data:", 0) == 0 ? std::string("data URI") : im.uri)
-                                  : "bufferView " + std::to_string(im.bufferView);
+    // tinygltf keeps no URI for an image it decoded from a data URI.
+    if (im.bufferView >= 0) ii.location = "bufferView " + std::to_string(im.bufferView);
+    else if (im.uri.empty() || im.uri.rfind("data:", 0) == 0) ii.location = "data URI";
+    else ii.location = im.uri;
     if (auto it = ctx.headers.find(static_cast<int>(i)); it != ctx.headers.end()) {
       ii.format = it->second.format;
       ii.width = it->second.width;
