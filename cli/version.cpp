@@ -21,12 +21,14 @@ namespace {
 
 std::string compiler() {
 #if defined(__clang__)
-  return "Clang " __clang_version__;
+  std::string c = "Clang " __clang_version__;  // "14.0.6 " (a trailing space)
 #elif defined(__GNUC__)
-  return "GCC " __VERSION__;
+  std::string c = "GCC " __VERSION__;
 #else
-  return "unknown";
+  std::string c = "unknown";
 #endif
+  while (!c.empty() && c.back() == ' ') c.pop_back();
+  return c;
 }
 
 const char* architecture() {
@@ -55,19 +57,22 @@ std::string version_text() {
   build += " (not optimized)";
 #endif
   std::string kernels = "baseline (" + std::to_string(simd::kNativeWidth) + " lanes)";
+  // What raster::Renderer picks by default: the CPU's instruction set and its lane width.
+  const simd::Isa cpu = simd::cpu_isa();
+  std::string note = " (the image is the same for any width)";
 #if SOFTPBR_SIMD_X86_TARGETS
   kernels += ", avx2 (8), avx512 (16)";
-  const simd::Isa cpu = simd::cpu_isa();
 #else
-  // Unoptimized or non-x86 builds run every kernel's baseline copy (softpbr/simd/isa.h).
-  const simd::Isa cpu = simd::Isa::Baseline;
+  // Unoptimized builds compile no AVX2/AVX-512 copies: the widths run on the baseline
+  // copy of every kernel (softpbr/simd/isa.h).
+  if (cpu != simd::Isa::Baseline) note = ", run by the baseline kernels (this build has no " + std::string(simd::isa_name(cpu)) + " copies)";
 #endif
   std::string text = "softpbr " SOFTPBR_VERSION "\n";
   text += "compiler   " + compiler() + ", " + architecture() + "\n";
   text += "build      " + build + ", -ffp-contract=off\n";
   text += "simd       lane widths 1, 4, 8, 16; kernels compiled for " + kernels + "\n";
   text += "this cpu   " + std::string(simd::isa_name(cpu)) + ": " + std::to_string(default_lanes(cpu)) +
-          " lanes by default (the image is the same for any width)\n";
+          " lanes by default" + note + "\n";
   return text;
 }
 

@@ -511,15 +511,24 @@ version)
     && pass "build type ${build:-(any)}: $(grep ^build out.txt)" || fail "build line for ${build:-any}: $(grep ^build out.txt)"
   grep -q "^simd       lane widths 1, 4, 8, 16; kernels compiled for baseline ([0-9]* lanes)" out.txt \
     && pass "simd line" || fail "simd line: $(cat out.txt)"
-  # This CPU's widest target, from /proc/cpuinfo, when the binary has x86 kernels.
-  if grep -q 'avx512 (16)' out.txt && [ -r /proc/cpuinfo ]; then
+  # This CPU's widest target and default lane width, from /proc/cpuinfo for an x86-64 binary
+  # (also in builds without AVX2/AVX-512 kernels: the renderer still picks the width, and
+  # says so). The binary's own architecture line decides: an AArch64 build under qemu-user
+  # runs beside an x86-64 shell.
+  if grep -q "^compiler   .*, x86-64$" out.txt && [ -r /proc/cpuinfo ]; then
     flags=$(grep -m1 '^flags' /proc/cpuinfo)
     has() { case " ${flags#*:} " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
     if has avx512f && has avx512dq && has avx512vl && has avx512bw; then isa="avx512: 16"
     elif has avx2; then isa="avx2: 8"; else isa="baseline: "; fi
     grep -q "^this cpu   $isa" out.txt && pass "this cpu: $isa (as /proc/cpuinfo)" || fail "this cpu line \"$(grep '^this cpu' out.txt)\", /proc/cpuinfo says $isa"
+    if grep -q 'avx512 (16)' out.txt; then
+      grep -q "^this cpu   .* lanes by default (the image is the same for any width)$" out.txt || fail "this cpu line: $(cat out.txt)"
+    elif [ "$isa" != "baseline: " ]; then
+      grep -q "^this cpu   .* lanes by default, run by the baseline kernels (this build has no avx" out.txt \
+        && pass "a build without x86 kernels says the baseline kernels run" || fail "this cpu line: $(cat out.txt)"
+    fi
   else
-    grep -q "^this cpu   baseline: [0-9]* lanes by default" out.txt && pass "this cpu: baseline only (no x86 kernels in this build)" \
+    grep -q "^this cpu   baseline: [0-9]* lanes by default" out.txt && pass "this cpu: baseline (not an x86-64 binary)" \
       || fail "this cpu line: $(cat out.txt)"
   fi
   "$softpbr" version >out2.txt 2>err.txt && cmp -s out.txt out2.txt && pass "softpbr version = softpbr --version" || fail "softpbr version differs: $(cat out2.txt)"
