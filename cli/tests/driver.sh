@@ -487,6 +487,14 @@ $(cat out.txt)"
     done
     [ $failures -eq $before ] && pass "info $model: counts, materials, the texture's size from its header ($where), extensions, camera, light, problems"
   done
+  # docs/scene-format.md's example is what the command prints (when ../shared/gltf is there).
+  if [ -f "$src/../shared/gltf/WaterBottle/glTF/WaterBottle.gltf" ]; then
+    (cd "$src" && "$softpbr" info ../shared/gltf/WaterBottle/glTF/WaterBottle.gltf) >wb.txt
+    awk '/^\.\.\/shared\/gltf\/WaterBottle\/glTF\/WaterBottle.gltf$/ { on = 1 } on && /^```$/ { exit } on { print }' \
+      "$src/docs/scene-format.md" >wb-doc.txt
+    [ -s wb-doc.txt ] && cmp -s wb.txt wb-doc.txt && pass "docs/scene-format.md's info of WaterBottle is the command's output" \
+      || fail "docs/scene-format.md's WaterBottle example differs: $(diff wb-doc.txt wb.txt)"
+  fi
   # A bad glTF: the same line and exit code as render.
   for model in broken.gltf huge.glb missing.glb; do
     "$softpbr" render $model -o keep.png >/dev/null 2>render-err.txt; want_rc=$?
