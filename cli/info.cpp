@@ -10,17 +10,22 @@
 #include <glm/geometric.hpp>
 
 #include "cli_error.h"
+#include "softpbr/pbr/gltf.h"
+#include "softpbr/pbr/gltf_info.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene_file.h"
+#include "softpbr/raster/pool.h"
 
 namespace softpbr::cli {
 
 namespace pbr = softpbr::pbr;
+namespace raster = softpbr::raster;
 
 CLI::App* add_info_command(CLI::App& app, InfoArgs& a) {
   CLI::App* c = app.add_subcommand(
-      "info", "Describe an OBJ model (shapes, counts, bounds, materials, problems) or a scene file (.json)");
-  c->add_option("file", a.file, "An .obj model or a .json scene")->required();
+      "info",
+      "Describe an OBJ or glTF model (counts, bounds, materials, textures, extensions, problems) or a scene file (.json)");
+  c->add_option("file", a.file, "An .obj, .gltf or .glb model, or a .json scene")->required();
   c->footer(kExitCodesHelp);
   return c;
 }
@@ -110,6 +115,103 @@ int info_obj(const std::string& path) {
   return kExitOk;
 }
 
+std::string or_unnamed(const std::string& name) { return name.empty() ? "(unnamed)" : printable_line(name); }
+
+std::string join(const std::vector<std::string>& items, const char* none = "none") {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + printable_line(s);
+  return out.empty() ? none : out;
+}
+
+// A glTF file: pbr::load_gltf validates it (the same error line and exit code as
+// `softpbr render`) and gives what the scene draws and its warnings; pbr::inspect_gltf
+// what the file holds, with image sizes from their headers.
+int info_gltf(const std::string& path) {
+  pbr::GltfScene scene;
+  pbr::GltfInfo info;
+  try {
+    raster::ThreadPool pool(0);
+    scene = pbr::load_gltf(path, {.pool = &pool});
+    info = pbr::inspect_gltf(path);
+  } catch (const pbr::LoadError& e) {
+    throw Error(kExitInput, e.what());
+  }
+  std::printf("%s\n", path.c_str());
+  std::printf("  asset      glTF %s%s\n", printable_line(info.version).c_str(),
+              info.generator.empty() ? "" : (", generator \"" + printable_line(info.generator) + "\"").c_str());
+  std::printf("  scenes     %zu", info.scenes);
+  if (info.default_scene >= 0) std::printf(" (default %d)", info.default_scene);
+  std::printf("\n  nodes      %zu\n", info.nodes);
+  auto plural = [](std::size_t n) { return n == 1 ? "" : "s"; };
+  std::printf("  meshes     %zu (%zu primitive%s, %zu triangles, each mesh counted once)\n", info.meshes.size(),
+              info.primitives(), plural(info.primitives()), info.triangles());
+  for (std::size_t i = 0; i < info.meshes.size(); ++i) {
+    const pbr::GltfMeshInfo& m = info.meshes[i];
+    std::printf("    %-3zu %-24s %4zu %-10s %10zu triangles", i, or_unnamed(m.name).c_str(), m.primitives.size(),
+                m.primitives.size() == 1 ? "primitive" : "primitives", m.triangles);
+    if (m.morph_targets) std::printf("  %zu morph targets", m.morph_targets);
+    std::printf("\n");
+  }
+  // What the scene draws: each primitive of each node that has a mesh (instances counted).
+  std::size_t degenerate = 0, drawn = 0;
+  for (const pbr::Object& o : scene.objects) {
+    degenerate += find_problems(*o.mesh).degenerate;
+    drawn += o.mesh->triangle_count();
+  }
+  std::printf("  drawn      %zu primitive%s, %zu triangles (the scene's nodes)\n", scene.objects.size(),
+              plural(scene.objects.size()), drawn);
+  const pbr::Bounds all = pbr::world_bounds(scene.objects);
+  if (all.empty()) {
+    std::printf("  bounds     (empty)\n");
+  } else {
+    print_vec("  bounds     min ", all.min);
+    print_vec(" max ", all.max);
+    print_vec(" size ", all.extent());
+    std::printf("\n");
+  }
+  std::printf("  materials  %zu\n", info.materials.size());
+  for (std::size_t i = 0; i < info.materials.size(); ++i) {
+    const pbr::GltfMaterialInfo& m = info.materials[i];
+    std::string textures;
+    for (const auto& slot : m.textures)
+      textures += (textures.empty() ? "" : ", ") + slot.first + " " + std::to_string(slot.second);
+    std::printf("    %-3zu %-24s %s%s%s%s%s\n", i, or_unnamed(m.name).c_str(), printable_line(m.alpha_mode).c_str(),
+                m.double_sided ? ", double-sided" : "", textures.empty() ? "" : ", textures ", textures.c_str(),
+                m.extensions.empty() ? "" : (", " + join(m.extensions)).c_str());
+  }
+  std::uint64_t encoded = 0;
+  for (const pbr::GltfImageInfo& im : info.images) encoded += im.bytes;
+  std::printf("  textures   %zu (%zu image%s, %s encoded)\n", info.textures.size(), info.images.size(),
+              info.images.size() == 1 ? "" : "s", pbr::format_bytes(encoded).c_str());
+  for (std::size_t i = 0; i < info.textures.size(); ++i) {
+    const pbr::GltfTextureInfo& t = info.textures[i];
+    std::string what = "no image";
+    if (t.source >= 0 && static_cast<std::size_t>(t.source) < info.images.size()) {
+      const pbr::GltfImageInfo& im = info.images[static_cast<std::size_t>(t.source)];
+      const std::string size = im.width > 0 ? std::to_string(im.width) + "x" + std::to_string(im.height) : "size unknown";
+      what = (im.format.empty() ? std::string("unknown format") : im.format) + " " + size + ", image " +
+             std::to_string(t.source) + " (" + printable_line(im.location) + ", " + pbr::format_bytes(im.bytes) + ")";
+    }
+    std::printf("    %-3zu %-24s %s\n", i, or_unnamed(t.name).c_str(), what.c_str());
+  }
+  std::printf("  extensions used: %s; required: %s\n", join(info.extensions_used).c_str(),
+              join(info.extensions_required).c_str());
+  std::printf("  cameras    %zu\n", info.cameras.size());
+  for (std::size_t i = 0; i < info.cameras.size(); ++i)
+    std::printf("    %-3zu %-24s %s\n", i, or_unnamed(info.cameras[i].name).c_str(), printable_line(info.cameras[i].type).c_str());
+  std::printf("  lights     %zu\n", info.lights.size());
+  for (std::size_t i = 0; i < info.lights.size(); ++i)
+    std::printf("    %-3zu %-24s %s\n", i, or_unnamed(info.lights[i].name).c_str(), printable_line(info.lights[i].type).c_str());
+  std::printf("  animation  %zu skins, %zu animations (drawn in the bind pose, without morph weights)\n", info.skins,
+              info.animations);
+  std::vector<std::string> problems = scene.warnings;
+  if (degenerate) problems.push_back(std::to_string(degenerate) + " zero-area triangles (drawn as nothing)");
+  if (drawn == 0) problems.push_back("the scene draws no triangles");
+  std::printf("  problems   %zu\n", problems.size());
+  for (const std::string& p : problems) std::printf("    %s\n", printable_line(p).c_str());
+  return kExitOk;
+}
+
 int info_scene(const std::string& path) {
   pbr::SceneFile file;
   try {
@@ -143,7 +245,8 @@ int run_info(const InfoArgs& a) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
   if (ext == ".json") return info_scene(a.file);
   if (ext == ".obj") return info_obj(a.file);
-  throw Error(kExitUsage, a.file + ": expected an .obj model or a .json scene");
+  if (ext == ".gltf" || ext == ".glb") return info_gltf(a.file);
+  throw Error(kExitUsage, a.file + ": expected an .obj, .gltf or .glb model or a .json scene");
 }
 
 }  // namespace softpbr::cli

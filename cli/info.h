@@ -1,4 +1,4 @@
-// info.h — `softpbr info FILE`: what an OBJ model or a scene file holds and the problems
+// info.h — `softpbr info FILE`: what an OBJ or glTF model or a scene file holds and the problems
 // found in it.
 #pragma once
 

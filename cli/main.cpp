@@ -3,7 +3,8 @@
 //   softpbr render SCENE.json -o OUT.png [--width W --height H --threads N --tile-size T
 //                  --tonemap NAME --exposure E --frames A..B --shard i/N]
 //   softpbr diff A.png B.png [--max-diff N --max-pixels P --out diff.png]
-//   softpbr info MODEL.obj | SCENE.json
+//   softpbr info MODEL.obj | MODEL.gltf | MODEL.glb | SCENE.json
+//   softpbr version | --version
 //
 // Every failure is one line on stderr and an exit code (cli_error.h).
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "diff.h"
 #include "info.h"
 #include "render.h"
+#include "version.h"
 
 namespace {
 // Every error is one bounded line (cli_error.h's printable_line).
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
   CLI::App* render_cmd = add_render_command(app, render);
   CLI::App* info_cmd = add_info_command(app, info);
   CLI::App* diff_cmd = add_diff_command(app, diff);
+  CLI::App* version_cmd = add_version_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -46,6 +49,7 @@ int main(int argc, char** argv) {
   try {
     if (render_cmd->parsed()) return run_render(render);
     if (info_cmd->parsed()) return run_info(info);
+    if (version_cmd->parsed()) return run_version();
     return run_diff(diff);
   } catch (const Error& e) {
     print_error(e.what());

@@ -32,13 +32,15 @@ namespace raster = softpbr::raster;
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   CLI::App* c = app.add_subcommand("render", "Render a scene file to .png, .hdr and/or .exr images");
-  c->add_option("scene", a.scene,
+  c->add_option("scene", a.scenes,
                 "Scene file (JSON, see docs/scene-format.md), or a glTF 2.0 model (.gltf, .glb) shown with an automatic "
-                "camera and light rig")
+                "camera and light rig. Several: one image each, with outputs like thumbs/{name}.png or thumbs/")
       ->required();
   c->add_option("-o,--output", a.outputs,
                 "Output file, format from the extension: .png (tone mapped, 8-bit), .hdr (linear "
-                "Radiance RGBE) or .exr (linear float RGBA). Repeat for several. With --frames, #### is replaced by the frame number")
+                "Radiance RGBE) or .exr (linear float RGBA). Repeat for several. With --frames, #### is replaced by the frame number; "
+                "{name} by the input's file name without extension, {index} by its position (from 0); a name ending in / "
+                "is a folder (folder/{name}.png)")
       ->required()
       ->allow_extra_args(false);  // one file per -o, so "-o out.png scene.json" works
   a.width_opt = c->add_option("--width", a.width, "Image width in pixels (overrides the scene's render.width)");
@@ -85,11 +87,11 @@ bool is_gltf(const std::string& path) {
 
 // A glTF model as a scene (docs/scene-format.md, "glTF models"): pbr::gltf_scene_file with
 // the command's view (--yaw, --pitch, --camera; --env none for the light rig).
-pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
+pbr::SceneFile gltf_scene(const RenderArgs& a, const std::string& input, raster::ThreadPool& pool) {
   pbr::GltfScene g;
   try {
     std::vector<fs::path> roots(a.roots.begin(), a.roots.end());
-    g = pbr::load_gltf(a.scene, {.pool = &pool, .roots = roots});
+    g = pbr::load_gltf(input, {.pool = &pool, .roots = roots});
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
   }
@@ -102,12 +104,12 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
   view.pitch = a.pitch;
   view.camera = a.camera_opt->count() ? std::max(a.camera, 0) : -1;
   if (a.camera_opt->count() && a.camera < 0)
-    throw Error(kExitUsage, "--camera: " + a.scene + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
+    throw Error(kExitUsage, "--camera: " + input + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
                                 std::to_string(a.camera));
   view.environment = !a.env_opt->count() || a.env != "none";
   try {
     std::vector<std::string> files = g.files;
-    pbr::SceneFile f = pbr::gltf_scene_file(std::move(g), view, a.scene);
+    pbr::SceneFile f = pbr::gltf_scene_file(std::move(g), view, input);
     f.inputs = std::move(files);
     return f;
   } catch (const std::invalid_argument& e) {
@@ -239,110 +241,128 @@ std::uint64_t physical_memory() {
 
 class Progress {
  public:
-  Progress(bool enabled, std::size_t total) : enabled_(enabled), total_(total), start_(Clock::now()) {}
-  void update(std::size_t done, long frame) {
+  Progress(bool enabled, std::size_t total, const char* unit) : enabled_(enabled), total_(total), unit_(unit), start_(Clock::now()) {}
+  // `what`: the frame number or the model just finished.
+  void update(std::size_t done, const std::string& what) {
     if (!enabled_) return;
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
     const double per = done > 0 ? elapsed / static_cast<double>(done) : 0.0;
-    std::fprintf(stderr, "\r\033[Ksoftpbr: frame %ld, %zu/%zu done, %.2f s/frame, %.0f s left", frame, done, total_, per,
-                 per * static_cast<double>(total_ - done));
+    std::fprintf(stderr, "\r\033[Ksoftpbr: %s %s, %zu/%zu done, %.2f s/%s, %.0f s left", unit_, printable_line(what).c_str(),
+                 done, total_, per, unit_, per * static_cast<double>(total_ - done));
     std::fflush(stderr);
   }
-  ~Progress() {
+  // Erases the line (before an error line is printed under it).
+  void clear() {
     if (enabled_) std::fputs("\r\033[K", stderr);
   }
+  ~Progress() { clear(); }
 
  private:
   using Clock = std::chrono::steady_clock;
   bool enabled_;
   std::size_t total_;
+  const char* unit_;
   Clock::time_point start_;
 };
 
-}  // namespace
-
-int run_render(const RenderArgs& a) {
-  // 1. The command line alone, before any work: values, formats, frame list, outputs.
-  if (a.width_opt->count()) in_range("--width", a.width, 1, raster::kMaxTargetSize);
-  if (a.height_opt->count()) in_range("--height", a.height, 1, raster::kMaxTargetSize);
-  if (a.threads_opt->count()) in_range("--threads", a.threads, 0, 1024);
-  if (a.tile_opt->count()) {
-    in_range("--tile-size", a.tile_size, raster::kMinTileSize, raster::kMaxTileSize);
-    if (!raster::valid_tile_size(a.tile_size)) throw Error(kExitUsage, "--tile-size: expected an even size, got " + std::to_string(a.tile_size));
-  }
-  std::optional<pbr::ToneMap> tone_map;
-  if (a.tonemap_opt->count()) {
-    tone_map = pbr::tone_map_from_name(a.tonemap);
-    if (!tone_map) throw Error(kExitUsage, "--tonemap: expected one of none, reinhard, aces, neutral, got \"" + a.tonemap + "\"");
-  }
-  if (a.exposure_opt->count()) in_range("--exposure", a.exposure, -64.0f, 64.0f);
-  if (a.msaa_opt->count() && !raster::valid_sample_count(a.msaa))
-    throw Error(kExitUsage, "--msaa: expected 1, 4 or 8, got " + std::to_string(a.msaa));
-  if (a.env_intensity_opt->count() && !(a.env_intensity >= 0.0f && a.env_intensity <= 1e6f))
-    throw Error(kExitUsage, "--env-intensity: expected a number in [0, 1e6], got " + std::to_string(a.env_intensity));
-  if (a.env_rotation_opt->count() && !std::isfinite(a.env_rotation))
-    throw Error(kExitUsage, "--env-rotation: expected a finite number of degrees");
-  if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
-    throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
-  if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
-    throw Error(kExitUsage, "--max-memory: expected a number of MiB in (0, 1e9], got " + show_value(a.max_memory_mib));
-  const auto memory_limit = static_cast<std::uint64_t>(a.max_memory_mib * 1048576.0);
-  for (const std::string& r : a.roots) {
-    std::error_code ec;
-    if (!fs::is_directory(r, ec)) throw Error(kExitUsage, "--root: " + r + " is not a folder");
-  }
-  std::vector<Format> formats;
-  std::set<std::string> distinct;
-  for (const std::string& o : a.outputs) {
-    if (!has_frame_pattern(o)) check_writable(o);  // a device says so before its missing extension
-    formats.push_back(output_format(o));
-    if (!distinct.insert(o).second) throw Error(kExitUsage, o + ": given twice as an output");
-  }
-  const FrameRange range = a.frames_opt->count() ? parse_frames(a.frames) : FrameRange{0, 0};
-  const Shard shard = a.shard_opt->count() ? parse_shard(a.shard) : Shard{};
-  if (range.last > range.first)
-    for (const std::string& o : a.outputs)
-      if (!has_frame_pattern(o))
-        throw Error(kExitUsage, o + ": with several frames an output needs a run of '#' for the frame number (e.g. out_####.png)");
-  // The same file under two names ("a.png", "./a.png") is one output given twice.
-  std::set<fs::path> resolved;
-  for (const std::string& o : a.outputs) {
-    std::error_code ec;
-    const fs::path p = fs::weakly_canonical(fs::absolute(frame_path(o, range.first)), ec);
-    if (!ec && !resolved.insert(p).second) throw Error(kExitUsage, o + ": given twice as an output (under another name)");
-  }
-  // Every output can be created: the first and the last frame's names (the longest).
-  for (const std::string& o : a.outputs) {
-    check_writable(frame_path(o, range.first));
-    check_writable(frame_path(o, range.last));
-  }
-
-  // 2. The scene, with command-line overrides.
-  std::map<FileId, std::string> inputs;
-  if (const auto id = file_id(a.scene)) inputs.emplace(*id, a.scene);
-  for (const std::string& o : a.outputs) check_not_input(frame_path(o, range.first), inputs);
-  pbr::SceneFile file;
-  // A glTF model's images decode on a pool of the threads the render will use.
-  const unsigned load_threads = a.threads_opt->count() ? static_cast<unsigned>(a.threads) : 0;
-  {
-    raster::ThreadPool pool(load_threads);
-    if (is_gltf(a.scene)) {
-      file = gltf_scene(a, pool);
+// An output name for input `index` (docs/scene-format.md, "Several inputs"): a name ending
+// in '/' is a folder, given <name>.png; {name} is the input's file name without its
+// extension, {index} its position among the inputs (from 0). The frame number (####) is
+// put in first, so a '#' in an input's name is only a character.
+bool is_folder_output(const std::string& o) { return !o.empty() && o.back() == '/'; }
+bool has_input_pattern(const std::string& o) {
+  return is_folder_output(o) || o.find("{name}") != std::string::npos || o.find("{index}") != std::string::npos;
+}
+std::string output_path(const std::string& pattern, const std::string& input, std::size_t index, long frame) {
+  const std::string o = frame_path(pattern, frame);
+  if (!has_input_pattern(pattern)) return o;
+  const std::string name = fs::path(input).stem().string();
+  if (is_folder_output(o)) return o + name + ".png";
+  std::string out;
+  for (std::size_t i = 0; i < o.size();) {
+    if (o.compare(i, 6, "{name}") == 0) {
+      out += name;
+      i += 6;
+    } else if (o.compare(i, 7, "{index}") == 0) {
+      out += std::to_string(index);
+      i += 7;
     } else {
-      try {
-        file = pbr::load_scene_file(a.scene, {.memory_limit = memory_limit,
-                                                   .pool = &pool,
-                                                   .environment_cache = a.env_cache,
-                                                   .roots = std::vector<fs::path>(a.roots.begin(), a.roots.end())});
-      } catch (const pbr::SceneFileError& e) {
-        throw Error(kExitInput, e.what());
-      }
+      out += o[i++];
     }
-    apply_environment(a, file, pool);
+  }
+  return out;
+}
+
+// What every input of the command shares: the values checked once, the files it must
+// never overwrite, and in a batch the renderer (its threads load the models too) and target.
+struct Job {
+  const RenderArgs* args = nullptr;
+  std::optional<pbr::ToneMap> tone_map;
+  std::uint64_t memory_limit = 0;
+  FrameRange range;
+  Shard shard;
+  std::vector<Format> formats;
+  std::map<FileId, std::string> inputs;     // grows as inputs are loaded
+  bool batch = false;                       // several inputs
+  std::optional<raster::Renderer> renderer;  // a batch's (RendererOptions from --threads, --tile-size)
+  std::optional<raster::Target> target;
+};
+
+// The scene of `input` with the command's overrides.
+pbr::SceneFile load_input(Job& job, const std::string& input, raster::ThreadPool& pool) {
+  const RenderArgs& a = *job.args;
+  pbr::SceneFile file;
+  if (is_gltf(input)) {
+    file = gltf_scene(a, input, pool);
+  } else {
+    try {
+      file = pbr::load_scene_file(input, {.memory_limit = job.memory_limit,
+                                          .pool = &pool,
+                                          .environment_cache = a.env_cache,
+                                          .roots = std::vector<fs::path>(a.roots.begin(), a.roots.end())});
+    } catch (const pbr::SceneFileError& e) {
+      throw Error(kExitInput, e.what());
+    }
+  }
+  apply_environment(a, file, pool);
+  return file;
+}
+
+// Renders input `index` to its outputs: every frame of this shard for a single input, the
+// one frame of a batch's input. Returns whether it
+// rendered (false: its outputs existed and were skipped).
+bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
+  const RenderArgs& a = *job.args;
+  const std::string& input = a.scenes[index];
+  auto path = [&](std::size_t k, long frame) { return output_path(a.outputs[k], input, index, frame); };
+  const FrameRange range = job.range;
+  const Shard shard = job.shard;
+  std::map<FileId, std::string>& inputs = job.inputs;
+  // A batch's input whose outputs all exist is skipped before it is loaded.
+  if (job.batch && !a.force) {
+    bool all_exist = true;
+    for (std::size_t k = 0; k < a.outputs.size() && all_exist; ++k) {
+      std::error_code ec;
+      all_exist = fs::is_regular_file(fs::symlink_status(path(k, range.first), ec));
+    }
+    if (all_exist) {
+      if (!a.quiet) std::printf("%s: exists, skipped\n", path(0, range.first).c_str());
+      return false;
+    }
+  }
+  // 2. The scene, with command-line overrides.
+  for (std::size_t k = 0; k < a.outputs.size(); ++k) check_not_input(path(k, range.first), inputs);
+  pbr::SceneFile file;
+  if (job.renderer) {
+    file = load_input(job, input, job.renderer->pool());
+  } else {
+    // A single input's images decode on a pool of the threads the render will use.
+    raster::ThreadPool pool(a.threads_opt->count() ? static_cast<unsigned>(a.threads) : 0);
+    file = load_input(job, input, pool);
   }
   for (const std::string& f : file.inputs)
     if (const auto id = file_id(f)) inputs.emplace(*id, f);
-  for (const std::string& o : a.outputs) check_not_input(frame_path(o, range.first), inputs);
+  for (std::size_t k = 0; k < a.outputs.size(); ++k) check_not_input(path(k, range.first), inputs);
   if (!a.quiet)
     for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", printable_line(w).c_str());
   pbr::RenderSettings s = file.render;
@@ -350,22 +370,23 @@ int run_render(const RenderArgs& a) {
   if (a.height_opt->count()) s.height = a.height;
   if (a.threads_opt->count()) s.threads = static_cast<unsigned>(a.threads);
   if (a.tile_opt->count()) s.tile_size = a.tile_size;
-  if (tone_map) s.output.tone_map = *tone_map;
+  if (job.tone_map) s.output.tone_map = *job.tone_map;
   if (a.exposure_opt->count()) s.output.exposure = a.exposure;
   if (a.msaa_opt->count()) s.msaa = a.msaa;
 
   // 3. Memory, before the target is allocated.
   const std::uint64_t physical = physical_memory();
-  const std::uint64_t limit = physical ? std::min(memory_limit, physical) : memory_limit;
+  const std::uint64_t limit = physical ? std::min(job.memory_limit, physical) : job.memory_limit;
   const std::uint64_t needed = pbr::image_memory(s.width, s.height, s.msaa) + file.mesh_bytes + file.texture_bytes;
   if (needed > limit) {
     const bool from_cli = a.width_opt->count() || a.height_opt->count();
-    const std::string where = from_cli ? "--width " + std::to_string(s.width) + " --height " + std::to_string(s.height)
-                                       : a.scene + ": /render";
+    const std::string where = from_cli ? (job.batch ? input + ": " : std::string()) + "--width " + std::to_string(s.width) +
+                                             " --height " + std::to_string(s.height)
+                                       : input + ": /render";
     throw Error(kExitInput, where + ": a " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                                 " render of this scene needs an estimated " + pbr::format_bytes(needed) +
                                 ", over the limit of " + pbr::format_bytes(limit) +
-                                (limit == memory_limit ? " (--max-memory)" : " (the machine's memory)"));
+                                (limit == job.memory_limit ? " (--max-memory)" : " (the machine's memory)"));
   }
 
   // 4. The frames of this shard.
@@ -373,26 +394,34 @@ int run_render(const RenderArgs& a) {
   if (frame_count == 0 && !a.quiet)
     std::printf("shard %ld/%ld: no frame of %ld..%ld is this shard's (nothing to render)\n", shard.index, shard.count,
                 range.first, range.last);
-  raster::Renderer renderer(raster::RendererOptions{s.threads, s.tile_size});
-  if (renderer.threads() < renderer.requested_threads() && !a.quiet)
-    std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
-                 renderer.threads(), renderer.requested_threads(), renderer.threads());
-  raster::Target target(s.width, s.height, s.msaa);
-  Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(frame_count));
+  std::optional<raster::Renderer> own_renderer;
+  if (!job.renderer) {
+    own_renderer.emplace(raster::RendererOptions{s.threads, s.tile_size});
+    if (own_renderer->threads() < own_renderer->requested_threads() && !a.quiet)
+      std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
+                   own_renderer->threads(), own_renderer->requested_threads(), own_renderer->threads());
+  }
+  raster::Renderer& renderer = job.renderer ? *job.renderer : *own_renderer;
+  if (!job.target || job.target->width() != s.width || job.target->height() != s.height || job.target->samples() != s.msaa) {
+    job.target.reset();  // the old one's memory first
+    job.target.emplace(s.width, s.height, s.msaa);
+  }
+  raster::Target& target = *job.target;
   std::size_t done = 0, skipped = 0;
   for (long j = 0; j < frame_count; ++j) {
     const long frame = shard_frame(range, shard, j);
     std::vector<std::string> paths;
     bool all_exist = true;
-    for (const std::string& o : a.outputs) {
-      paths.push_back(frame_path(o, frame));
+    for (std::size_t k = 0; k < a.outputs.size(); ++k) {
+      paths.push_back(path(k, frame));
       std::error_code ec;
       all_exist = all_exist && fs::is_regular_file(fs::symlink_status(paths.back(), ec));
     }
-    if (all_exist && !a.force && a.frames_opt->count()) {  // a single render always overwrites
+    // A single render always overwrites; frame lists and batches resume.
+    if (all_exist && !a.force && (a.frames_opt->count() || job.batch)) {
       ++skipped;
       if (!a.quiet) std::printf("%s: exists, skipped\n", paths[0].c_str());
-      progress.update(++done, frame);
+      if (frame_progress) frame_progress->update(++done, std::to_string(frame));
       continue;
     }
     for (const std::string& p : paths) check_not_input(p, inputs);
@@ -413,14 +442,14 @@ int run_render(const RenderArgs& a) {
     }
     // Every output of the frame is written to a temporary first, then all are renamed: on
     // any failure none is replaced.
-    image::OutputFiles outputs;
+    image::OutputFiles files;
     try {
       for (std::size_t i = 0; i < paths.size(); ++i) {
-        if (formats[i] == Format::Png) outputs.add(paths[i], image::encode_png(pbr::tone_map_to_rgba8(target, s.output), paths[i]));
-        else if (formats[i] == Format::Hdr) outputs.add(paths[i], image::encode_hdr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
-        else outputs.add(paths[i], image::encode_exr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
+        if (job.formats[i] == Format::Png) files.add(paths[i], image::encode_png(pbr::tone_map_to_rgba8(target, s.output), paths[i]));
+        else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
+        else files.add(paths[i], image::encode_exr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
       }
-      outputs.commit();
+      files.commit();
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const std::exception& e) {
@@ -430,12 +459,151 @@ int run_render(const RenderArgs& a) {
       for (const std::string& p : paths)
         std::printf("%s: %dx%d, hash %016llx\n", p.c_str(), s.width, s.height, static_cast<unsigned long long>(hash));
     std::fflush(stdout);
-    progress.update(++done, frame);
+    if (frame_progress) frame_progress->update(++done, std::to_string(frame));
   }
   if (!a.quiet && frame_count > 1)
     std::printf("%ld frames: %ld rendered, %zu skipped (already complete)\n", frame_count,
                 frame_count - static_cast<long>(skipped), skipped);
-  return kExitOk;
+  return skipped < static_cast<std::size_t>(frame_count);
+}
+
+}  // namespace
+
+int run_render(const RenderArgs& a) {
+  // 1. The command line alone, before any work: values, formats, frame list, outputs.
+  if (a.width_opt->count()) in_range("--width", a.width, 1, raster::kMaxTargetSize);
+  if (a.height_opt->count()) in_range("--height", a.height, 1, raster::kMaxTargetSize);
+  if (a.threads_opt->count()) in_range("--threads", a.threads, 0, 1024);
+  if (a.tile_opt->count()) {
+    in_range("--tile-size", a.tile_size, raster::kMinTileSize, raster::kMaxTileSize);
+    if (!raster::valid_tile_size(a.tile_size)) throw Error(kExitUsage, "--tile-size: expected an even size, got " + std::to_string(a.tile_size));
+  }
+  Job job;
+  job.args = &a;
+  if (a.tonemap_opt->count()) {
+    job.tone_map = pbr::tone_map_from_name(a.tonemap);
+    if (!job.tone_map) throw Error(kExitUsage, "--tonemap: expected one of none, reinhard, aces, neutral, got \"" + a.tonemap + "\"");
+  }
+  if (a.exposure_opt->count()) in_range("--exposure", a.exposure, -64.0f, 64.0f);
+  if (a.msaa_opt->count() && !raster::valid_sample_count(a.msaa))
+    throw Error(kExitUsage, "--msaa: expected 1, 4 or 8, got " + std::to_string(a.msaa));
+  if (a.env_intensity_opt->count() && !(a.env_intensity >= 0.0f && a.env_intensity <= 1e6f))
+    throw Error(kExitUsage, "--env-intensity: expected a number in [0, 1e6], got " + std::to_string(a.env_intensity));
+  if (a.env_rotation_opt->count() && !std::isfinite(a.env_rotation))
+    throw Error(kExitUsage, "--env-rotation: expected a finite number of degrees");
+  if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
+    throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
+  if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
+    throw Error(kExitUsage, "--max-memory: expected a number of MiB in (0, 1e9], got " + show_value(a.max_memory_mib));
+  job.memory_limit = static_cast<std::uint64_t>(a.max_memory_mib * 1048576.0);
+  for (const std::string& r : a.roots) {
+    std::error_code ec;
+    if (!fs::is_directory(r, ec)) throw Error(kExitUsage, "--root: " + r + " is not a folder");
+  }
+  const std::vector<std::string>& scenes = a.scenes;
+  job.batch = scenes.size() > 1;
+  if (job.batch && a.frames_opt->count())
+    throw Error(kExitUsage, "--frames: renders one scene; " + std::to_string(scenes.size()) + " inputs were given");
+  // The outputs, checked for every input's names as for a single input's.
+  std::set<std::string> distinct;
+  for (const std::string& o : a.outputs) {
+    if (job.batch && !has_input_pattern(o))
+      throw Error(kExitUsage, o + ": with several inputs an output needs {name}, {index} or a folder ending in / "
+                                  "(e.g. thumbs/{name}.png or thumbs/)");
+    if (is_folder_output(o) && has_frame_pattern(o))
+      throw Error(kExitUsage, o + ": a folder output has no frame number (write folder/{name}_####.png)");
+    const std::string first = output_path(o, scenes[0], 0, 0);
+    if (!has_frame_pattern(o)) check_writable(first);  // a device says so before its missing extension
+    job.formats.push_back(output_format(first));
+    for (std::size_t i = 1; i < scenes.size(); ++i) {
+      const std::string name = output_path(o, scenes[i], i, 0);
+      if (output_format(name) != job.formats.back())
+        throw Error(kExitUsage, name + ": not the format of " + first + " (one output pattern, one format)");
+    }
+    if (!distinct.insert(o).second) throw Error(kExitUsage, o + ": given twice as an output");
+  }
+  job.range = a.frames_opt->count() ? parse_frames(a.frames) : FrameRange{0, 0};
+  job.shard = a.shard_opt->count() ? parse_shard(a.shard) : Shard{};
+  const FrameRange range = job.range;
+  if (range.last > range.first)
+    for (const std::string& o : a.outputs)
+      if (!has_frame_pattern(o))
+        throw Error(kExitUsage, o + ": with several frames an output needs a run of '#' for the frame number (e.g. out_####.png)");
+  // The same file under two names ("a.png", "./a.png") is one output given twice; in a
+  // batch, two inputs with one output name (a/x.glb and b/x.glb to {name}.png) are refused.
+  std::map<fs::path, std::size_t> resolved;  // → the input
+  for (std::size_t i = 0; i < scenes.size(); ++i)
+    for (const std::string& pattern : a.outputs) {
+      const std::string o = output_path(pattern, scenes[i], i, range.first);
+      std::error_code ec;
+      const fs::path p = fs::weakly_canonical(fs::absolute(o), ec);
+      if (ec) continue;
+      const auto found = resolved.emplace(p, i);
+      if (found.second) continue;
+      const std::size_t other = found.first->second;
+      if (other == i) throw Error(kExitUsage, pattern + ": given twice as an output (under another name)");
+      throw Error(kExitUsage, o + ": the output of both " + scenes[other] + " and " + scenes[i] + " (inputs " +
+                                  std::to_string(other) + " and " + std::to_string(i) + "; tell them apart with {index})");
+    }
+  // Every output can be created: the first and the last frame's names (the longest).
+  for (std::size_t i = 0; i < scenes.size(); ++i)
+    for (const std::string& pattern : a.outputs) {
+      check_writable(output_path(pattern, scenes[i], i, range.first));
+      check_writable(output_path(pattern, scenes[i], i, range.last));
+    }
+  // No output is a file named on the command line (the others are checked as they load).
+  for (const std::string& scene : scenes)
+    if (const auto id = file_id(scene)) job.inputs.emplace(*id, scene);
+  for (std::size_t i = 0; i < scenes.size(); ++i)
+    for (const std::string& pattern : a.outputs) check_not_input(output_path(pattern, scenes[i], i, range.first), job.inputs);
+
+  if (!job.batch) {
+    Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(shard_frame_count(range, job.shard)), "frame");
+    render_input(job, 0, &progress);
+    return kExitOk;
+  }
+
+  // 5. A batch: the inputs k with k mod N = i for --shard i/N, one renderer for all; a bad
+  // input is its one error line, the others are rendered, and the exit code is the first
+  // failure's.
+  const FrameRange inputs_range{0, static_cast<long>(scenes.size()) - 1};
+  const long count = shard_frame_count(inputs_range, job.shard);
+  if (count == 0 && !a.quiet)
+    std::printf("shard %ld/%ld: no input of the %zu is this shard's (nothing to render)\n", job.shard.index,
+                job.shard.count, scenes.size());
+  const Shard input_shard = job.shard;
+  job.shard = Shard{};  // each input has its one frame
+  pbr::RenderSettings defaults;
+  job.renderer.emplace(raster::RendererOptions{a.threads_opt->count() ? static_cast<unsigned>(a.threads) : defaults.threads,
+                                               a.tile_opt->count() ? a.tile_size : defaults.tile_size});
+  if (job.renderer->threads() < job.renderer->requested_threads() && !a.quiet)
+    std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
+                 job.renderer->threads(), job.renderer->requested_threads(), job.renderer->threads());
+  int status = kExitOk;
+  std::size_t rendered = 0, skipped = 0, failed = 0;
+  {
+    Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(count), "model");
+    for (long j = 0; j < count; ++j) {
+      const auto i = static_cast<std::size_t>(shard_frame(inputs_range, input_shard, j));
+      try {
+        (render_input(job, i, nullptr) ? rendered : skipped) += 1;
+      } catch (const Error& e) {
+        progress.clear();
+        std::fprintf(stderr, "%s\n", printable_line(e.what()).c_str());
+        if (status == kExitOk) status = e.code();
+        ++failed;
+      } catch (const std::bad_alloc&) {
+        progress.clear();
+        std::fprintf(stderr, "%s: out of memory\n", printable_line(scenes[i]).c_str());
+        if (status == kExitOk) status = kExitInput;
+        ++failed;
+      }
+      progress.update(static_cast<std::size_t>(j + 1), fs::path(scenes[i]).filename().string());
+    }
+  }
+  if (!a.quiet)
+    std::printf("%ld inputs: %zu rendered, %zu skipped (already complete), %zu failed\n", count, rendered, skipped, failed);
+  return status;
 }
 
 }  // namespace softpbr::cli

@@ -1,5 +1,6 @@
 // render.h — `softpbr render SCENE -o OUT.png [...]`: a scene file to images, one frame or a
-// sharded frame list (see docs/scene-format.md for the scene and the command).
+// sharded frame list; `softpbr render a.glb b.glb -o thumbs/{name}.png`: several inputs in
+// one run, one renderer for all (see docs/scene-format.md for the scene and the command).
 #pragma once
 
 #include <string>
@@ -10,7 +11,7 @@
 namespace softpbr::cli {
 
 struct RenderArgs {
-  std::string scene;
+  std::vector<std::string> scenes;  // one scene file or model, or several (a batch: docs/scene-format.md)
   std::vector<std::string> outputs;
   int width = 0, height = 0, threads = 0, tile_size = 0, msaa = 1;
   std::string tonemap;

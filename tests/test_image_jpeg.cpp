@@ -9,6 +9,7 @@
 
 #include "image_helpers.h"
 #include "softpbr/image/load.h"
+#include "softpbr/image/write.h"
 
 namespace image = softpbr::image;
 using namespace image_test;
@@ -187,4 +188,36 @@ TEST_CASE("JPEG: coded data that ends inside a block loads as a damaged image or
   const std::string message = jpeg_error({finding.begin() + 1, finding.end()}, "finding.jpg");
   if (!message.empty()) CHECK(message.rfind("finding.jpg: ", 0) == 0);
   CHECK(message.find('\n') == std::string::npos);
+}
+
+TEST_CASE("read_image_header: the size of PNG and JPEG files from their headers, without decoding; 0x0 when cut short") {
+  const image::Image8 original = smooth8(33, 9);
+  const std::vector<std::uint8_t> jpeg = jpeg_of(original, 3, 90);
+  const std::vector<std::uint8_t> png = image::encode_png(original, "h.png");
+  image::ImageHeader h = image::read_image_header(jpeg);
+  CHECK(h.format == "jpeg");
+  CHECK(h.width == 33);
+  CHECK(h.height == 9);
+  h = image::read_image_header(png);
+  CHECK(h.format == "png");
+  CHECK(h.width == 33);
+  CHECK(h.height == 9);
+  // A PNG header claiming 30000x30000 is reported as such (and nothing is allocated).
+  std::vector<std::uint8_t> huge(png.begin(), png.begin() + 33);
+  huge[16] = huge[20] = 0;
+  huge[17] = huge[21] = 0;
+  huge[18] = huge[22] = 0x75;
+  huge[19] = huge[23] = 0x30;
+  h = image::read_image_header(huge);
+  CHECK(h.width == 30000);
+  CHECK(h.height == 30000);
+  // Cut short: the format, no size.
+  h = image::read_image_header(std::span<const std::uint8_t>(png.data(), 12));
+  CHECK(h.format == "png");
+  CHECK(h.width == 0);
+  h = image::read_image_header(std::span<const std::uint8_t>(jpeg.data(), 4));
+  CHECK(h.format == "jpeg");
+  CHECK(h.width == 0);
+  const std::uint8_t text[] = {'h', 'e', 'l', 'l', 'o'};
+  CHECK(image::read_image_header(text).format.empty());
 }

@@ -13,7 +13,11 @@
 #   kill    a render killed with SIGKILL mid-way leaves only complete frames; a re-run
 #           completes the job with the same images as an uninterrupted run
 #   diff    softpbr diff: exit 0 within tolerance, 1 outside, 2 on error; --out
-#   info    softpbr info on models and scenes, and its errors
+#   info    softpbr info on models, glTF files and scenes, and its errors
+#   version softpbr --version / softpbr version: the CMake project version, compiler, build
+#           type (SOFTPBR_EXPECT_BUILD_TYPE from ctest) and the SIMD targets of this CPU
+#   batch   several glTF models to thumbnails in one run: {name}, {index} and folder/
+#           outputs, --shard over the inputs, a bad input among good ones
 # SOFTPBR_UPDATE_GOLDENS=1 rewrites cli/tests/scenes.hashes and goldens/*.png (look at them!).
 set -u
 group=$1 softpbr=$2 src=$3 work=$4
@@ -460,7 +464,159 @@ info)
   "$softpbr" info "$scenes/gallery.json" >out.txt && grep -q "objects    35 (" out.txt && grep -q "lights     3" out.txt \
     && pass "info gallery.json" || fail "info gallery.json: $(cat out.txt)"
   expect_error 3 "missing.obj: cannot open: no such file" info missing.obj
-  expect_error 2 "notes.txt: expected an .obj model or a .json scene" info notes.txt
+  # glTF: what the file holds (cli/tests/make_gltf.py), image sizes from their headers.
+  python3 "$src/cli/tests/make_gltf.py" "$src/cli/tests/goldens/lights.png" || fail "make_gltf.py failed"
+  for model in two.gltf two.glb; do
+    "$softpbr" info $model >out.txt 2>err.txt || { fail "info $model failed: $(cat err.txt)"; continue; }
+    [ -s err.txt ] && fail "info $model wrote to stderr: $(cat err.txt)"
+    where=$([ $model = two.gltf ] && echo "tex.png" || echo "bufferView 3") before=$failures
+    for want in "^$model\$" "^  asset      glTF 2.0, generator \"softpbr make_gltf.py\"\$" "^  scenes     1 (default 0)\$" "^  nodes      5\$" \
+        "^  meshes     2 (4 primitives, 6 triangles, each mesh counted once)\$" \
+        "^    0   quads *2 primitives *4 triangles\$" "^    1   fan *2 primitives *2 triangles\$" \
+        "^  drawn      5 primitives, 10 triangles (the scene's nodes)\$" \
+        "^  bounds     min (-1, -1, 0) max (4, 4, 0) size (5, 5, 0)\$" "^  materials  2\$" \
+        "^    0   textured *OPAQUE, textures base_color 0\$" "^    1   glass *BLEND, double-sided\$" \
+        "^  textures   1 (1 image, 117.1 KiB encoded)\$" "^    0   albedo *png 640x400, image 0 ($where, 117.1 KiB)\$" \
+        "^  extensions used: KHR_lights_punctual, EXT_made_up; required: none\$" \
+        "^  cameras    1\$" "^    0   front *perspective\$" "^  lights     1\$" "^    0   bulb *point\$" \
+        "^  animation  0 skins, 0 animations" "^  problems   2\$" \
+        "^    $model: the extension EXT_made_up is not supported and is ignored\$" \
+        "^    $model: /meshes/1/primitives/1: points and lines are not drawn\$"; do
+      grep -q "$want" out.txt || fail "info $model: no line matching '$want' in:
+$(cat out.txt)"
+    done
+    [ $failures -eq $before ] && pass "info $model: counts, materials, the texture's size from its header ($where), extensions, camera, light, problems"
+  done
+  # docs/scene-format.md's example is what the command prints (when ../shared/gltf is there).
+  if [ -f "$src/../shared/gltf/WaterBottle/glTF/WaterBottle.gltf" ]; then
+    (cd "$src" && "$softpbr" info ../shared/gltf/WaterBottle/glTF/WaterBottle.gltf) >wb.txt
+    awk '/^\.\.\/shared\/gltf\/WaterBottle\/glTF\/WaterBottle.gltf$/ { on = 1 } on && /^```$/ { exit } on { print }' \
+      "$src/docs/scene-format.md" >wb-doc.txt
+    [ -s wb-doc.txt ] && cmp -s wb.txt wb-doc.txt && pass "docs/scene-format.md's info of WaterBottle is the command's output" \
+      || fail "docs/scene-format.md's WaterBottle example differs: $(diff wb-doc.txt wb.txt)"
+  fi
+  # A bad glTF: the same line and exit code as render.
+  for model in broken.gltf huge.glb missing.glb; do
+    "$softpbr" render $model -o keep.png >/dev/null 2>render-err.txt; want_rc=$?
+    "$softpbr" info $model >out.txt 2>err.txt; rc=$?
+    [ $rc -eq 3 ] && [ $want_rc -eq 3 ] && [ ! -s out.txt ] && cmp -s err.txt render-err.txt && [ "$(wc -l <err.txt)" -eq 1 ] \
+      && pass "info $model: exit 3 with render's line: $(cat err.txt)" || fail "info $model: exit $rc (render $want_rc), $(cat err.txt) vs $(cat render-err.txt)"
+  done
+  "$softpbr" info broken.gltf 2>&1 | grep -q "^broken.gltf: /accessors/0[/:]" && pass "broken.gltf's line names the JSON pointer" \
+    || fail "broken.gltf: $("$softpbr" info broken.gltf 2>&1)"
+  "$softpbr" info huge.glb 2>&1 | grep -q "30000x30000" && pass "huge.glb: refused by its header's size" || fail "huge.glb: $("$softpbr" info huge.glb 2>&1)"
+  expect_error 2 "notes.txt: expected an .obj, .gltf or .glb model or a .json scene" info notes.txt
+  ;;
+version)
+  "$softpbr" --version >out.txt 2>err.txt; rc=$?
+  [ $rc -eq 0 ] && [ ! -s err.txt ] && pass "--version exits 0, nothing on stderr" || fail "--version: exit $rc, $(cat err.txt)"
+  want=$(sed -n 's/^project(softpbr VERSION \([0-9.]*\) .*/\1/p' "$src/CMakeLists.txt")
+  [ -n "$want" ] && [ "$(head -n 1 out.txt)" = "softpbr $want" ] && pass "first line: softpbr $want (CMake's project version)" \
+    || fail "--version's first line is \"$(head -n 1 out.txt)\", CMakeLists.txt says ${want:-nothing}"
+  grep -Eq '^compiler   (GCC|Clang) [0-9]' out.txt && pass "compiler: $(grep ^compiler out.txt)" || fail "no compiler line: $(cat out.txt)"
+  build=${SOFTPBR_EXPECT_BUILD_TYPE:-}
+  grep -q "^build      ${build:-[A-Za-z]*} (\(not \)\?optimized), -ffp-contract=off$" out.txt \
+    && pass "build type ${build:-(any)}: $(grep ^build out.txt)" || fail "build line for ${build:-any}: $(grep ^build out.txt)"
+  grep -q "^simd       lane widths 1, 4, 8, 16; kernels compiled for baseline ([0-9]* lanes)" out.txt \
+    && pass "simd line" || fail "simd line: $(cat out.txt)"
+  # This CPU's widest target and default lane width, from /proc/cpuinfo for an x86-64 binary
+  # (also in builds without AVX2/AVX-512 kernels: the renderer still picks the width, and
+  # says so). The binary's own architecture line decides: an AArch64 build under qemu-user
+  # runs beside an x86-64 shell.
+  if grep -q "^compiler   .*, x86-64$" out.txt && [ -r /proc/cpuinfo ]; then
+    flags=$(grep -m1 '^flags' /proc/cpuinfo)
+    has() { case " ${flags#*:} " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
+    if has avx512f && has avx512dq && has avx512vl && has avx512bw; then isa="avx512: 16"
+    elif has avx2; then isa="avx2: 8"; else isa="baseline: "; fi
+    grep -q "^this cpu   $isa" out.txt && pass "this cpu: $isa (as /proc/cpuinfo)" || fail "this cpu line \"$(grep '^this cpu' out.txt)\", /proc/cpuinfo says $isa"
+    if grep -q 'avx512 (16)' out.txt; then
+      grep -q "^this cpu   .* lanes by default (the image is the same for any width)$" out.txt || fail "this cpu line: $(cat out.txt)"
+    elif [ "$isa" != "baseline: " ]; then
+      grep -q "^this cpu   .* lanes by default, run by the baseline kernels (this build has no avx" out.txt \
+        && pass "a build without x86 kernels says the baseline kernels run" || fail "this cpu line: $(cat out.txt)"
+    fi
+  else
+    grep -q "^this cpu   baseline: [0-9]* lanes by default" out.txt && pass "this cpu: baseline (not an x86-64 binary)" \
+      || fail "this cpu line: $(cat out.txt)"
+  fi
+  "$softpbr" version >out2.txt 2>err.txt && cmp -s out.txt out2.txt && pass "softpbr version = softpbr --version" || fail "softpbr version differs: $(cat out2.txt)"
+  "$softpbr" --help | grep -q -- "--version" && pass "--help lists --version" || fail "--help does not list --version"
+  ;;
+batch)
+  python3 "$src/cli/tests/make_gltf.py" "$src/cli/tests/goldens/lights.png" || fail "make_gltf.py failed"
+  cp "$src/fuzz/corpus/gltf/triangle.gltf" tri.gltf
+  size=(--width 64 --height 48)
+  # Each input alone, for the batch's images to equal.
+  for m in tri two; do "$softpbr" render $m.gltf -o single-$m.png "${size[@]}" -q || fail "render $m.gltf failed"; done
+  "$softpbr" render two.glb -o single-two-glb.png "${size[@]}" -q || fail "render two.glb failed"
+  # {name}: two inputs with one name are refused before anything is rendered.
+  mkdir thumbs
+  expect_error 2 "thumbs/two.png: the output of both two.gltf and two.glb (inputs 1 and 2; tell them apart with {index})" \
+    render tri.gltf two.gltf two.glb -o "thumbs/{name}.png" "${size[@]}"
+  [ -z "$(ls -A thumbs)" ] && pass "a name clash writes nothing" || fail "a name clash wrote $(ls thumbs)"
+  expect_error 2 "out.png: with several inputs an output needs {name}, {index} or a folder ending in / (e.g. thumbs/{name}.png or thumbs/)" \
+    render tri.gltf two.gltf -o out.png
+  expect_error 2 "--frames: renders one scene; 2 inputs were given" render tri.gltf two.gltf -o "f/{name}_####.png" --frames 0..3
+  expect_error 2 "thumbs/#/: a folder output has no frame number (write folder/{name}_####.png)" render tri.gltf -o "thumbs/#/"
+  expect_error 4 "nowhere/tri.png: cannot write: the folder nowhere does not exist" render tri.gltf two.gltf -o nowhere/
+  # {index} and {name}; a folder; the same bits as one input at a time (one renderer for all).
+  "$softpbr" render tri.gltf two.gltf two.glb -o "thumbs/{index}-{name}.png" -o "thumbs/{index}.exr" "${size[@]}" >out.txt 2>err.txt \
+    || fail "batch with {index}: exit $?, $(cat err.txt)"
+  [ "$(ls thumbs | tr '\n' ' ')" = "0-tri.png 0.exr 1-two.png 1.exr 2-two.png 2.exr " ] && pass "{index}-{name}.png and {index}.exr: $(ls thumbs | tr '\n' ' ')" \
+    || fail "batch outputs: $(ls thumbs | tr '\n' ' ')"
+  cmp -s thumbs/0-tri.png single-tri.png && cmp -s thumbs/1-two.png single-two.png && cmp -s thumbs/2-two.png single-two-glb.png \
+    && pass "each batch image = the same input rendered alone" || fail "batch images differ from single renders"
+  grep -q "^3 inputs: 3 rendered, 0 skipped (already complete), 0 failed$" out.txt && grep -q "^thumbs/1-two.png: 64x48, hash " out.txt \
+    && pass "batch summary line" || fail "batch stdout: $(cat out.txt)"
+  grep -q "^softpbr: warning: two.gltf: the extension EXT_made_up is not supported and is ignored$" err.txt \
+    && pass "an input's warnings name it" || fail "batch warnings: $(cat err.txt)"
+  mkdir folder
+  "$softpbr" render tri.gltf two.gltf -o folder/ "${size[@]}" -q && cmp -s folder/tri.png single-tri.png && cmp -s folder/two.png single-two.png \
+    && [ "$(ls folder | wc -l)" -eq 2 ] && pass "-o folder/: folder/<name>.png" || fail "-o folder/: $(ls folder)"
+  mkdir one
+  "$softpbr" render two.gltf -o one/ "${size[@]}" -q && cmp -s one/two.png single-two.png && pass "one input, -o one/: one/two.png" || fail "-o one/: $(ls one)"
+  # A re-run skips inputs whose outputs exist; --force renders them again.
+  "$softpbr" render tri.gltf two.gltf -o folder/ "${size[@]}" >out.txt 2>&1
+  grep -q "^folder/tri.png: exists, skipped$" out.txt && grep -q "^2 inputs: 0 rendered, 2 skipped (already complete), 0 failed$" out.txt \
+    && pass "a re-run skips complete inputs" || fail "re-run: $(cat out.txt)"
+  "$softpbr" render tri.gltf two.gltf -o folder/ "${size[@]}" --force >out.txt 2>&1
+  grep -q "^2 inputs: 2 rendered" out.txt && pass "--force renders them again" || fail "--force: $(cat out.txt)"
+  # A bad input among good ones: its one line (the same as rendering it alone), the good
+  # ones written, the first failure's exit code.
+  mkdir mixed
+  "$softpbr" render broken.gltf -o x.png -q 2>broken-err.txt; broken_rc=$?
+  "$softpbr" render missing.glb -o x.png -q 2>missing-err.txt
+  "$softpbr" render tri.gltf broken.gltf missing.glb two.gltf -o "mixed/{name}.png" "${size[@]}" -q >out.txt 2>err.txt; rc=$?
+  [ $rc -eq 3 ] && [ $broken_rc -eq 3 ] && [ "$(cat err.txt)" = "$(cat broken-err.txt missing-err.txt)" ] \
+    && pass "bad inputs in a batch: exit 3, each input's own line: $(head -n 1 err.txt)" || fail "mixed batch: exit $rc, stderr $(cat err.txt)"
+  [ "$(ls mixed | tr '\n' ' ')" = "tri.png two.png " ] && cmp -s mixed/two.png single-two.png \
+    && pass "the good inputs are written, the bad ones not" || fail "mixed outputs: $(ls mixed)"
+  # --shard i/N shares the inputs: every input exactly once over the shards.
+  mkdir sharded
+  for i in 0 1; do
+    "$softpbr" render tri.gltf two.gltf two.glb -o "sharded/{index}.png" --shard $i/2 "${size[@]}" -q || fail "shard $i/2 failed"
+    [ $i -eq 0 ] && { [ "$(ls sharded | tr '\n' ' ')" = "0.png 2.png " ] && pass "shard 0/2: inputs 0 and 2" || fail "shard 0/2 wrote $(ls sharded)"; }
+  done
+  cmp -s sharded/0.png single-tri.png && cmp -s sharded/1.png single-two.png && cmp -s sharded/2.png single-two-glb.png \
+    && pass "shards 0/2 and 1/2 together: every input once, the same images" || fail "sharded: $(ls sharded)"
+  out=$("$softpbr" render tri.gltf two.gltf -o "sharded/x{index}.png" --shard 3/4 "${size[@]}")
+  [ "$out" = "shard 3/4: no input of the 2 is this shard's (nothing to render)
+0 inputs: 0 rendered, 0 skipped (already complete), 0 failed" ] && pass "an empty shard says so" || fail "empty shard: $out"
+  # The progress line counts models (on a terminal only: script(1) gives the command one).
+  mkdir pr
+  "$softpbr" render tri.gltf two.gltf -o pr/ --width 32 --height 24 >/dev/null 2>progress.txt
+  grep -q "softpbr: model" progress.txt && fail "progress written to a stderr that is not a terminal"
+  if command -v script >/dev/null; then
+    rm -f pr/*
+    script -qc "'$softpbr' render tri.gltf two.gltf -o pr/ --width 32 --height 24 >/dev/null" /dev/null >progress.txt
+    grep -q "softpbr: model two.gltf, 2/2 done" progress.txt && pass "batch progress line on a terminal" || fail "no batch progress: $(cat -v progress.txt)"
+  fi
+  # Scene files and models mixed: each scene keeps its own render settings.
+  "$softpbr" render "$scenes/lights.json" tri.gltf -o "mix/{name}.png" -q 2>err.txt && fail "a missing folder was accepted" || true
+  mkdir mix
+  "$softpbr" render "$scenes/lights.json" tri.gltf -o "mix/{name}.png" --width 80 --height 50 -q \
+    && "$softpbr" render "$scenes/lights.json" -o lights-alone.png --width 80 --height 50 -q && cmp -s mix/lights.png lights-alone.png \
+    && pass "a scene file in a batch: the same image as alone" || fail "scene file in a batch"
   ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac

@@ -1,10 +1,12 @@
 // viewer — the paper's interactive PBR viewer, drawn by softpbr on the CPU and shown in an
 // SDL2 window (the window only displays the image: no GPU needed).
 //
-//   viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]
+//   viewer [model.obj|model.gltf|model.glb ...] [--width W] [--height H] [--threads N] [--budget-ms MS]
 //          [--software] [--script keys.txt] [--screenshot out.png] [--env map.hdr ...]
 //
-// OBJ files join the mesh cycle (M) after the sphere grid, spot, the teapot, a torus and a cube. Controls:
+// OBJ and glTF files join the mesh cycle (M) after the sphere grid, spot, the teapot, a
+// torus and a cube; so do files dropped on the window (SDL_DROPFILE), which are shown at
+// once (a file that does not load is one line on stderr, and the viewer goes on). Controls:
 // viewer_state.h. --script replays a script (script.h) with a fixed time step and full
 // resolution, then quits; --screenshot writes what the window shows at the end (without
 // --script: the first frame). Both use SDL's software renderer so the pixels are exact.
@@ -79,7 +81,7 @@ class Viewer {
     window_.present();
     softpbr::image::write_png(path, image);
     std::printf("viewer: wrote %s (%dx%d, %s, %s)\n", path.string().c_str(), image.width, image.height,
-                meshes_[state_.mesh].name.c_str(), viewer::material_label(state_).c_str());
+                meshes_[state_.mesh].name.c_str(), material_text().c_str());
   }
 
   void run_script(const std::vector<viewer::ScriptCommand>& commands) {
@@ -110,6 +112,21 @@ class Viewer {
           window_.present();
           break;
         case Kind::Screenshot: screenshot(c.path); break;
+        case Kind::Drop: {
+          // An SDL_DROPFILE event through SDL's queue, as a file dropped on the window.
+          SDL_PumpEvents();
+          SDL_FlushEvents(SDL_FIRSTEVENT, SDL_LASTEVENT);
+          SDL_Event e{};
+          e.type = SDL_DROPFILE;
+          e.drop.file = SDL_strdup(c.path.c_str());  // freed by handle(), as SDL's own
+          e.drop.windowID = window_.id();
+          if (e.drop.file == nullptr || SDL_PushEvent(&e) != 1 ||
+              SDL_PeepEvents(&e, 1, SDL_GETEVENT, SDL_FIRSTEVENT, SDL_LASTEVENT) != 1)
+            throw std::runtime_error(std::string("cannot queue a dropped file: ") + SDL_GetError());
+          bool turned = false;
+          handle(e, turned);
+          break;
+        }
         case Kind::Quit: state_.quit = true; break;
       }
       if (state_.quit) return;
@@ -186,12 +203,44 @@ class Viewer {
         viewer::apply(state_, viewer::MouseMotion{static_cast<float>(e.motion.xrel), static_cast<float>(e.motion.yrel)});
         turned = true;
         return true;
+      case SDL_DROPFILE: {
+        // SDL allocated the name; it is ours to free.
+        const std::string file = e.drop.file ? e.drop.file : "";
+        SDL_free(e.drop.file);
+        return open_dropped(file);
+      }
       case SDL_WINDOWEVENT:
         if (e.window.event == SDL_WINDOWEVENT_FOCUS_LOST)  // no key stays held behind our back
           for (std::size_t k = 0; k < viewer::kKeyCount; ++k) state_.held[k] = false;
         return e.window.event == SDL_WINDOWEVENT_SIZE_CHANGED || e.window.event == SDL_WINDOWEVENT_EXPOSED;
       default: return false;
     }
+  }
+
+  // The title's material: a glTF model is drawn with its own.
+  std::string material_text() const {
+    return meshes_[state_.mesh].model.empty() ? viewer::material_label(state_) : std::string("own materials");
+  }
+
+  // A dropped file joins the mesh list and is shown; one that does not load is one line on
+  // stderr, and the view stays as it was.
+  bool open_dropped(const std::string& file) {
+    try {
+      std::vector<std::string> warnings;
+      viewer::NamedMesh entry = viewer::load_model(file, warnings, &renderer_.pool());
+      for (const std::string& w : warnings) std::fprintf(stderr, "viewer: warning: %s\n", w.c_str());
+      meshes_.push_back(std::move(entry));
+      state_.mesh_count = meshes_.size();
+      state_.mesh = meshes_.size() - 1;
+      std::printf("viewer: opened %s (mesh %zu of %zu)\n", file.c_str(), state_.mesh + 1, meshes_.size());
+      std::fflush(stdout);
+      return true;
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "viewer: %s: out of memory\n", file.c_str());
+    } catch (const std::exception& ex) {
+      std::fprintf(stderr, "viewer: %s\n", ex.what());
+    }
+    return false;
   }
 
   std::filesystem::path next_screenshot_name() const {
@@ -205,7 +254,7 @@ class Viewer {
   void update_title(double ms) {
     char title[256];
     std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s%s | %u threads%s", ms,
-                  ms > 0.0 ? 1000.0 / ms : 0.0, viewer::material_label(state_).c_str(),
+                  ms > 0.0 ? 1000.0 / ms : 0.0, material_text().c_str(),
                   meshes_[state_.mesh].name.c_str(), target_->width(), target_->height(),
                   target_->samples() > 1 ? " 4x MSAA" : "", shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
                   state_.lights_rotating ? " | lights rotating" : "");
@@ -225,10 +274,10 @@ class Viewer {
 };
 
 constexpr const char* kUsage =
-    "usage: viewer [mesh.obj ...] [--width W] [--height H] [--threads N] [--budget-ms MS]\n"
+    "usage: viewer [model.obj|.gltf|.glb ...] [--width W] [--height H] [--threads N] [--budget-ms MS]\n"
     "              [--software] [--script keys.txt] [--screenshot out.png] [--env map.hdr ...]\n"
     "keys: WASD/arrows fly, Q/E down/up, Tab capture mouse, 1-9 presets, N next preset, 0 gallery,\n"
-    "      M next mesh, C rotate lights, R/F roughness up/down, T metallic, V 4x MSAA, P screenshot, Esc quit\n";
+    "      M next mesh or model (also files dropped on the window), C rotate lights, R/F roughness up/down, T metallic, V 4x MSAA, P screenshot, Esc quit\n";
 
 Options parse(int argc, char** argv) {
   Options o;
@@ -278,9 +327,15 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    std::vector<std::string> warnings;
-    auto meshes = viewer::load_meshes(SOFTPBR_ASSETS_DIR, options.objs, warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "viewer: warning: %s\n", w.c_str());
+    // The files load before any window opens (a bad one is an error line, no window);
+    // glTF images decode on a pool of the render's thread count.
+    std::vector<viewer::NamedMesh> meshes;
+    {
+      raster::ThreadPool pool(options.threads);
+      std::vector<std::string> warnings;
+      meshes = viewer::load_meshes(SOFTPBR_ASSETS_DIR, options.objs, warnings, &pool);
+      for (const std::string& w : warnings) std::fprintf(stderr, "viewer: warning: %s\n", w.c_str());
+    }
     Viewer v(options, std::move(meshes));
     if (!options.script.empty()) v.run_script(script);
     else if (options.screenshot.empty()) v.run_interactive();

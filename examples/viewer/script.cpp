@@ -97,11 +97,15 @@ std::vector<ScriptCommand> parse_script(std::string_view text, const std::string
       p.expect_args(1, 1, "screenshot FILE");
       c.kind = ScriptCommand::Kind::Screenshot;
       c.path = std::string(p.words[1]);
+    } else if (verb == "drop") {
+      p.expect_args(1, 1, "drop FILE");
+      c.kind = ScriptCommand::Kind::Drop;
+      c.path = std::string(p.words[1]);
     } else if (verb == "quit") {
       p.expect_args(0, 0, "quit");
       c.kind = ScriptCommand::Kind::Quit;
     } else {
-      p.fail("unknown command \"" + std::string(verb) + "\" (commands: press down up mouse frame screenshot quit)");
+      p.fail("unknown command \"" + std::string(verb) + "\" (commands: press down up mouse frame screenshot drop quit)");
     }
     commands.push_back(c);
   }

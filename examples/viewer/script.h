@@ -7,6 +7,8 @@
 //   mouse DX DY        relative mouse motion in whole pixels (turns the camera while captured)
 //   frame [N]          advance N frames (default 1) of kScriptFrameSeconds each
 //   screenshot FILE    write what the window shows, at full resolution, as a PNG
+//   drop FILE          a file dropped on the window (SDL_DROPFILE): an .obj, .gltf or .glb
+//                      joins the mesh list and is shown
 //   quit               end the session (so does "press escape")
 // KEY is a name from key_from_name(): w a s d q e up down left right tab 0-9 n m c r f t p
 // escape. A bad line is a ScriptError "keys.txt:3: unknown key "x"".
@@ -33,12 +35,12 @@ inline constexpr long kMaxScriptFrames = 1000000;
 inline constexpr long kMaxMousePixels = 100000;
 
 struct ScriptCommand {
-  enum class Kind { Event, Frames, Screenshot, Quit };
+  enum class Kind { Event, Frames, Screenshot, Drop, Quit };
   Kind kind = Kind::Event;
   int line = 0;             // 1-based line in the script
   Event event{};            // Kind::Event
   long frames = 0;          // Kind::Frames
-  std::string path;         // Kind::Screenshot
+  std::string path;         // Kind::Screenshot, Kind::Drop
 };
 
 // Parses a script's text; `name` is used in error messages. "press" becomes two Event

@@ -1,12 +1,15 @@
 // Viewer state → scene → image (see viewer_scene.h).
 #include "viewer_scene.h"
 
+#include <cctype>
 #include <cstdio>
 #include <stdexcept>
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/tonemap.h"
@@ -39,6 +42,12 @@ pbr::Mesh stand_up(pbr::Mesh mesh) {
   return mesh;
 }
 
+bool is_gltf(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gltf" || ext == ".glb";
+}
+
 // Turns a point about the y axis by `angle` radians, with deterministic sin and cos.
 glm::vec3 turn_about_y(glm::vec3 p, float angle) {
   const float c = static_cast<float>(softpbr::dmath::cos(angle));
@@ -47,9 +56,24 @@ glm::vec3 turn_about_y(glm::vec3 p, float angle) {
 }
 }  // namespace
 
+NamedMesh load_model(const std::filesystem::path& file, std::vector<std::string>& warnings, raster::ThreadPool* pool) {
+  if (!is_gltf(file)) return {file.stem().string(), load_merged(file, warnings)};
+  pbr::GltfScene g = pbr::load_gltf(file, {.pool = pool});
+  warnings.insert(warnings.end(), g.warnings.begin(), g.warnings.end());
+  if (g.triangles == 0 || g.objects.empty()) throw pbr::LoadError(file.string() + ": has no triangles to show");
+  const pbr::Bounds b = pbr::world_bounds(g.objects);
+  const glm::vec3 centre = (b.min + b.max) * 0.5f;
+  const float radius = 0.5f * glm::length(b.max - b.min);
+  const float scale = radius > 0.0f ? 0.4f * kSingleObjectScale / radius : 1.0f;
+  const glm::mat4 fit = glm::scale(glm::mat4(1.0f), glm::vec3(scale)) * glm::translate(glm::mat4(1.0f), -centre);
+  NamedMesh entry{file.stem().string(), nullptr, std::move(g.objects)};
+  for (pbr::Object& o : entry.model) o.transform = fit * o.transform;
+  return entry;
+}
+
 std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
-                                   const std::vector<std::filesystem::path>& obj_files,
-                                   std::vector<std::string>& warnings) {
+                                   const std::vector<std::filesystem::path>& files,
+                                   std::vector<std::string>& warnings, raster::ThreadPool* pool) {
   std::vector<NamedMesh> meshes;
   meshes.push_back({"spheres", nullptr});
   // The bundled models' warnings are known and harmless (the teapot's MTL sets both d and
@@ -61,7 +85,7 @@ std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
   // 0.4 of the ring's radius) standing up, and a cube with flat faces and sharp edges.
   meshes.push_back({"torus", std::make_shared<pbr::Mesh>(stand_up(pbr::torus(1.0f, 0.4f, 96, 48)))});
   meshes.push_back({"cube", std::make_shared<pbr::Mesh>(pbr::cube(1.0f))});
-  for (const std::filesystem::path& f : obj_files) meshes.push_back({f.stem().string(), load_merged(f, warnings)});
+  for (const std::filesystem::path& f : files) meshes.push_back(load_model(f, warnings, pool));
   return meshes;
 }
 
@@ -73,14 +97,21 @@ Environments load_environments(const std::vector<std::filesystem::path>& files, 
 
 pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes, const Environments& environments) {
   pbr::GalleryOptions options;
-  options.mesh = meshes.at(state.mesh).mesh;
-  const bool single = state.material != kGalleryMaterial;
-  if (single) {
+  const NamedMesh& entry = meshes.at(state.mesh);
+  options.mesh = entry.mesh;
+  const bool model = !entry.model.empty();
+  const bool single = state.material != kGalleryMaterial || model;
+  if (model) {
+    options.rows = {"gold"};  // one cell (replaced by the model below), the gallery's lights
+    options.columns = 1;
+  } else if (single) {
     options.rows = {std::string(pbr::material_presets()[static_cast<std::size_t>(state.material)].name)};
     options.columns = 1;
   }
   pbr::Scene scene = pbr::make_gallery(options);
-  if (single) {
+  if (model) {
+    scene.objects = entry.model;
+  } else if (single) {
     pbr::Object& o = scene.objects.at(0);
     o.material.roughness = state.roughness();
     o.material.metallic = state.metallic ? 1.0f : 0.0f;

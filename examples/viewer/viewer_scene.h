@@ -7,6 +7,12 @@
 // metallic. Either way the camera is the state's fly camera and the gallery's three point
 // lights turn about the y axis by the state's light angle. Images are tone mapped as the
 // paper does (pbr::gallery_output(): Reinhard, gamma 2.2).
+//
+// A glTF model (.gltf, .glb) is an entry of the mesh list too: it is drawn alone with its
+// own materials and node transforms, fitted so its bounding sphere (world_bounds' centre,
+// half their diagonal) has a diameter of 0.8 · kSingleObjectScale (2.4 units) centred on the
+// origin, under the same camera, lights and environment; the material keys do not change
+// it.
 #pragma once
 
 #include <filesystem>
@@ -27,15 +33,25 @@ inline constexpr float kSingleObjectScale = 3.0f;
 
 struct NamedMesh {
   std::string name;
-  std::shared_ptr<const softpbr::pbr::Mesh> mesh;  // null: the gallery's UV spheres
+  std::shared_ptr<const softpbr::pbr::Mesh> mesh;  // null: the gallery's UV spheres (or a glTF model)
+  // A glTF model's objects with their materials, already fitted (see above); empty for
+  // a mesh.
+  std::vector<softpbr::pbr::Object> model{};
 };
 
+// An OBJ file (all shapes merged) or a glTF model (.gltf/.glb, by the extension; images
+// decoded on `pool`) as an entry of the mesh list, named by the file's stem. Throws
+// pbr::LoadError naming the file (and the line or JSON pointer); the loader's warnings
+// are appended to `warnings`.
+NamedMesh load_model(const std::filesystem::path& file, std::vector<std::string>& warnings,
+                     softpbr::raster::ThreadPool* pool = nullptr);
+
 // The sphere grid, spot and the teapot from `assets_dir` (assets/ of the source tree), a
-// torus and a cube, then each OBJ file (all shapes merged). Throws pbr::LoadError naming the file and line.
-// The loader's warnings about the OBJ files are appended to `warnings`.
+// torus and a cube, then each file (load_model: OBJ or glTF). Throws pbr::LoadError naming
+// the file and line. The loader's warnings about the files are appended to `warnings`.
 std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
-                                   const std::vector<std::filesystem::path>& obj_files,
-                                   std::vector<std::string>& warnings);
+                                   const std::vector<std::filesystem::path>& files,
+                                   std::vector<std::string>& warnings, softpbr::raster::ThreadPool* pool = nullptr);
 
 // The environments B cycles through: entry 0 is none (null), then the built-in studio,
 // then each file (pbr::load_environment, prefiltered on `pool`).

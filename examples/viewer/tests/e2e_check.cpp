@@ -4,6 +4,7 @@
 // states are built here by hand from session.txt's comments, not by replaying events.
 //
 //   e2e_check OUT_DIR TETRAHEDRON_OBJ        exit 0: all equal; 1: a difference (printed)
+//   e2e_check --models OUT_DIR BOXES_GLTF WEDGE_GLTF    the same for models.txt (run_models.sh)
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -99,7 +100,50 @@ bool same(const std::string& path, const raster::Image8& expected) {
 }
 }  // namespace
 
+// models.txt: boxes.gltf from the command line, wedge.gltf dropped twice.
+int check_models(const std::string& dir, const std::string& boxes, const std::string& wedge) {
+  std::vector<std::string> warnings;
+  auto meshes = viewer::load_meshes(SOFTPBR_ASSETS_DIR, {boxes, wedge, wedge}, warnings);
+  raster::Renderer renderer({.threads = 3, .tile_size = 16});
+  raster::Target target(kWidth, kHeight);
+  ViewerState s;
+  s.mesh_count = 8;
+  std::vector<Shot> shots;
+  s.mesh = 5;
+  shots.push_back({"0_boxes.png", s});
+  viewer::select_material(s, 2);  // silver
+  shots.push_back({"1_boxes_silver.png", s});
+  s.mesh = 6;
+  shots.push_back({"2_wedge.png", s});
+  s.mesh = 0;
+  shots.push_back({"3_spheres.png", s});
+  s.mesh = 6;
+  shots.push_back({"4_wedge_again.png", s});
+  bool ok = true;
+  std::vector<raster::Image8> images;
+  for (const Shot& shot : shots) {
+    images.push_back(viewer::render_view(shot.state, meshes, renderer, target));
+    const bool equal = same(dir + "/" + shot.file, images.back());
+    std::printf("%s: %s\n", shot.file.c_str(), equal ? "equal to the library's image" : "DIFFERS");
+    ok &= equal;
+  }
+  // The model, the dropped model and the spheres are three different pictures.
+  if (images[0].rgba == images[2].rgba || images[2].rgba == images[3].rgba || images[0].rgba == images[3].rgba) {
+    std::fprintf(stderr, "the boxes, the wedge and the spheres do not all differ\n");
+    ok = false;
+  }
+  return ok ? 0 : 1;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 5 && std::string(argv[1]) == "--models") {
+    try {
+      return check_models(argv[2], argv[3], argv[4]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "e2e_check: %s\n", e.what());
+      return 1;
+    }
+  }
   if (argc != 3) {
     std::fprintf(stderr, "usage: e2e_check OUT_DIR TETRAHEDRON_OBJ\n");
     return 2;

@@ -32,5 +32,8 @@ expect 2 "viewer: --width expects a whole number in [16, 4096], not \"0\"" --wid
 expect 2 "viewer: --threads needs a value" --threads
 expect 1 "viewer: bad.obj:2: " bad.obj --screenshot never.png
 expect 1 "viewer: missing.obj" missing.obj --screenshot never.png
+printf '{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 7}}]}], "nodes": [{"mesh": 0}]}' > bad.gltf
+expect 1 "viewer: bad.gltf: " bad.gltf --screenshot never.png
+expect 1 "viewer: missing.glb: " missing.glb --screenshot never.png
 [ "$failed" -eq 0 ] && echo "every bad input gave one error line and the right exit code"
 exit "$failed"

@@ -65,6 +65,8 @@ TEST_CASE("a bad line is one error naming the script and line and what was expec
       {"frame 1 2", "s.txt:1: expected \"frame [N]\""},
       {"screenshot", "s.txt:1: expected \"screenshot FILE\""},
       {"quit now", "s.txt:1: expected \"quit\""},
+      {"drop", "s.txt:1: expected \"drop FILE\""},
+      {"drop a.glb b.glb", "s.txt:1: expected \"drop FILE\""},
   };
   for (const Case& c : cases) {
     CAPTURE(c.text);
@@ -75,6 +77,15 @@ TEST_CASE("a bad line is one error naming the script and line and what was expec
       CHECK(std::string(e.what()).rfind(c.message, 0) == 0);
     }
   }
+}
+
+TEST_CASE("drop FILE is a dropped file with its path") {
+  const auto c = parse_script("drop models/Duck.glb\npress m\n", "s.txt");
+  REQUIRE(c.size() == 3);
+  CHECK(c[0].kind == Kind::Drop);
+  CHECK(c[0].path == "models/Duck.glb");
+  CHECK(c[0].line == 1);
+  CHECK(c[1].kind == Kind::Event);
 }
 
 TEST_CASE("a missing script file is an error naming the file") {

@@ -3,9 +3,11 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/obj.h"
 #include "softpbr/raster/raster.h"
 #include "viewer_scene.h"
@@ -165,4 +167,59 @@ TEST_CASE("B cycles the environments: none, the studio, the --env maps; the scen
   CHECK(lit.background_mode == softpbr::pbr::BackgroundMode::Environment);
   viewer::apply(s, viewer::KeyDown{viewer::Key::B});
   CHECK(s.environment == 0);  // back to none
+}
+
+TEST_CASE("glTF models join the mesh list after the OBJ files' place, drawn alone with their own materials, fitted") {
+  const std::filesystem::path dir = VIEWER_TESTS_DIR;
+  std::vector<std::string> warnings;
+  raster::ThreadPool pool(2);
+  const auto list = load_meshes(SOFTPBR_ASSETS_DIR, {dir / "boxes.gltf", dir / "tetrahedron.obj", dir / "wedge.gltf"}, warnings, &pool);
+  CHECK(warnings.empty());
+  REQUIRE(list.size() == 8);
+  CHECK(list[5].name == "boxes");
+  CHECK(list[5].mesh == nullptr);
+  REQUIRE(list[5].model.size() == 2);
+  CHECK(list[6].name == "tetrahedron");
+  CHECK(list[6].model.empty());
+  CHECK(list[7].name == "wedge");
+  REQUIRE(list[7].model.size() == 1);
+  ViewerState s;
+  s.mesh_count = list.size();
+  s.mesh = 5;
+  const pbr::Scene scene = build_scene(s, list);
+  REQUIRE(scene.objects.size() == 2);
+  CHECK(scene.objects[0].material.base_color == glm::vec3(0.9f, 0.1f, 0.1f));
+  CHECK(scene.objects[0].material.metallic == 1.0f);
+  CHECK(scene.objects[1].material.base_color == glm::vec3(0.1f, 0.8f, 0.2f));
+  CHECK(scene.lights.size() == pbr::make_gallery().lights.size());
+  // Fitted: the bounding sphere centred on the origin with a diameter of 2.4 units.
+  const pbr::Bounds b = pbr::world_bounds(scene.objects);
+  const glm::vec3 centre = (b.min + b.max) * 0.5f;
+  CHECK(glm::length(centre) < 1e-5f);
+  CHECK(glm::length(b.max - b.min) == doctest::Approx(0.8f * kSingleObjectScale).epsilon(1e-5));
+  // The material keys do not change a model; M and the mesh do.
+  const std::uint64_t boxes = [&] {
+    raster::Renderer renderer({.threads = 2});
+    raster::Target target(96, 54);
+    render_view(s, list, renderer, target);
+    return raster::hash_colors(target);
+  }();
+  ViewerState preset = s;
+  select_material(preset, 2);
+  ViewerState wedge = s;
+  wedge.mesh = 7;
+  raster::Renderer renderer({.threads = 1});
+  raster::Target target(96, 54);
+  render_view(preset, list, renderer, target);
+  CHECK(raster::hash_colors(target) == boxes);
+  render_view(wedge, list, renderer, target);
+  CHECK(raster::hash_colors(target) != boxes);
+  // A bad model names the file and the JSON pointer.
+  try {
+    std::vector<std::string> w;
+    load_model("/nonexistent/model.glb", w);
+    FAIL("expected a LoadError");
+  } catch (const pbr::LoadError& e) {
+    CHECK(std::string(e.what()).rfind("/nonexistent/model.glb: ", 0) == 0);
+  }
 }

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -59,5 +60,16 @@ ImageF load_exr(std::span<const std::uint8_t> bytes, std::string_view name, cons
 // .hdr or .exr, whichever the first bytes say (environment maps are one or the other).
 ImageF load_imagef(const std::filesystem::path& path, const Limits& limits = {});
 ImageF load_imagef(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+// What an image's header says, read without decoding it (`softpbr info` lists a glTF
+// file's images this way, however large): the format by the first bytes, and for PNG the
+// IHDR chunk's size, for JPEG the frame header's (found by the same marker walk the loader
+// runs first). width and height are 0 when the header does not give them (a truncated
+// file, .hdr/.exr: not read); nothing is checked against Limits.
+struct ImageHeader {
+  std::string format;  // "png", "jpeg", "hdr", "exr", or "" for anything else
+  int width = 0, height = 0;
+};
+ImageHeader read_image_header(std::span<const std::uint8_t> bytes);
 
 }  // namespace softpbr::image

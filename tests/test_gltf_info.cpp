@@ -1,0 +1,105 @@
+// pbr::inspect_gltf (softpbr info's listing of a glTF file): counts, materials, textures,
+// image sizes from their headers; against the Khronos samples of ../shared/gltf when present.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "softpbr/pbr/gltf.h"
+#include "softpbr/pbr/gltf_info.h"
+#include "softpbr/raster/raster.h"
+
+namespace pbr = softpbr::pbr;
+namespace fs = std::filesystem;
+
+TEST_CASE("inspect_gltf lists a small file's scenes, nodes, meshes, triangles, material, texture and its image's size") {
+  const fs::path file = fs::path(SOFTPBR_SOURCE_DIR) / "fuzz" / "corpus" / "gltf" / "triangle.gltf";
+  const pbr::GltfInfo info = pbr::inspect_gltf(file);
+  CHECK(info.version == "2.0");
+  CHECK(info.scenes == 1);
+  CHECK(info.default_scene == 0);
+  CHECK(info.nodes == 2);
+  REQUIRE(info.meshes.size() == 1);
+  REQUIRE(info.meshes[0].primitives.size() == 2);
+  // An indexed triangle list of 3 indices, and a strip of 3 positions: one triangle each.
+  CHECK(info.meshes[0].primitives[0].mode == 4);
+  CHECK(info.meshes[0].primitives[0].indexed);
+  CHECK(info.meshes[0].primitives[0].triangles == 1);
+  CHECK(info.meshes[0].primitives[0].material == 0);
+  CHECK(info.meshes[0].primitives[0].attributes == std::vector<std::string>{"POSITION", "TEXCOORD_0"});
+  CHECK(info.meshes[0].primitives[1].mode == 5);
+  CHECK(!info.meshes[0].primitives[1].indexed);
+  CHECK(info.meshes[0].primitives[1].triangles == 1);
+  CHECK(info.meshes[0].primitives[1].material == -1);
+  CHECK(info.primitives() == 2);
+  CHECK(info.triangles() == 2);
+  REQUIRE(info.materials.size() == 1);
+  CHECK(info.materials[0].alpha_mode == "MASK");
+  CHECK(info.materials[0].double_sided);
+  CHECK(info.materials[0].textures == std::vector<std::pair<std::string, int>>{{"base_color", 0}});
+  REQUIRE(info.textures.size() == 1);
+  CHECK(info.textures[0].source == 0);
+  CHECK(info.textures[0].sampler == 0);
+  CHECK(info.samplers == 1);
+  REQUIRE(info.images.size() == 1);
+  CHECK(info.images[0].location == "data URI");
+  CHECK(info.images[0].format == "png");
+  CHECK(info.images[0].width == 2);
+  CHECK(info.images[0].height == 2);
+  CHECK(info.images[0].bytes > 0);
+  CHECK(info.extensions_used.empty());
+  CHECK(info.extensions_required.empty());
+  CHECK(info.cameras.empty());
+  CHECK(info.lights.empty());
+  CHECK(info.buffers == 1);
+  CHECK(info.buffer_bytes == 44);
+}
+
+TEST_CASE("inspect_gltf: a missing or non-glTF file is a LoadError naming it") {
+  for (const char* name : {"/nonexistent/model.glb", SOFTPBR_SOURCE_DIR "/README.md"}) {
+    CAPTURE(name);
+    try {
+      pbr::inspect_gltf(name);
+      FAIL("expected a LoadError");
+    } catch (const pbr::LoadError& e) {
+      CHECK(std::string(e.what()).rfind(std::string(name) + ": ", 0) == 0);
+    }
+  }
+}
+
+TEST_CASE("inspect_gltf on the Khronos samples: every image's header size is a size the loader decoded") {
+  const fs::path shared = fs::path(SOFTPBR_SOURCE_DIR) / ".." / "shared" / "gltf";
+  if (!fs::is_directory(shared)) {
+    MESSAGE("skipped: " << shared << " is absent");
+    return;
+  }
+  softpbr::raster::ThreadPool pool(2);
+  int models = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(shared)) {
+    const fs::path p = entry.path();
+    if (p.extension() != ".glb" && p.extension() != ".gltf") continue;
+    if (p.parent_path().filename() != "glTF" && p.parent_path().filename() != "glTF-Binary") continue;
+    CAPTURE(p.string());
+    const pbr::GltfInfo info = pbr::inspect_gltf(p);
+    const pbr::GltfScene g = pbr::load_gltf(p, {.pool = &pool});
+    CHECK(info.meshes.size() > 0);
+    CHECK(info.triangles() > 0);
+    std::set<std::pair<int, int>> header_sizes;
+    for (const pbr::GltfImageInfo& im : info.images) {
+      CHECK((im.format == "png" || im.format == "jpeg"));
+      CHECK(im.width > 0);
+      CHECK(im.height > 0);
+      header_sizes.insert({im.width, im.height});
+    }
+    for (const pbr::Object& o : g.objects)
+      for (const pbr::TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
+                                        &o.material.normal_texture, &o.material.occlusion_texture,
+                                        &o.material.emissive_texture})
+        if (t->texture) CHECK(header_sizes.count({t->texture->width(), t->texture->height()}) == 1);
+    ++models;
+  }
+  CHECK(models >= 17);
+}
