@@ -71,8 +71,8 @@ void validate(const Camera& c) {
     require(c.xmag == 0.0f || c.xmag >= 1e-30f, "xmag", "must be at least 1e-30");
     require(c.near >= 0.0f && std::isfinite(c.near), "near", "must be >= 0");
     require(c.far > c.near && std::isfinite(c.far), "far", "must be finite and > near");
-    require(c.far - c.near >= 1e-30f && std::isfinite(c.far + c.near), "far",
-            "must be at least 1e-30 beyond near and below 1e38");
+    require(c.far - c.near >= 1e-30f, "far", "must be at least 1e-30 beyond near");
+    require(std::isfinite(c.far + c.near), "far", "plus near must stay below 3.4e38 (float's range)");
     return;
   }
   require(c.fovy > 0.0f && static_cast<double>(c.fovy) < dmath::kPi, "fovy", "must be in (0, pi) radians");

@@ -48,8 +48,13 @@ std::string number_text(double x) { return json_reader::show_number(x); }
 class Loader {
  public:
   Loader(const std::string& file, const tg::Model& model, const GltfOptions& options, GltfScene& out,
-         std::map<int, std::uint64_t> fallback)
-      : file_(file), m_(model), options_(options), out_(out), fallback_(std::move(fallback)) {}
+         std::map<int, std::uint64_t> fallback, std::map<std::pair<std::size_t, std::size_t>, int> draco_indices)
+      : file_(file),
+        m_(model),
+        options_(options),
+        out_(out),
+        fallback_(std::move(fallback)),
+        draco_indices_(std::move(draco_indices)) {}
 
   [[noreturn]] void fail(const std::string& pointer, const std::string& what) const {
     throw LoadError(file_ + ": " + pointer + ": " + what);
@@ -563,6 +568,10 @@ class Loader {
         }
         fail(pp + "/mode", "unknown mode " + std::to_string(mode));
       }
+      // A Draco primitive's indices accessor only describes the Draco data's triangles.
+      if (const auto d = draco_indices_.find({static_cast<std::size_t>(index), k}); d != draco_indices_.end())
+        if (d->second < 0 || static_cast<std::size_t>(d->second) >= m_.accessors.size())
+          fail(pp + "/indices", "accessor " + std::to_string(d->second) + " does not exist");
       const Material& material = this->material(p.material, pp + "/material");
       const bool normal_mapped =
           p.material >= 0 && m_.materials[static_cast<std::size_t>(p.material)].normalTexture.index >= 0;
@@ -880,6 +889,7 @@ class Loader {
   GltfScene& out_;
   std::map<int, std::uint64_t> fallback_;               // buffers without data: their byteLength
   std::map<int, std::vector<std::uint8_t>> decoded_;    // EXT_meshopt_compression views
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices_;  // Draco primitives' "indices"
   std::map<std::tuple<int, std::size_t, bool>, std::shared_ptr<const Mesh>> meshes_;
   std::map<int, std::unique_ptr<Material>> materials_;
   std::vector<Pending> pending_;
@@ -959,10 +969,12 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   if (bytes.size() > options.max_file_bytes || bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
-  // EXT_meshopt_compression's placeholder buffers, which tinygltf cannot read, replaced.
+  // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
+  // tinygltf refuses, rewritten.
   std::vector<std::uint8_t> rewritten;
   std::map<int, std::uint64_t> fallback;
-  bytes = gltf::without_fallback_buffers(bytes, rewritten, fallback);
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
+  bytes = gltf::prepare_for_tinygltf(bytes, rewritten, fallback, draco_indices);
   if (bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(std::numeric_limits<unsigned>::max()));
@@ -995,7 +1007,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
     if (end == std::string::npos) break;
     start = end + 1;
   }
-  Loader(file, model, options, out, std::move(fallback)).load();
+  Loader(file, model, options, out, std::move(fallback), std::move(draco_indices)).load();
   return out;
 }
 

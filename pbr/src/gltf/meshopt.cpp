@@ -2,6 +2,8 @@
 // libmeshoptimizer) for the attribute and index streams, softpbr's filters after them.
 #include "gltf/meshopt.h"
 
+#include "gltf/draco.h"
+
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -59,11 +61,11 @@ void octahedral(std::uint8_t* data, std::size_t count, std::size_t stride) {
 
 }  // namespace
 
-std::span<const std::uint8_t> without_fallback_buffers(std::span<const std::uint8_t> bytes,
-                                                       std::vector<std::uint8_t>& storage,
-                                                       std::map<int, std::uint64_t>& declared) {
+std::span<const std::uint8_t> prepare_for_tinygltf(std::span<const std::uint8_t> bytes, std::vector<std::uint8_t>& storage,
+                                                   std::map<int, std::uint64_t>& declared,
+                                                   std::map<std::pair<std::size_t, std::size_t>, int>& draco_indices) {
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-  if (text.find(kMeshopt) == std::string_view::npos) return bytes;
+  if (text.find(kMeshopt) == std::string_view::npos && text.find(kDraco) == std::string_view::npos) return bytes;
   const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   std::string_view json = text;
   std::size_t json_end = bytes.size();
@@ -77,19 +79,40 @@ std::span<const std::uint8_t> without_fallback_buffers(std::span<const std::uint
   nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return bytes;
   const auto used = doc.find("extensionsUsed");
-  if (used == doc.end() || !used->is_array() || std::find(used->begin(), used->end(), kMeshopt) == used->end())
-    return bytes;
-  const auto buffers = doc.find("buffers");
-  if (buffers == doc.end() || !buffers->is_array()) return bytes;
+  if (used == doc.end() || !used->is_array()) return bytes;
+  const bool meshopt = std::find(used->begin(), used->end(), kMeshopt) != used->end();
+  const bool draco = std::find(used->begin(), used->end(), kDraco) != used->end();
   bool changed = false;
-  for (std::size_t i = 0; i < buffers->size() && i <= static_cast<std::size_t>(INT_MAX); ++i) {
-    nlohmann::json& b = (*buffers)[i];
-    if (!b.is_object() || b.contains("uri") || (glb && i == 0)) continue;
-    const auto length = b.find("byteLength");
-    if (length == b.end() || !length->is_number_integer() || length->get<std::int64_t>() < 1) continue;
-    declared[static_cast<int>(i)] = length->get<std::uint64_t>();
-    b = nlohmann::json{{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
-    changed = true;
+  const auto meshes = doc.find("meshes");
+  if (draco && meshes != doc.end() && meshes->is_array())
+    for (std::size_t m = 0; m < meshes->size(); ++m) {
+      nlohmann::json& mesh = (*meshes)[m];
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      nlohmann::json& primitives = mesh["primitives"];
+      for (std::size_t k = 0; k < primitives.size(); ++k) {
+        nlohmann::json& p = primitives[k];
+        if (!p.is_object() || !p.contains("indices") || !p.contains("extensions") || !p["extensions"].is_object() ||
+            !p["extensions"].contains(kDraco) || !p["indices"].is_number_integer())
+          continue;
+        const auto index = p["indices"].get<std::int64_t>();
+        draco_indices[{m, k}] = index >= 0 && index <= INT_MAX ? static_cast<int>(index) : -1;
+        p.erase("indices");
+        changed = true;
+      }
+    }
+  const auto buffers = doc.find("buffers");
+  if (!meshopt || buffers == doc.end() || !buffers->is_array()) {
+    if (!changed) return bytes;
+  } else {
+    for (std::size_t i = 0; i < buffers->size() && i <= static_cast<std::size_t>(INT_MAX); ++i) {
+      nlohmann::json& b = (*buffers)[i];
+      if (!b.is_object() || b.contains("uri") || (glb && i == 0)) continue;
+      const auto length = b.find("byteLength");
+      if (length == b.end() || !length->is_number_integer() || length->get<std::int64_t>() < 1) continue;
+      declared[static_cast<int>(i)] = length->get<std::uint64_t>();
+      b = nlohmann::json{{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
+      changed = true;
+    }
   }
   if (!changed) return bytes;
   std::string out = doc.dump();

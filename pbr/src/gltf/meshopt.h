@@ -7,6 +7,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gltf/tinygltf.h"
@@ -15,15 +16,21 @@ namespace softpbr::pbr::gltf {
 
 inline constexpr const char* kMeshopt = "EXT_meshopt_compression";
 
-// tinygltf 2.7 cannot read a buffer without a URI other than a .glb's first one, which is
-// how the extension stores "fallback" buffers (their bytes exist only compressed). When
-// the file's JSON names the extension, every such buffer is replaced by a one-byte data
-// URI before tinygltf sees it; `declared` receives each replaced buffer's byteLength.
-// Returns the file to parse: `bytes` itself when nothing changed (or the JSON cannot be
-// read here: tinygltf then reports the problem), else the rewritten file in `storage`.
-std::span<const std::uint8_t> without_fallback_buffers(std::span<const std::uint8_t> bytes,
-                                                       std::vector<std::uint8_t>& storage,
-                                                       std::map<int, std::uint64_t>& declared);
+// Two things tinygltf 2.7 refuses that these extensions write, rewritten in the file's
+// JSON before tinygltf sees it (`bytes` is returned unchanged when neither occurs, or when
+// the JSON cannot be read here: tinygltf then reports the problem; else the rewritten file
+// is in `storage`):
+// - EXT_meshopt_compression's "fallback" buffers, which have no URI (their bytes exist
+//   only compressed): tinygltf reads no buffer without one but a .glb's first. When
+//   extensionsUsed names the extension, each is replaced by a one-byte data URI, and
+//   `declared` receives its byteLength.
+// - KHR_draco_mesh_compression's primitives, whose indices accessor has no bufferView
+//   (the triangles are in the Draco data): tinygltf refuses such an accessor as indices.
+//   When extensionsUsed names the extension, a Draco primitive's "indices" is removed, and
+//   `draco_indices` receives it, keyed by (mesh, primitive).
+std::span<const std::uint8_t> prepare_for_tinygltf(std::span<const std::uint8_t> bytes, std::vector<std::uint8_t>& storage,
+                                                   std::map<int, std::uint64_t>& declared,
+                                                   std::map<std::pair<std::size_t, std::size_t>, int>& draco_indices);
 
 // Decodes every bufferView with the extension into `decoded` (view index → its bytes,
 // byteLength of them), validating the extension object per its specification. `fail`
