@@ -42,7 +42,7 @@ Bytes glb(const Json& json, Bytes bin) {
   auto u32 = [&](std::uint32_t v) {
     for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
   };
-  out.insert(out.end(), {'g', 'l', 'T', 'F'});
+  for (const char c : {'g', 'l', 'T', 'F'}) out.push_back(static_cast<std::uint8_t>(c));
   u32(2);
   u32(static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
   u32(static_cast<std::uint32_t>(text.size()));

@@ -997,7 +997,12 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   } catch (const std::exception& e) {
     throw LoadError(file + ": " + first_line(e.what()));
   }
-  if (!ok) throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
+  if (!ok) {
+    // A few references tinygltf checks itself: said with their JSON pointer when found.
+    const std::string pointed = gltf::tinygltf_error_with_pointer(bytes, err);
+    if (!pointed.empty()) throw LoadError(file + ": " + pointed);
+    throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
+  }
   GltfScene out;
   out.files = std::move(fs_context.files);
   for (std::size_t start = 0; start < warn.size();) {

@@ -133,6 +133,75 @@ std::span<const std::uint8_t> prepare_for_tinygltf(std::span<const std::uint8_t>
   return storage;
 }
 
+namespace {
+
+// The JSON text of a .gltf, or of a .glb's JSON chunk (empty when the chunk is malformed).
+std::string_view json_text(std::span<const std::uint8_t> bytes) {
+  const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  if (!(bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)) return text;
+  if (bytes.size() < 20) return {};
+  const std::uint32_t length = le32(bytes.data() + 12);
+  if (le32(bytes.data() + 16) != 0x4E4F534Au || length > bytes.size() - 20) return {};
+  return text.substr(20, length);
+}
+
+}  // namespace
+
+std::string tinygltf_error_with_pointer(std::span<const std::uint8_t> bytes, const std::string& err) {
+  const bool indices_range = err.rfind("primitive indices accessor out of bounds", 0) == 0;
+  const bool indices_view = err.rfind("accessor[", 0) == 0 && err.find("] invalid bufferView") != std::string::npos;
+  const bool stride = err.rfind("Invalid `byteStride' value.", 0) == 0;
+  if (!indices_range && !indices_view && !stride) return {};
+  const nlohmann::json doc = nlohmann::json::parse(json_text(bytes), nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return {};
+  auto array = [&](const char* key) -> const nlohmann::json* {
+    const auto it = doc.find(key);
+    return it != doc.end() && it->is_array() ? &*it : nullptr;
+  };
+  const nlohmann::json* accessors = array("accessors");
+  const nlohmann::json* views = array("bufferViews");
+  const std::size_t accessor_count = accessors != nullptr ? accessors->size() : 0;
+  const std::size_t view_count = views != nullptr ? views->size() : 0;
+  if (stride) {
+    for (std::size_t v = 0; v < view_count; ++v) {
+      const nlohmann::json& view = (*views)[v];
+      if (!view.is_object() || !view.contains("byteStride") || !view["byteStride"].is_number_integer()) continue;
+      const auto s = view["byteStride"].get<std::int64_t>();
+      if (s > 252 || s % 4 != 0 || (s != 0 && s < 4))
+        return "/bufferViews/" + std::to_string(v) + "/byteStride: must be a multiple of 4 in [4, 252], got " +
+               std::to_string(s);
+    }
+    return {};
+  }
+  const nlohmann::json* meshes = array("meshes");
+  for (std::size_t m = 0; meshes != nullptr && m < meshes->size(); ++m) {
+    const nlohmann::json& mesh = (*meshes)[m];
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    const nlohmann::json& primitives = mesh["primitives"];
+    for (std::size_t k = 0; k < primitives.size(); ++k) {
+      const nlohmann::json& p = primitives[k];
+      if (!p.is_object() || !p.contains("indices") || !p["indices"].is_number_integer()) continue;
+      const auto a = p["indices"].get<std::int64_t>();
+      if (a < 0) continue;
+      const std::string pointer = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k) + "/indices";
+      if (static_cast<std::uint64_t>(a) >= accessor_count) {
+        if (indices_range) return pointer + ": accessor " + std::to_string(a) + " does not exist";
+        continue;
+      }
+      if (!indices_view) continue;
+      const nlohmann::json& accessor = (*accessors)[static_cast<std::size_t>(a)];
+      const std::string ap = "/accessors/" + std::to_string(a);
+      if (!accessor.is_object() || !accessor.contains("bufferView"))
+        return ap + ": has no bufferView, which indices need (" + pointer + ")";
+      const nlohmann::json& view = accessor["bufferView"];
+      if (!view.is_number_integer() || view.get<std::int64_t>() < 0 ||
+          static_cast<std::uint64_t>(view.get<std::int64_t>()) >= view_count)
+        return ap + "/bufferView: bufferView " + view.dump() + " does not exist";
+    }
+  }
+  return {};
+}
+
 void filter_octahedral(std::uint8_t* data, std::size_t count, std::size_t stride) {
   if (stride == 4) octahedral<std::int8_t>(data, count, stride);
   else octahedral<std::int16_t>(data, count, stride);

@@ -32,6 +32,12 @@ std::span<const std::uint8_t> prepare_for_tinygltf(std::span<const std::uint8_t>
                                                    std::map<int, std::uint64_t>& declared,
                                                    std::map<std::pair<std::size_t, std::size_t>, int>& draco_indices);
 
+// A message of tinygltf's own checks (made while it parses, so without a JSON pointer) as
+// softpbr's `/json/pointer: message`, found again in the file's JSON: an indices accessor
+// out of range or without a valid bufferView, a bufferView's invalid byteStride. Empty when
+// `err` is none of those or the value cannot be found.
+std::string tinygltf_error_with_pointer(std::span<const std::uint8_t> bytes, const std::string& err);
+
 // Decodes every bufferView with the extension into `decoded` (view index → its bytes,
 // byteLength of them), validating the extension object per its specification. `fail`
 // throws with the JSON pointer and message. `max_bytes` bounds the decoded views together.
