@@ -471,6 +471,20 @@ TEST_CASE("EXT_meshopt_compression: each invalid extension object or placeholder
     const fs::path p = write(c.name + ".glb", glb(j, bin));
     CHECK(load_error(p) == p.string() + ": " + c.message);
   }
+  // A .glb whose binary chunk claims 8 bytes more than the file holds (tinygltf 2.7 checks
+  // the chunk's length without its header and read past the end: fuzz_gltf).
+  {
+    Bytes cut = glb(good, bin);
+    cut.resize(cut.size() - 8);
+    const auto total = static_cast<std::uint32_t>(cut.size());
+    for (int i = 0; i < 4; ++i) cut[8 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(total >> (8 * i));
+    std::uint32_t json_length;
+    std::memcpy(&json_length, &cut[12], 4);
+    const fs::path short_file = write("short_bin.glb", cut);
+    CHECK(load_error(short_file) == short_file.string() + ": the .glb's binary chunk (" + std::to_string(bin.size()) +
+                                        " bytes at byte " + std::to_string(28 + json_length) +
+                                        ") runs past the end of the file (" + std::to_string(total) + " bytes)");
+  }
   // Garbage instead of the compressed stream (the header byte is checked first).
   Bytes broken = bin;
   const auto at = good["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["byteOffset"].get<std::size_t>();

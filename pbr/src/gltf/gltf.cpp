@@ -969,6 +969,19 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   if (bytes.size() > options.max_file_bytes || bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
+  // A .glb's binary chunk must lie inside the file: tinygltf 2.7 leaves the chunk's 8-byte
+  // header out of its check and then copies up to 8 bytes from past the end (fuzz_gltf).
+  if (bytes.size() >= 20 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    auto le32 = [&](std::size_t at) {
+      return std::uint64_t{bytes[at]} | std::uint64_t{bytes[at + 1]} << 8 | std::uint64_t{bytes[at + 2]} << 16 |
+             std::uint64_t{bytes[at + 3]} << 24;
+    };
+    const std::uint64_t end = std::min<std::uint64_t>(le32(8), bytes.size());
+    const std::uint64_t bin = 20 + le32(12);
+    if (bin + 8 <= end && bin + 8 + le32(bin) > end)
+      throw LoadError(file + ": the .glb's binary chunk (" + std::to_string(le32(bin)) + " bytes at byte " +
+                      std::to_string(bin + 8) + ") runs past the end of the file (" + std::to_string(end) + " bytes)");
+  }
   // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
   // tinygltf refuses, rewritten.
   std::vector<std::uint8_t> rewritten;
