@@ -180,10 +180,25 @@ TEST_CASE("a hand-written glTF triangle loads; hostile variants fail with the fi
        "bad_index.gltf: /accessors/1: index 2 at element 2 is out of range (2 vertices)"},
       {"no_accessor.gltf",
        triangle_gltf(R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}])"),
-       // tinygltf checks this reference itself while parsing, without a JSON pointer.
-       "no_accessor.gltf: primitive indices accessor out of bounds"},
-      {"required.gltf", triangle_gltf(kGoodAccessors, R"(, "extensionsRequired": ["KHR_draco_mesh_compression"], "extensionsUsed": ["KHR_draco_mesh_compression"])"),
-       "required.gltf: /extensionsRequired/0: the required extension KHR_draco_mesh_compression is not supported"},
+       // tinygltf checks this reference itself while parsing; softpbr finds its pointer.
+       "no_accessor.gltf: /meshes/0/primitives/0/indices: accessor 1 does not exist"},
+      {"indices_no_view.gltf",
+       triangle_gltf(R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                     {"componentType": 5123, "count": 3, "type": "SCALAR"}])"),
+       "indices_no_view.gltf: /accessors/1: has no bufferView, which indices need (/meshes/0/primitives/0/indices)"},
+      {"indices_bad_view.gltf",
+       triangle_gltf(R"("accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"},
+                     {"bufferView": 9, "componentType": 5123, "count": 3, "type": "SCALAR"}])"),
+       "indices_bad_view.gltf: /accessors/1/bufferView: bufferView 9 does not exist"},
+      {"stride.gltf",
+       [] {
+         std::string j = triangle_gltf(kGoodAccessors);
+         const std::string from = R"({"buffer": 0, "byteLength": 36})";
+         return j.replace(j.find(from), from.size(), R"({"buffer": 0, "byteLength": 36, "byteStride": 6})");
+       }(),
+       "stride.gltf: /bufferViews/0/byteStride: must be a multiple of 4 in [4, 252], got 6"},
+      {"required.gltf", triangle_gltf(kGoodAccessors, R"(, "extensionsRequired": ["KHR_texture_basisu"], "extensionsUsed": ["KHR_texture_basisu"])"),
+       "required.gltf: /extensionsRequired/0: the required extension KHR_texture_basisu is not supported"},
       {"cycle.gltf",
        std::string(R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"children": [1]}, {"children": [0]}]})"),
        "cycle.gltf: /nodes/0: is its own ancestor (the node hierarchy has a cycle)"},

@@ -34,6 +34,16 @@ glm::mat4 perspective(float fovy, float aspect, float near, float far) {
   return m;
 }
 
+glm::mat4 orthographic(float xmag, float ymag, float near, float far) {
+  glm::mat4 m(0.0f);
+  m[0][0] = 1.0f / xmag;
+  m[1][1] = 1.0f / ymag;
+  m[2][2] = 2.0f / (near - far);
+  m[3][2] = (far + near) / (near - far);
+  m[3][3] = 1.0f;
+  return m;
+}
+
 glm::mat4 look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up) {
   // glm::lookAt is basic arithmetic and sqrt only: deterministic as it is.
   return glm::lookAt(eye, target, up);
@@ -53,6 +63,18 @@ void validate(const Camera& c) {
   const glm::dvec3 d(dir), u(c.up), side = glm::cross(d, u);
   require(glm::dot(side, side) > 1e-12 * glm::dot(d, d) * glm::dot(u, u), "up",
           "must not be zero or parallel to the view direction");
+  if (c.orthographic) {
+    require(c.ymag > 0.0f && std::isfinite(c.ymag), "ymag", "must be finite and > 0");
+    require(c.xmag >= 0.0f && std::isfinite(c.xmag), "xmag", "must be finite and > 0 (0: ymag times the aspect ratio)");
+    // 1/xmag, 1/ymag and 2/(near − far) must stay finite in float.
+    require(c.ymag >= 1e-30f, "ymag", "must be at least 1e-30");
+    require(c.xmag == 0.0f || c.xmag >= 1e-30f, "xmag", "must be at least 1e-30");
+    require(c.near >= 0.0f && std::isfinite(c.near), "near", "must be >= 0");
+    require(c.far > c.near && std::isfinite(c.far), "far", "must be finite and > near");
+    require(c.far - c.near >= 1e-30f, "far", "must be at least 1e-30 beyond near");
+    require(std::isfinite(c.far + c.near), "far", "plus near must stay below 3.4e38 (float's range)");
+    return;
+  }
   require(c.fovy > 0.0f && static_cast<double>(c.fovy) < dmath::kPi, "fovy", "must be in (0, pi) radians");
   require(c.near > 0.0f && std::isfinite(c.near), "near", "must be > 0");
   require(c.far > c.near && std::isfinite(c.far), "far", "must be finite and > near");
@@ -74,13 +96,31 @@ void FlyCamera::turn(float dyaw, float dpitch) {
   pitch = std::clamp(pitch + dpitch, -kMaxPitch, kMaxPitch);
 }
 
-Camera FlyCamera::camera() const { return {position, position + front(), {0.0f, 1.0f, 0.0f}, fovy, near, far}; }
+Camera FlyCamera::camera() const {
+  Camera c;
+  c.position = position;
+  c.target = position + front();
+  c.up = {0.0f, 1.0f, 0.0f};
+  c.fovy = fovy;
+  c.near = near;
+  c.far = far;
+  return c;
+}
 
 glm::vec3 OrbitCamera::position() const {
   const float cp = fcos(pitch);
   return target + distance * glm::vec3(fsin(yaw) * cp, fsin(pitch), fcos(yaw) * cp);
 }
 
-Camera OrbitCamera::camera() const { return {position(), target, {0.0f, 1.0f, 0.0f}, fovy, near, far}; }
+Camera OrbitCamera::camera() const {
+  Camera c;
+  c.position = position();
+  c.target = target;
+  c.up = {0.0f, 1.0f, 0.0f};
+  c.fovy = fovy;
+  c.near = near;
+  c.far = far;
+  return c;
+}
 
 }  // namespace softpbr::pbr

@@ -108,6 +108,16 @@ struct BackgroundShader {
 
 std::array<BackgroundShader::Vertex, 3> background_triangle(const Camera& camera, float aspect) {
   const glm::mat3 to_world = glm::transpose(glm::mat3(camera.view()));  // the view's rotation, inverted
+  if (camera.orthographic) {
+    // Parallel rays: every pixel sees the environment in the view direction.
+    std::array<BackgroundShader::Vertex, 3> v{};
+    const float corners[3][2] = {{-1.0f, -1.0f}, {3.0f, -1.0f}, {-1.0f, 3.0f}};
+    for (int i = 0; i < 3; ++i) {
+      v[static_cast<std::size_t>(i)].clip = glm::vec4(corners[i][0], corners[i][1], 0.0f, 1.0f);
+      v[static_cast<std::size_t>(i)].direction = to_world * glm::vec3(0.0f, 0.0f, -1.0f);
+    }
+    return v;
+  }
   const double half = 0.5 * static_cast<double>(camera.fovy);
   const auto ty = static_cast<float>(dmath::sin(half) / dmath::cos(half));
   const float tx = ty * aspect;
@@ -142,6 +152,8 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   const glm::mat4 view_projection =
       scene.camera.projection(static_cast<float>(target.width()) / static_cast<float>(target.height())) *
       scene.camera.view();
+  // An orthographic camera's one direction towards the camera (validate(): not zero).
+  const glm::vec3 view_direction = glm::normalize(scene.camera.position - scene.camera.target);
   std::vector<ObjectDraw> opaque, blended;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const Object& o = scene.objects[i];
@@ -159,6 +171,8 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.normal_matrix = normal_matrix;
       s.view_projection = view_projection;
       s.eye = scene.camera.position;
+      s.orthographic = scene.camera.orthographic;
+      s.view_direction = view_direction;
       s.ambient = scene.ambient;
       s.lights = lights;
       s.environment = env;
@@ -183,6 +197,8 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     s.handedness = glm::determinant(glm::mat3(o.transform)) < 0.0f ? -1.0f : 1.0f;
     s.view_projection = view_projection;
     s.eye = scene.camera.position;
+    s.orthographic = scene.camera.orthographic;
+    s.view_direction = view_direction;
     s.ambient = scene.ambient;
     s.lights = lights;
     s.environment = env;
@@ -198,7 +214,8 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
         const Bounds b = bounds(*o.mesh);
         const glm::vec3 centre = b.empty() ? glm::vec3(0.0f) : glm::vec3(o.transform * glm::vec4(b.centre(), 1.0f));
         const glm::vec3 to_eye = centre - scene.camera.position;
-        d.distance2 = glm::dot(to_eye, to_eye);
+        // Orthographic: the distance along the view direction, farthest first as well.
+        d.distance2 = scene.camera.orthographic ? -glm::dot(to_eye, view_direction) : glm::dot(to_eye, to_eye);
         break;
       }
       case AlphaMode::Opaque:

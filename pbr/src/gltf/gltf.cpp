@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -19,7 +20,10 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "gltf/draco.h"
+#include "gltf/meshopt.h"
 #include "gltf/tinygltf.h"
+#include "json_reader.h"
 #include "texture_cache.h"
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
@@ -39,11 +43,18 @@ constexpr std::size_t kMaxElements = std::size_t{1} << 28;
 constexpr int kMaxDepth = 1024;
 
 std::string str(std::size_t i) { return std::to_string(i); }
+std::string number_text(double x) { return json_reader::show_number(x); }
 
 class Loader {
  public:
-  Loader(const std::string& file, const tg::Model& model, const GltfOptions& options, GltfScene& out)
-      : file_(file), m_(model), options_(options), out_(out) {}
+  Loader(const std::string& file, const tg::Model& model, const GltfOptions& options, GltfScene& out,
+         std::map<int, std::uint64_t> fallback, std::map<std::pair<std::size_t, std::size_t>, int> draco_indices)
+      : file_(file),
+        m_(model),
+        options_(options),
+        out_(out),
+        fallback_(std::move(fallback)),
+        draco_indices_(std::move(draco_indices)) {}
 
   [[noreturn]] void fail(const std::string& pointer, const std::string& what) const {
     throw LoadError(file_ + ": " + pointer + ": " + what);
@@ -52,6 +63,9 @@ class Loader {
 
   void load() {
     check_extensions();
+    // EXT_meshopt_compression: every compressed view decoded before any accessor is read.
+    gltf::decode_meshopt_views(m_, fallback_, options_.max_file_bytes, decoded_,
+                               [this](const std::string& pointer, const std::string& what) { fail(pointer, what); });
     const int scene = pick_scene();
     std::vector<int> roots;
     if (scene >= 0) {
@@ -78,7 +92,7 @@ class Loader {
   void check_extensions() {
     static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_materials_emissive_strength",
                                                      "KHR_mesh_quantization", "KHR_lights_punctual",
-                                                     "KHR_materials_unlit"};
+                                                     "KHR_materials_unlit", gltf::kMeshopt, gltf::kDraco};
     for (std::size_t i = 0; i < m_.extensionsRequired.size(); ++i)
       if (!kSupported.count(m_.extensionsRequired[i]))
         fail("/extensionsRequired/" + str(i), "the required extension " + m_.extensionsRequired[i] + " is not supported");
@@ -187,9 +201,17 @@ class Loader {
     if (v.buffer < 0 || static_cast<std::size_t>(v.buffer) >= m_.buffers.size())
       fail(pointer + "/buffer", "buffer " + std::to_string(v.buffer) + " does not exist");
     const tg::Buffer& b = m_.buffers[static_cast<std::size_t>(v.buffer)];
-    if (v.byteOffset > b.data.size() || v.byteLength > b.data.size() - v.byteOffset)
+    const auto decoded = decoded_.find(view);
+    const auto declared = fallback_.find(v.buffer);
+    if (declared != fallback_.end() && decoded == decoded_.end())
+      fail(pointer + "/buffer", "buffer " + std::to_string(v.buffer) +
+                                    " has no data (it has no uri): only EXT_meshopt_compression views may use it");
+    // A compressed view's own buffer may be a placeholder: its byteLength is what counts.
+    const std::uint64_t size = declared != fallback_.end() ? declared->second : b.data.size();
+    if (v.byteOffset > size || v.byteLength > size - v.byteOffset)
       fail(pointer, str(v.byteLength) + " bytes at offset " + str(v.byteOffset) + " run past buffer " +
-                        std::to_string(v.buffer) + " (" + str(b.data.size()) + " bytes)");
+                        std::to_string(v.buffer) + " (" + std::to_string(size) + " bytes)");
+    if (decoded != decoded_.end()) return {decoded->second.data(), decoded->second.size()};
     return {b.data.data() + v.byteOffset, v.byteLength};
   }
 
@@ -365,6 +387,61 @@ class Loader {
     return t;
   }
 
+  // A primitive's KHR_draco_mesh_compression object, decoded.
+  gltf::DracoMesh draco_mesh(const tg::Value& x, const std::string& ep) const {
+    if (!x.IsObject()) fail(ep, "must be an object");
+    auto index = [&](const tg::Value& v, const std::string& where) {
+      const double d = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+      if (!(d >= 0.0 && d <= 2147483647.0) || d != std::floor(d)) fail(where, "must be an integer ≥ 0");
+      return static_cast<int>(d);
+    };
+    if (!x.Has("bufferView")) fail(ep, "has no bufferView (required)");
+    const int view = index(x.Get("bufferView"), ep + "/bufferView");
+    if (!x.Has("attributes") || !x.Get("attributes").IsObject()) fail(ep + "/attributes", "must be an object (required)");
+    const tg::Value& attributes = x.Get("attributes");
+    std::map<std::string, int> ids;
+    for (const std::string& key : attributes.Keys()) ids[key] = index(attributes.Get(key), ep + "/attributes/" + key);
+    const auto [bytes, length] = view_bytes(view, ep + "/bufferView");
+    return gltf::decode_draco({bytes, length}, ids, kMaxElements,
+                              [&](const std::string& sub, const std::string& what) { fail(ep + sub, what); });
+  }
+
+  // A Draco attribute's values as the accessor `a` describes them (its type and count must
+  // match; integers normalized when the accessor says so).
+  std::vector<float> draco_values(const gltf::DracoMesh& d, const std::string& name, int a, const std::string& referrer,
+                                  std::initializer_list<int> allowed, int* components_out) const {
+    if (a < 0 || static_cast<std::size_t>(a) >= m_.accessors.size())
+      fail(referrer, "accessor " + std::to_string(a) + " does not exist");
+    const tg::Accessor& acc = m_.accessors[static_cast<std::size_t>(a)];
+    const std::string pointer = "/accessors/" + std::to_string(a);
+    const int comps = tg::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type));
+    if (std::find(allowed.begin(), allowed.end(), comps) == allowed.end())
+      fail(pointer + "/type", "has " + std::to_string(comps) + " components, which " + referrer + " cannot use");
+    if (component_size(acc.componentType) == 0)
+      fail(pointer + "/componentType", "unknown component type " + std::to_string(acc.componentType));
+    const gltf::DracoAttribute& da = d.attributes.at(name);
+    if (da.components != comps)
+      fail(pointer + "/type", "has " + std::to_string(comps) + " components, but the Draco attribute has " +
+                                  std::to_string(da.components));
+    if (acc.count != d.points)
+      fail(pointer + "/count", "is " + str(acc.count) + ", but the Draco mesh has " + str(d.points) + " points");
+    std::vector<float> v = da.values;
+    if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+      if (da.dequantized)
+        fail(pointer + "/componentType", "is an integer type, but the Draco attribute holds floats");
+      if (acc.normalized) {
+        const float scale = acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE             ? 127.0f
+                            : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE  ? 255.0f
+                            : acc.componentType == TINYGLTF_COMPONENT_TYPE_SHORT          ? 32767.0f
+                            : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 65535.0f
+                                                                                           : 1.0f;
+        for (float& x : v) x = std::max(x / scale, -1.0f);
+      }
+    }
+    if (components_out != nullptr) *components_out = comps;
+    return v;
+  }
+
   std::shared_ptr<const Mesh> primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped) {
     auto attribute = [&](const char* name) {
       const auto it = p.attributes.find(name);
@@ -373,7 +450,16 @@ class Loader {
     const int position = attribute("POSITION");
     if (position < 0) fail(pointer + "/attributes", "has no POSITION");
     const std::string ap = pointer + "/attributes/";
-    const std::vector<float> pos = read_floats(position, ap + "POSITION", {3});
+    // KHR_draco_mesh_compression: the attributes it names and the triangles come from the
+    // Draco data, described by the primitive's accessors.
+    std::optional<gltf::DracoMesh> draco;
+    if (const auto it = p.extensions.find(gltf::kDraco); it != p.extensions.end())
+      draco = draco_mesh(it->second, pointer + "/extensions/" + gltf::kDraco);
+    auto values = [&](const char* name, int a, std::initializer_list<int> allowed, int* comps) {
+      if (!draco || draco->attributes.count(name) == 0) return read_floats(a, ap + name, allowed, comps);
+      return draco_values(*draco, name, a, ap + name, allowed, comps);
+    };
+    const std::vector<float> pos = values("POSITION", position, {3}, nullptr);
     const std::size_t n = pos.size() / 3;
     for (std::size_t i = 0; i < pos.size(); ++i)
       if (!std::isfinite(pos[i]))
@@ -381,7 +467,7 @@ class Loader {
     auto optional = [&](const char* name, std::initializer_list<int> allowed, int* comps = nullptr) {
       const int a = attribute(name);
       if (a < 0) return std::vector<float>{};
-      std::vector<float> v = read_floats(a, ap + name, allowed, comps);
+      std::vector<float> v = values(name, a, allowed, comps);
       if (v.size() / static_cast<std::size_t>(comps != nullptr ? *comps : *allowed.begin()) != n)
         fail(ap + name, "has " + str(m_.accessors[static_cast<std::size_t>(a)].count) + " elements for " + str(n) +
                             " positions");
@@ -397,13 +483,15 @@ class Loader {
     const std::vector<float> color = optional("COLOR_0", {3, 4}, &color_comps);
 
     std::vector<std::uint32_t> order;
-    if (p.indices >= 0) {
+    if (draco) {
+      order = draco->indices;  // triangles
+    } else if (p.indices >= 0) {
       order = read_indices(p.indices, n, pointer + "/indices");
     } else {
       order.resize(n);
       std::iota(order.begin(), order.end(), 0u);
     }
-    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    const int mode = draco ? TINYGLTF_MODE_TRIANGLES : p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
     auto mesh = std::make_shared<Mesh>();
     mesh->indices = triangles(mode, order);
     mesh->vertices.resize(n);
@@ -480,6 +568,10 @@ class Loader {
         }
         fail(pp + "/mode", "unknown mode " + std::to_string(mode));
       }
+      // A Draco primitive's indices accessor only describes the Draco data's triangles.
+      if (const auto d = draco_indices_.find({static_cast<std::size_t>(index), k}); d != draco_indices_.end())
+        if (d->second < 0 || static_cast<std::size_t>(d->second) >= m_.accessors.size())
+          fail(pp + "/indices", "accessor " + std::to_string(d->second) + " does not exist");
       const Material& material = this->material(p.material, pp + "/material");
       const bool normal_mapped =
           p.material >= 0 && m_.materials[static_cast<std::size_t>(p.material)].normalTexture.index >= 0;
@@ -704,14 +796,6 @@ class Loader {
       fail(referrer, "camera " + std::to_string(index) + " does not exist");
     const tg::Camera& c = m_.cameras[static_cast<std::size_t>(index)];
     const std::string pointer = "/cameras/" + std::to_string(index);
-    if (c.type != "perspective") {
-      warn(pointer + ": " + c.type + " cameras are not supported; skipped");
-      return;
-    }
-    const tg::PerspectiveCamera& p = c.perspective;
-    if (!(p.yfov > 0.0 && p.yfov < 3.14159)) fail(pointer + "/perspective/yfov", "must be in (0, π)");
-    if (!(p.znear > 0.0) || !std::isfinite(p.znear)) fail(pointer + "/perspective/znear", "must be > 0");
-    if (p.zfar != 0.0 && !(p.zfar > p.znear)) fail(pointer + "/perspective/zfar", "must be above znear");
     GltfCamera g;
     g.name = c.name;
     const glm::dvec3 eye(world * glm::dvec4(0, 0, 0, 1));
@@ -720,12 +804,40 @@ class Loader {
     g.camera.position = glm::vec3(eye);
     g.camera.target = glm::vec3(eye + forward);
     g.camera.up = glm::vec3(up);
-    g.camera.fovy = static_cast<float>(p.yfov);
-    g.camera.near = static_cast<float>(p.znear);
-    // An infinite far plane (zfar absent) becomes a far one: 10^5 × znear keeps the depth
-    // buffer's precision usable.
-    g.camera.far = static_cast<float>(p.zfar != 0.0 ? p.zfar : p.znear * 1e5);
-    g.aspect_ratio = static_cast<float>(p.aspectRatio);
+    if (c.type == "orthographic") {
+      // glTF 2.0 §5.13: xmag and ymag not zero (and not negative: a mirrored view is not
+      // drawn), znear ≥ 0, zfar > znear.
+      const tg::OrthographicCamera& o = c.orthographic;
+      const std::string op = pointer + "/orthographic";
+      auto magnification = [&](double x, const char* name) {
+        if (!(x > 0.0) || !(x <= 1e30)) fail(op + "/" + name, "must be a number in (0, 1e30], got " + number_text(x));
+        if (!(static_cast<float>(x) >= 1e-30f)) fail(op + "/" + name, "must be at least 1e-30, got " + number_text(x));
+        return static_cast<float>(x);
+      };
+      g.camera.orthographic = true;
+      g.camera.xmag = magnification(o.xmag, "xmag");
+      g.camera.ymag = magnification(o.ymag, "ymag");
+      if (!(o.znear >= 0.0) || !(o.znear <= 1e30)) fail(op + "/znear", "must be a number in [0, 1e30], got " + number_text(o.znear));
+      if (!(o.zfar > o.znear) || !(o.zfar <= 1e30))
+        fail(op + "/zfar", "must be above znear and at most 1e30, got " + number_text(o.zfar));
+      g.camera.near = static_cast<float>(o.znear);
+      g.camera.far = static_cast<float>(o.zfar);
+      if (!(g.camera.far - g.camera.near >= 1e-30f))
+        fail(op + "/zfar", "must be at least 1e-30 beyond znear in float precision, got " + number_text(o.zfar));
+    } else if (c.type == "perspective") {
+      const tg::PerspectiveCamera& p = c.perspective;
+      if (!(p.yfov > 0.0 && p.yfov < 3.14159)) fail(pointer + "/perspective/yfov", "must be in (0, π)");
+      if (!(p.znear > 0.0) || !std::isfinite(p.znear)) fail(pointer + "/perspective/znear", "must be > 0");
+      if (p.zfar != 0.0 && !(p.zfar > p.znear)) fail(pointer + "/perspective/zfar", "must be above znear");
+      g.camera.fovy = static_cast<float>(p.yfov);
+      g.camera.near = static_cast<float>(p.znear);
+      // An infinite far plane (zfar absent) becomes a far one: 10^5 × znear keeps the depth
+      // buffer's precision usable.
+      g.camera.far = static_cast<float>(p.zfar != 0.0 ? p.zfar : p.znear * 1e5);
+      g.aspect_ratio = static_cast<float>(p.aspectRatio);
+    } else {
+      fail(pointer + "/type", "must be perspective or orthographic");  // (tinygltf refuses others first)
+    }
     out_.cameras.push_back(g);
   }
 
@@ -775,6 +887,9 @@ class Loader {
   const tg::Model& m_;
   const GltfOptions& options_;
   GltfScene& out_;
+  std::map<int, std::uint64_t> fallback_;               // buffers without data: their byteLength
+  std::map<int, std::vector<std::uint8_t>> decoded_;    // EXT_meshopt_compression views
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices_;  // Draco primitives' "indices"
   std::map<std::tuple<int, std::size_t, bool>, std::shared_ptr<const Mesh>> meshes_;
   std::map<int, std::unique_ptr<Material>> materials_;
   std::vector<Pending> pending_;
@@ -854,6 +969,28 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   if (bytes.size() > options.max_file_bytes || bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
+  // A .glb's binary chunk must lie inside the file: tinygltf 2.7 leaves the chunk's 8-byte
+  // header out of its check and then copies up to 8 bytes from past the end (fuzz_gltf).
+  if (bytes.size() >= 20 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+    auto le32 = [&](std::size_t at) {
+      return std::uint64_t{bytes[at]} | std::uint64_t{bytes[at + 1]} << 8 | std::uint64_t{bytes[at + 2]} << 16 |
+             std::uint64_t{bytes[at + 3]} << 24;
+    };
+    const std::uint64_t end = std::min<std::uint64_t>(le32(8), bytes.size());
+    const std::uint64_t bin = 20 + le32(12);
+    if (bin + 8 <= end && bin + 8 + le32(bin) > end)
+      throw LoadError(file + ": the .glb's binary chunk (" + std::to_string(le32(bin)) + " bytes at byte " +
+                      std::to_string(bin + 8) + ") runs past the end of the file (" + std::to_string(end) + " bytes)");
+  }
+  // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
+  // tinygltf refuses, rewritten.
+  std::vector<std::uint8_t> rewritten;
+  std::map<int, std::uint64_t> fallback;
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
+  bytes = gltf::prepare_for_tinygltf(bytes, rewritten, fallback, draco_indices);
+  if (bytes.size() > std::numeric_limits<unsigned>::max())
+    throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
+                    std::to_string(std::numeric_limits<unsigned>::max()));
   tg::TinyGLTF parser;
   FsContext fs_context{options.max_file_bytes, &options.roots, {}};
   parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
@@ -873,7 +1010,12 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   } catch (const std::exception& e) {
     throw LoadError(file + ": " + first_line(e.what()));
   }
-  if (!ok) throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
+  if (!ok) {
+    // A few references tinygltf checks itself: said with their JSON pointer when found.
+    const std::string pointed = gltf::tinygltf_error_with_pointer(bytes, err);
+    if (!pointed.empty()) throw LoadError(file + ": " + pointed);
+    throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
+  }
   GltfScene out;
   out.files = std::move(fs_context.files);
   for (std::size_t start = 0; start < warn.size();) {
@@ -883,7 +1025,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
     if (end == std::string::npos) break;
     start = end + 1;
   }
-  Loader(file, model, options, out).load();
+  Loader(file, model, options, out, std::move(fallback), std::move(draco_indices)).load();
   return out;
 }
 

@@ -19,7 +19,19 @@
 //   doubleSided, KHR_materials_unlit, KHR_texture_transform on every texture; the default material for
 //   primitives without one; samplers mapped to raster::Sampler (see gltf.cpp);
 // - images (PNG, JPEG) decoded by softpbr::image with its limits, on `pool` in parallel;
-// - KHR_lights_punctual lights placed by their nodes, and perspective cameras.
+// - KHR_lights_punctual lights placed by their nodes, and cameras: perspective (yfov,
+//   znear, zfar; an infinite far plane becomes 10^5 × znear) and orthographic (xmag, ymag,
+//   znear ≥ 0, zfar: Camera::orthographic with glTF's matrix; a negative magnification,
+//   which would mirror the image, is refused);
+// - EXT_meshopt_compression: compressed bufferViews decoded before any accessor is read
+//   (meshoptimizer's codecs; the OCTAHEDRAL, QUATERNION and EXPONENTIAL filters in
+//   softpbr's own deterministic code), the extension object validated per its
+//   specification, placeholder ("fallback") buffers without a uri allowed; the decoded
+//   views together count against max_file_bytes.
+// - KHR_draco_mesh_compression: a primitive's attributes named by the extension and its
+//   triangles decoded by libdraco, described by the primitive's accessors (type, count,
+//   componentType; integers normalized as they say); dequantization and octahedral
+//   normals computed in softpbr's floating-point rules with libdraco's formulas.
 // Skins, morph targets and animations are not applied: meshes are drawn in their bind
 // pose with no morph weights.
 //
@@ -52,7 +64,8 @@ struct GltfOptions {
   int scene = -1;                         // -1: the file's default scene (else scene 0)
   raster::ThreadPool* pool = nullptr;     // decodes images and builds mip chains in parallel
   image::Limits image_limits{};           // per image, checked before decoding
-  std::uint64_t max_file_bytes = std::uint64_t{1} << 31;  // the .gltf/.glb and each .bin
+  // The .gltf/.glb, each .bin, and the EXT_meshopt_compression views decoded (together).
+  std::uint64_t max_file_bytes = std::uint64_t{1} << 31;
   // When not empty, every external buffer and image must lie inside one of these folders
   // (symbolic links and ".." resolved), as SceneLoadOptions::roots.
   std::vector<std::filesystem::path> roots{};
@@ -60,8 +73,8 @@ struct GltfOptions {
 
 struct GltfCamera {
   std::string name;
-  Camera camera;             // placed by its node
-  float aspect_ratio = 0.0f;  // the file's, 0 when it gives none
+  Camera camera;             // placed by its node; perspective or orthographic
+  float aspect_ratio = 0.0f;  // a perspective camera's in the file, 0 when it gives none
 };
 
 struct GltfScene {

@@ -243,6 +243,10 @@ struct PbrShader {
   glm::mat3 normal_matrix{1.0f};  // inverse transpose of model's upper 3×3
   glm::mat4 view_projection{1.0f};
   glm::vec3 eye{0.0f};
+  // An orthographic camera: every point is seen from `view_direction` (unit, towards the
+  // camera) instead of from `eye`.
+  bool orthographic = false;
+  glm::vec3 view_direction{0.0f, 0.0f, 1.0f};
   glm::vec3 ambient{0.0f};
   ShadingMaterial material{};
   std::shared_ptr<const std::vector<PreparedLight>> lights;
@@ -257,7 +261,8 @@ struct PbrShader {
   }
   // One pixel.
   glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
-    const glm::vec3 v = normalize_or(eye - f.v.world_position, glm::vec3(0.0f, 0.0f, 1.0f));
+    const glm::vec3 v =
+        orthographic ? view_direction : normalize_or(eye - f.v.world_position, glm::vec3(0.0f, 0.0f, 1.0f));
     const glm::vec3 color = shade(material, *lights, ambient, f.v.world_position, f.v.normal, v, environment);
     return glm::vec4(color, 1.0f);
   }
@@ -269,7 +274,8 @@ struct PbrShader {
     constexpr int kNormal = offsetof(Varyings, normal) / sizeof(float);
     const Vec3L<F> position(p.v[kPosition], p.v[kPosition + 1], p.v[kPosition + 2]);
     const Vec3L<F> normal(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
-    const Vec3L<F> v = normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
+    const Vec3L<F> v = orthographic ? lanes<F>(view_direction)
+                                    : normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
     const Vec3L<F> c = shade(material, *lights, ambient, position, normal, v, environment);
     return {c.x, c.y, c.z, F(1.0f)};
   }

@@ -99,6 +99,8 @@ struct TexturedPbrShader {
   float handedness = 1.0f;  // sign of det(model): a mirroring transform flips the bitangent
   glm::mat4 view_projection{1.0f};
   glm::vec3 eye{0.0f};
+  bool orthographic = false;                      // as PbrShader's
+  glm::vec3 view_direction{0.0f, 0.0f, 1.0f};
   glm::vec3 ambient{0.0f};
   std::shared_ptr<const TexturedMaterial> material;
   std::shared_ptr<const std::vector<PreparedLight>> lights;
@@ -192,7 +194,8 @@ struct TexturedPbrShader {
 
     // The frame: eye direction, geometric normal (flipped on back faces), normal map.
     const Vec3L<F> position(p.v[kPosition], p.v[kPosition + 1], p.v[kPosition + 2]);
-    const Vec3L<F> v = normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
+    const Vec3L<F> v = orthographic ? lanes<F>(view_direction)
+                                    : normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
     Vec3L<F> n(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
     const float facing = p.front_facing ? 1.0f : -1.0f;  // one facing per packet
     if (!p.front_facing) n = -n;
