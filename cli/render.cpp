@@ -105,6 +105,7 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, raster::ThreadPool& pool) {
     throw Error(kExitUsage, "--camera: " + a.scene + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
                                 std::to_string(a.camera));
   view.environment = !a.env_opt->count() || a.env != "none";
+  view.pool = &pool;
   try {
     std::vector<std::string> files = g.files;
     pbr::SceneFile f = pbr::gltf_scene_file(std::move(g), view, a.scene);
