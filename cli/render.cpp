@@ -107,6 +107,7 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, const std::string& input, raster:
     throw Error(kExitUsage, "--camera: " + input + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
                                 std::to_string(a.camera));
   view.environment = !a.env_opt->count() || a.env != "none";
+  view.pool = &pool;
   try {
     std::vector<std::string> files = g.files;
     pbr::SceneFile f = pbr::gltf_scene_file(std::move(g), view, input);

@@ -2,6 +2,7 @@
 // the OpenGL specification's formulas, and the packet form bit-identical to the scalar one.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -363,6 +364,155 @@ TEST_CASE("a mip chain built on a pool has the same bits as one built on one thr
   const image::ImageF fim = float_image(700, 300, 10);
   const raster::Texture fa(fim), fb(fim, {}, &pool);
   CHECK(std::equal(fa.texels_f().begin(), fa.texels_f().end(), fb.texels_f().begin(), fb.texels_f().end()));
+}
+
+namespace {
+
+// The mip filter as docs/design.md states it and texture.cpp's general loop computes it:
+// destination texel i of an axis from n to m = max(1, ⌊n/2⌋) texels takes source texels
+// ⌊i·n/m⌋ … with weights overlap / n (in units of 1/m), vertical taps first, then
+// horizontal, every sum starting at 0 and added in tap order. `fetch(x, y, c)` reads the
+// previous level decoded, `store(x, y, c)` writes one texel.
+struct RefTaps {
+  int first = 0;
+  std::vector<float> weight;
+};
+std::vector<RefTaps> ref_taps(int n, int m) {
+  std::vector<RefTaps> taps(static_cast<std::size_t>(m));
+  for (int i = 0; i < m; ++i) {
+    const long long lo = static_cast<long long>(i) * n, hi = lo + n;
+    RefTaps& t = taps[static_cast<std::size_t>(i)];
+    t.first = static_cast<int>(lo / m);
+    for (long long j = t.first; j * m < hi; ++j)
+      t.weight.push_back(static_cast<float>(std::min((j + 1) * m, hi) - std::max(j * m, lo)) / static_cast<float>(n));
+  }
+  return taps;
+}
+template <class Fetch, class Store>
+void ref_level(int sw, int sh, int dw, int dh, const Fetch& fetch, const Store& store) {
+  const auto fx = ref_taps(sw, dw), fy = ref_taps(sh, dh);
+  std::vector<float> row(static_cast<std::size_t>(sw) * 4);
+  for (int y = 0; y < dh; ++y) {
+    const RefTaps& ty = fy[static_cast<std::size_t>(y)];
+    for (int x = 0; x < sw; ++x) {
+      float acc[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      for (std::size_t k = 0; k < ty.weight.size(); ++k) {
+        float c[4];
+        fetch(x, ty.first + static_cast<int>(k), c);
+        for (int ch = 0; ch < 4; ++ch) acc[ch] += c[ch] * ty.weight[k];
+      }
+      std::copy(acc, acc + 4, row.begin() + 4 * x);
+    }
+    for (int x = 0; x < dw; ++x) {
+      const RefTaps& tx = fx[static_cast<std::size_t>(x)];
+      float acc[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+      for (std::size_t k = 0; k < tx.weight.size(); ++k)
+        for (int ch = 0; ch < 4; ++ch) acc[ch] += row[4 * (static_cast<std::size_t>(tx.first) + k) + static_cast<std::size_t>(ch)] * tx.weight[k];
+      store(x, y, acc);
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("linear_to_srgb8 counts the thresholds at or below the value, as a binary search does") {
+  const auto& t = raster::srgb8_thresholds();
+  auto reference = [&](float v) -> int {
+    if (!(v >= t[0])) return 0;
+    return static_cast<int>(std::upper_bound(t.begin(), t.end(), v) - t.begin());
+  };
+  std::size_t checked = 0, mismatches = 0;
+  auto check_bits = [&](std::uint32_t bits) {
+    const float v = std::bit_cast<float>(bits);
+    ++checked;
+    if (raster::linear_to_srgb8(v) != reference(v)) ++mismatches;
+  };
+  // Around every threshold, around every 16-bit key boundary below 1, and a stride over
+  // all floats in [0, 1.0f], negatives, infinities and NaNs.
+  for (float x : t)
+    for (int d = -512; d <= 512; ++d) check_bits(std::bit_cast<std::uint32_t>(x) + static_cast<std::uint32_t>(d));
+  for (std::uint32_t k = 0; k <= 0x3f80u; ++k)
+    for (std::uint32_t d = 0; d < 4; ++d) {
+      check_bits((k << 16) + d);
+      if (k > 0) check_bits((k << 16) - 1 - d);
+    }
+  for (std::uint32_t bits = 0; bits <= 0x3f800000u; bits += 4093) check_bits(bits);
+  for (std::uint32_t bits : {0x3f800000u, 0x3f800001u, 0x7f7fffffu, 0x7f800000u, 0x7fc00000u, 0x80000000u, 0xbf800000u,
+                             0xff800000u, 0xffc00000u, 0x00000001u})
+    check_bits(bits);
+  CHECK(checked > 600000);
+  CHECK(mismatches == 0);
+}
+
+TEST_CASE("mip levels are the general box filter's bits, even sizes (the 2x2 fast path) and odd ones") {
+  const float* srgb = raster::srgb8_decode_table();
+  const float* unorm = raster::unorm8_decode_table();
+  raster::ThreadPool pool(2);
+  // Even all the way down, even then odd (12 → 6 → 3), odd, a 1-high strip, and a texture
+  // big enough for the pool to split the rows.
+  const int sizes[][2] = {{64, 32}, {2, 2}, {12, 20}, {7, 5}, {16, 1}, {1, 8}, {6, 14}, {512, 256}};
+  for (const auto& size : sizes) {
+    for (raster::ColorSpace space : {raster::ColorSpace::Srgb, raster::ColorSpace::Linear}) {
+      CAPTURE(size[0]);
+      CAPTURE(size[1]);
+      const image::Image8 im = softpbr::test::random_image8(size[0], size[1], 21u + static_cast<unsigned>(size[0]));
+      const raster::Texture tex(im, space, {}, size[0] >= 512 ? &pool : nullptr);
+      std::vector<std::uint8_t> expect(tex.texels8().size());
+      std::copy(im.rgba.begin(), im.rgba.end(), expect.begin());
+      const float* rgb = space == raster::ColorSpace::Srgb ? srgb : unorm;
+      for (int l = 1; l < tex.level_count(); ++l) {
+        const auto& src = tex.level(l - 1);
+        const auto& dst = tex.level(l);
+        const std::uint8_t* in = expect.data() + src.offset * 4;
+        std::uint8_t* out = expect.data() + dst.offset * 4;
+        ref_level(
+            src.width, src.height, dst.width, dst.height,
+            [&](int x, int y, float c[4]) {
+              const std::uint8_t* p = in + (static_cast<std::size_t>(y) * src.width + x) * 4;
+              c[0] = rgb[p[0]];
+              c[1] = rgb[p[1]];
+              c[2] = rgb[p[2]];
+              c[3] = unorm[p[3]];
+            },
+            [&](int x, int y, const float c[4]) {
+              std::uint8_t* p = out + (static_cast<std::size_t>(y) * dst.width + x) * 4;
+              for (int ch = 0; ch < 3; ++ch)
+                p[ch] = space == raster::ColorSpace::Srgb ? raster::linear_to_srgb8(c[ch]) : raster::unorm8(c[ch]);
+              p[3] = raster::unorm8(c[3]);
+            });
+      }
+      CHECK(std::equal(expect.begin(), expect.end(), tex.texels8().begin(), tex.texels8().end()));
+    }
+    // Float textures, with negative values and zeros of both signs (0 + a·½ + b·½ keeps
+    // the general loop's +0 for −0 inputs).
+    image::ImageF fim = float_image(size[0], size[1], 33u + static_cast<unsigned>(size[1]));
+    for (int y = 0; y < fim.height; ++y)
+      for (int x = 0; x < fim.width; ++x) {
+        float* p = &fim.rgba[(static_cast<std::size_t>(y) * fim.width + x) * 4];
+        if ((x / 2 + y / 2) % 3 == 0) p[0] = -0.0f;  // whole 2×2 blocks of −0
+        p[1] = -p[1];
+      }
+    const raster::Texture ftex(fim, {}, size[0] >= 512 ? &pool : nullptr);
+    std::vector<float> expect(ftex.texels_f().size());
+    std::copy(fim.rgba.begin(), fim.rgba.end(), expect.begin());
+    for (int l = 1; l < ftex.level_count(); ++l) {
+      const auto& src = ftex.level(l - 1);
+      const auto& dst = ftex.level(l);
+      const float* in = expect.data() + src.offset * 4;
+      float* out = expect.data() + dst.offset * 4;
+      ref_level(
+          src.width, src.height, dst.width, dst.height,
+          [&](int x, int y, float c[4]) {
+            const float* p = in + (static_cast<std::size_t>(y) * src.width + x) * 4;
+            std::copy(p, p + 4, c);
+          },
+          [&](int x, int y, const float c[4]) { std::copy(c, c + 4, out + (static_cast<std::size_t>(y) * dst.width + x) * 4); });
+    }
+    bool same = expect.size() == ftex.texels_f().size();
+    for (std::size_t i = 0; same && i < expect.size(); ++i)
+      same = std::bit_cast<std::uint32_t>(expect[i]) == std::bit_cast<std::uint32_t>(ftex.texels_f()[i]);
+    CHECK(same);
+  }
 }
 
 TEST_CASE("textures and samplers refuse what they cannot hold") {

@@ -462,10 +462,10 @@ image::ImageF Environment::studio_image(int width, int height) {
   return im;
 }
 
-std::shared_ptr<const Environment> Environment::studio() {
-  static const std::shared_ptr<const Environment> s = [] {
+std::shared_ptr<const Environment> Environment::studio(raster::ThreadPool* pool) {
+  static const std::shared_ptr<const Environment> s = [pool] {
     const image::ImageF im = studio_image();
-    return std::make_shared<const Environment>(image::ImageViewF(im), "studio (built in)");
+    return std::make_shared<const Environment>(image::ImageViewF(im), "studio (built in)", EnvironmentOptions{}, pool);
   }();
   return s;
 }

@@ -2,6 +2,8 @@
 #include "softpbr/raster/color.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstddef>
 
 namespace softpbr::raster {
 
@@ -47,11 +49,37 @@ const std::array<float, 255>& srgb8_thresholds() { return kThresholds; }
 
 double srgb_to_linear(double encoded) { return decode(encoded); }
 
+namespace {
+
+// Positive floats order as their bits, so key k = bits >> 16 holds the values from
+// float(k << 16) up to the next key's start; kFirst[k] counts the thresholds below that
+// start. Keys up to that of 1.0f cover [0, 1].
+constexpr std::uint32_t kLastKey = 0x3f800000u >> 16;
+
+constexpr std::array<std::uint8_t, kLastKey + 1> make_first() {
+  std::array<std::uint8_t, kLastKey + 1> first{};
+  std::size_t below = 0;
+  for (std::uint32_t k = 0; k <= kLastKey; ++k) {
+    const float start = std::bit_cast<float>(k << 16);
+    while (below < kThresholds.size() && kThresholds[below] < start) ++below;
+    first[k] = static_cast<std::uint8_t>(below);
+  }
+  return first;
+}
+
+constexpr std::array<std::uint8_t, kLastKey + 1> kFirst = make_first();
+
+}  // namespace
+
 std::uint8_t linear_to_srgb8(float linear) {
   // The code is the number of thresholds at or below the value (NaN compares false → 0).
   if (!(linear >= kThresholds[0])) return 0;
-  const auto it = std::upper_bound(kThresholds.begin(), kThresholds.end(), linear);
-  return static_cast<std::uint8_t>(it - kThresholds.begin());
+  if (!(linear < 1.0f)) return 255;  // every threshold is below 1
+  // The thresholds below the value's key, then the few inside it (at most two: a key spans
+  // under 1% of its value, the codes' steps are wider): the same count as a binary search.
+  unsigned k = kFirst[std::bit_cast<std::uint32_t>(linear) >> 16];
+  while (k < kThresholds.size() && kThresholds[k] <= linear) ++k;
+  return static_cast<std::uint8_t>(k);
 }
 
 std::uint8_t unorm8(float value) {

@@ -33,7 +33,7 @@ SceneFile gltf_scene_file(GltfScene g, const GltfView& view, const std::string& 
   f.scene.ambient = glm::vec3(kDefaultAmbient);
   f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
   if (view.environment) {
-    f.scene.environment.map = Environment::studio();
+    f.scene.environment.map = Environment::studio(view.pool);
     f.scene.background_mode = BackgroundMode::Blur;
     f.scene.lights = std::move(g.lights);
     f.mesh_bytes += f.scene.environment.map->bytes();

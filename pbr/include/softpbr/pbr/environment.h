@@ -72,8 +72,9 @@ class Environment {
 
   // A studio: a soft grey dome, a darker floor and three softboxes (key, fill, rim),
   // built procedurally (no file, the same bits everywhere). What `softpbr render
-  // model.glb` lights a model with when no environment is given.
-  static std::shared_ptr<const Environment> studio();
+  // model.glb` lights a model with when no environment is given. Built once per process,
+  // on the first caller's `pool` when it gives one (the same bits either way).
+  static std::shared_ptr<const Environment> studio(raster::ThreadPool* pool = nullptr);
 
   // The equirectangular image studio() prefilters (width × height, linear).
   static image::ImageF studio_image(int width = 512, int height = 256);

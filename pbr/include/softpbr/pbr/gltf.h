@@ -122,6 +122,7 @@ struct GltfView {
   // background) and the file's own lights; false: the file's lights, or default_light_rig
   // when it has none, with kDefaultAmbient and a dark grey background.
   bool environment = true;
+  raster::ThreadPool* pool = nullptr;  // prefilters the studio environment (on first use) in parallel
 };
 
 // The scene of a loaded model as the command renders it, with its memory estimate (the
