@@ -944,8 +944,34 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
 }
 
 // Keeps an image's encoded bytes: softpbr::image decodes them later, with its checks.
-bool keep_encoded(tg::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size,
-                  void*) {
+// tinygltf's image loader callback: keeps the encoded bytes for image::read_image. An image
+// in a buffer view comes with a pointer tinygltf 2.7 computed without checking that the view
+// lies inside its buffer (fuzz_gltf read past a buffer's end): checked here, against the
+// model tinygltf is filling (`user` is that model; its buffers and views are parsed first).
+bool keep_encoded(tg::Image* image, const int index, std::string* err, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+  const auto* model = static_cast<const tg::Model*>(user);
+  if (model != nullptr && image->bufferView >= 0) {
+    const auto v = static_cast<std::size_t>(image->bufferView);
+    const tg::BufferView* view = v < model->bufferViews.size() ? &model->bufferViews[v] : nullptr;
+    const tg::Buffer* buffer = view != nullptr && view->buffer >= 0 &&
+                                       static_cast<std::size_t>(view->buffer) < model->buffers.size()
+                                   ? &model->buffers[static_cast<std::size_t>(view->buffer)]
+                                   : nullptr;
+    const std::size_t have = buffer != nullptr ? buffer->data.size() : 0;
+    if (view == nullptr || buffer == nullptr || size < 0 || view->byteOffset > have ||
+        view->byteLength > have - view->byteOffset || static_cast<std::size_t>(size) != view->byteLength) {
+      if (err != nullptr) {
+        *err += "/images/" + std::to_string(index) + "/bufferView: bufferView " + std::to_string(image->bufferView);
+        if (view != nullptr && buffer != nullptr)
+          *err += " (bytes " + std::to_string(view->byteOffset) + " to " +
+                  std::to_string(static_cast<std::uint64_t>(view->byteOffset) + view->byteLength) + ")";
+        *err += " does not lie inside its buffer" +
+                (buffer != nullptr ? " of " + std::to_string(have) + " bytes" : std::string()) + "\n";
+      }
+      return false;
+    }
+  }
   image->image.assign(bytes, bytes + size);
   image->as_is = true;
   return true;
@@ -994,8 +1020,8 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   tg::TinyGLTF parser;
   FsContext fs_context{options.max_file_bytes, &options.roots, {}};
   parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
-  parser.SetImageLoader(&keep_encoded, nullptr);
   tg::Model model;
+  parser.SetImageLoader(&keep_encoded, &model);
   std::string err, warn;
   const std::string base_dir = base.string();
   bool ok = false;
