@@ -353,6 +353,10 @@ TEST_CASE("obj: bad files throw LoadError naming the file and the line") {
       {"word.obj", "v 1 2 banana\n", ":1: vertex coordinate 'banana' is not a number"},
       {"nan.obj", tri + "v nan 0 0\n", ":4: vertex coordinate 'nan' is not a finite number"},
       {"inf.obj", "v 0 -inf 0\n", ":1: vertex coordinate '-inf' is not a finite number"},
+      // tinyobjloader converts a skin-weight joint to int: inf was undefined (fuzz_obj).
+      {"vw_inf.obj", tri + "vw 1 1e999 0.5\n", ":4: skin weight value '1e999' is out of range"},
+      {"vw_huge.obj", tri + "vw 1 3e9 0.5\n", ":4: skin weight joint '3e9' is not a joint index (a whole number in [0, 2^31))"},
+      {"vw_half.obj", tri + "vw 1 0.5 0.5\n", ":4: skin weight joint '0.5' is not a joint index (a whole number in [0, 2^31))"},
       {"msvc.obj", "v 1.#IND 0 0\n", ":1: vertex coordinate '1.#IND' is not a number"},
       {"huge.obj", "v 1e39 0 0\n", ":1: vertex coordinate '1e39' is beyond the float range"},
       {"short.obj", "# two numbers only\nv 1 2\n", ":2: 'v' needs 3 numbers, found 2"},

@@ -200,6 +200,20 @@ ObjScan validate_obj(const fs::path& path, std::string_view text) {
     } else if (key == "vn") {
       check_numbers(path, line, tok, 3, 3, "normal coordinate");
       ++scan.normals;
+    } else if (key == "vw") {
+      // A skin-weight line "vw vertex joint weight joint weight…" (a tinyobjloader extension
+      // softpbr does not use): tinyobjloader reads each joint as a real and converts it to
+      // int, undefined for inf/NaN or past INT_MAX (fuzz_obj), so each must be a finite
+      // number and each joint a whole number in [0, 2^31).
+      check_numbers(path, line, tok, 1, tok.size(), "skin weight value");
+      for (std::size_t k = 2; k < tok.size() && tok[k][0] != '#'; k += 2) {
+        double j = 0.0;
+        std::string_view t = tok[k];
+        if (t[0] == '+') t.remove_prefix(1);
+        std::from_chars(t.data(), t.data() + t.size(), j);
+        if (!(j >= 0.0 && j < 2147483648.0) || j != std::floor(j))
+          fail(path, line, "skin weight joint " + quote(tok[k]) + " is not a joint index (a whole number in [0, 2^31))");
+      }
     } else if (key == "t" && tok.size() >= 3) {
       // A subdivision tag "t name ints/reals/strings values…": tinyobjloader allocates the
       // declared counts (up to 8192 each) per line, so they must be there in the text.
@@ -215,7 +229,7 @@ ObjScan validate_obj(const fs::path& path, std::string_view text) {
         fail(path, line, "tag " + quote(tok[1]) + " declares " + std::to_string(declared) + " values but has " +
                              std::to_string(tok.size() - 3));
     } else if (key != "f" && key != "l" && key != "p" && key != "g" && key != "o" && key != "s" && key != "t" &&
-               key != "vw" && key != "usemtl" && key != "mtllib") {
+               key != "usemtl" && key != "mtllib") {
       if (unknown++ == 0) {
         unknown_line = line;
         unknown_keyword = std::string(key);
