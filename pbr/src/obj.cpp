@@ -121,7 +121,8 @@ struct ObjScan {
 };
 
 // A finite float, as text: the whole token must be a number (a leading '+' is allowed).
-void check_number(const fs::path& path, std::size_t line, std::string_view tok, const char* what) {
+// Returns its value.
+double check_number(const fs::path& path, std::size_t line, std::string_view tok, const char* what) {
   std::string_view t = tok;
   if (!t.empty() && t[0] == '+') t.remove_prefix(1);
   double x = 0.0;
@@ -131,6 +132,7 @@ void check_number(const fs::path& path, std::size_t line, std::string_view tok, 
   if (!std::isfinite(x)) fail(path, line, std::string(what) + " " + quote(tok) + " is not a finite number");
   if (std::fabs(x) > std::numeric_limits<float>::max())
     fail(path, line, std::string(what) + " " + quote(tok) + " is beyond the float range");
+  return x;
 }
 
 // Checks the first `checked` values after the keyword (up to a trailing # comment); there
@@ -205,13 +207,10 @@ ObjScan validate_obj(const fs::path& path, std::string_view text) {
       // softpbr does not use): tinyobjloader reads each joint as a real and converts it to
       // int, undefined for inf/NaN or past INT_MAX (fuzz_obj), so each must be a finite
       // number and each joint a whole number in [0, 2^31).
-      check_numbers(path, line, tok, 1, tok.size(), "skin weight value");
-      for (std::size_t k = 2; k < tok.size() && tok[k][0] != '#'; k += 2) {
-        double j = 0.0;
-        std::string_view t = tok[k];
-        if (t[0] == '+') t.remove_prefix(1);
-        std::from_chars(t.data(), t.data() + t.size(), j);
-        if (!(j >= 0.0 && j < 2147483648.0) || j != std::floor(j))
+      check_numbers(path, line, tok, 1, 1, "skin weight value");
+      for (std::size_t k = 2; k < tok.size() && tok[k][0] != '#'; ++k) {
+        const double x = check_number(path, line, tok[k], "skin weight value");
+        if (k % 2 == 0 && (!(x >= 0.0 && x < 2147483648.0) || x != std::floor(x)))
           fail(path, line, "skin weight joint " + quote(tok[k]) + " is not a joint index (a whole number in [0, 2^31))");
       }
     } else if (key == "t" && tok.size() >= 3) {

@@ -943,11 +943,11 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   return true;
 }
 
-// Keeps an image's encoded bytes: softpbr::image decodes them later, with its checks.
-// tinygltf's image loader callback: keeps the encoded bytes for image::read_image. An image
-// in a buffer view comes with a pointer tinygltf 2.7 computed without checking that the view
-// lies inside its buffer (fuzz_gltf read past a buffer's end): checked here, against the
-// model tinygltf is filling (`user` is that model; its buffers and views are parsed first).
+// tinygltf's image loader callback: keeps an image's encoded bytes (softpbr::image decodes
+// them later, with its checks). An image in a buffer view comes with a pointer tinygltf 2.7
+// computed without checking that the view lies inside its buffer (fuzz_gltf read past a
+// buffer's end): checked here, against the model tinygltf is filling (`user` is that model;
+// its buffers and views are parsed first).
 bool keep_encoded(tg::Image* image, const int index, std::string* err, std::string*, int, int,
                   const unsigned char* bytes, int size, void* user) {
   const auto* model = static_cast<const tg::Model*>(user);
