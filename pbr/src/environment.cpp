@@ -628,14 +628,16 @@ std::shared_ptr<const Environment> load_environment(const std::filesystem::path&
 
 // --- The split-sum table. ---
 
-glm::dvec2 dfg_reference(double NoV, double roughness, int samples) {
+namespace {
+// The split-sum integrals for one n·v over the GGX half vectors of one roughness (`halfs`,
+// ggx_half_vector(j, count, α²) for j = 0 … count − 1, which do not depend on n·v: the
+// table computes them once per row and every texel of the row reuses them).
+glm::dvec2 dfg_integrate(double NoV, double roughness, const std::vector<glm::dvec3>& halfs) {
   NoV = std::clamp(NoV, 1e-4, 1.0);
-  const double alpha = roughness * roughness, a2 = alpha * alpha, k = alpha / 2.0;
+  const double alpha = roughness * roughness, k = alpha / 2.0;
   const glm::dvec3 v(std::sqrt(1.0 - NoV * NoV), 0.0, NoV);
   double a = 0.0, b = 0.0;
-  const auto count = static_cast<std::uint32_t>(samples);
-  for (std::uint32_t j = 0; j < count; ++j) {
-    const glm::dvec3 h = ggx_half_vector(j, count, a2);
+  for (const glm::dvec3& h : halfs) {
     const double VoH = glm::dot(v, h);
     const glm::dvec3 l = h * (2.0 * VoH) - v;
     const double NoL = l.z, NoH = h.z;
@@ -646,21 +648,38 @@ glm::dvec2 dfg_reference(double NoV, double roughness, int samples) {
     a += (1.0 - fc5) * g_vis;
     b += fc5 * g_vis;
   }
+  const auto count = static_cast<double>(static_cast<std::uint32_t>(halfs.size()));
   return {a / count, b / count};
+}
+
+std::vector<glm::dvec3> ggx_half_vectors(double roughness, int samples) {
+  const double alpha = roughness * roughness, a2 = alpha * alpha;
+  const auto count = static_cast<std::uint32_t>(samples);
+  std::vector<glm::dvec3> halfs(count);
+  for (std::uint32_t j = 0; j < count; ++j) halfs[j] = ggx_half_vector(j, count, a2);
+  return halfs;
+}
+}  // namespace
+
+glm::dvec2 dfg_reference(double NoV, double roughness, int samples) {
+  return dfg_integrate(NoV, roughness, ggx_half_vectors(roughness, samples));
 }
 
 const raster::Texture& dfg_table() {
   static const raster::Texture table = [] {
     std::vector<float> rgba(static_cast<std::size_t>(kDfgSize) * kDfgSize * 4);
-    for (int y = 0; y < kDfgSize; ++y)
+    for (int y = 0; y < kDfgSize; ++y) {
+      const double roughness = (y + 0.5) / kDfgSize;
+      const std::vector<glm::dvec3> halfs = ggx_half_vectors(roughness, kDfgSamples);
       for (int x = 0; x < kDfgSize; ++x) {
-        const glm::dvec2 ab = dfg_reference((x + 0.5) / kDfgSize, (y + 0.5) / kDfgSize, 1024);
+        const glm::dvec2 ab = dfg_integrate((x + 0.5) / kDfgSize, roughness, halfs);
         float* p = &rgba[(static_cast<std::size_t>(y) * kDfgSize + static_cast<std::size_t>(x)) * 4];
         p[0] = static_cast<float>(ab.x);
         p[1] = static_cast<float>(ab.y);
         p[2] = static_cast<float>(ab.x + ab.y);
         p[3] = 1.0f;
       }
+    }
     return raster::Texture(image::ImageViewF(kDfgSize, kDfgSize, rgba), raster::TextureOptions{.mipmaps = false});
   }();
   return table;

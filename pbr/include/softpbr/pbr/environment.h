@@ -124,8 +124,9 @@ std::shared_ptr<const Environment> load_environment(const std::filesystem::path&
 
 // The split-sum BRDF table: kDfgSize² texels, u = n·v, v = perceptual roughness, at texel
 // centres; r = A, g = B (specular = F0·A + B), b = A + B (the single-scattering energy).
-// Computed once, on first use, in double.
+// Computed once, on first use, in double, with kDfgSamples Hammersley samples a texel.
 inline constexpr int kDfgSize = 32;
+inline constexpr int kDfgSamples = 1024;
 const raster::Texture& dfg_table();
 // The table's value (A, B) for one point, by the same integration in double with
 // `samples` Hammersley samples (the tests' reference).
