@@ -231,6 +231,63 @@ TEST_CASE("a hand-written glTF triangle loads; hostile variants fail with the fi
   }
 }
 
+std::string load_error_with(const fs::path& p, const pbr::GltfOptions& options) {
+  try {
+    pbr::load_gltf(p, options);
+  } catch (const pbr::LoadError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST_CASE("glTF JSON is checked in a streaming pass before it is parsed, and textures against the memory limit before decoding") {
+  // glTF 2.0 §3.2: keys are unique within an object.
+  const std::string dup = load_error(write_gltf("dup_key.gltf", triangle_gltf(kGoodAccessors, R"(, "scene": 0)")));
+  CHECK(dup.find("dup_key.gltf: /scene: duplicate key \"scene\" (each key may appear once per object)") != std::string::npos);
+  // 200000 nested arrays in extras overflowed the stack in tinygltf; the pointer is shortened.
+  std::string deep = triangle_gltf(kGoodAccessors, R"(, "extras": )" + std::string(200000, '[') + std::string(200000, ']'));
+  const std::string nested = load_error(write_gltf("deep.gltf", deep));
+  CAPTURE(nested);
+  CHECK(nested.find("deep.gltf: /extras/0/0/0/") != std::string::npos);
+  CHECK(nested.find("/0/…/0/0/") != std::string::npos);
+  CHECK(nested.find(": nested deeper than 256 levels") != std::string::npos);
+  CHECK(nested.size() < 300);
+  // 256 levels are allowed.
+  CHECK_NOTHROW(pbr::load_gltf(write_gltf("deep_ok.gltf", triangle_gltf(kGoodAccessors, R"(, "extras": )" +
+                                                                                            std::string(254, '[') +
+                                                                                            std::string(254, ']')))));
+  // The document tinygltf would build, estimated from the counts: 100 000 numbers in extras
+  // (192 bytes a value) are over a 16 MiB limit, and fine at the default.
+  std::string numbers = "[0";
+  for (int i = 1; i < 100000; ++i) numbers += ",1";
+  const fs::path big = write_gltf("big_json.gltf", triangle_gltf(kGoodAccessors, R"(, "extras": )" + numbers + "]"));
+  const std::string over = load_error_with(big, {.memory_limit = std::uint64_t{16} << 20});
+  CAPTURE(over);
+  CHECK(over.find("big_json.gltf: parsing its JSON (1000") != std::string::npos);
+  CHECK(over.find(" values) needs an estimated 18.") != std::string::npos);
+  CHECK(over.find("MiB, over the memory limit of 16.0 MiB") != std::string::npos);
+  CHECK_NOTHROW(pbr::load_gltf(big));
+  // Textures: a 512×512 image is 1 MiB decoded, 1.33 MiB as a mip chain; with the decode
+  // itself, 2.33 MiB are over a 2 MiB limit before anything is decoded.
+  const fs::path dir = big.parent_path();
+  softpbr::raster::Image8 picture{512, 512, std::vector<std::uint8_t>(512 * 512 * 4, 200)};
+  softpbr::image::write_png(dir / "tex512.png", picture);
+  const std::string textured = triangle_gltf(
+      kGoodAccessors, R"(, "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+      "textures": [{"source": 0}], "images": [{"uri": "tex512.png"}])");
+  std::string with_material = textured;
+  with_material.replace(with_material.find(R"("indices": 1})"), 13, R"("indices": 1, "material": 0})");
+  const fs::path tex = write_gltf("tex512.gltf", with_material);
+  const std::string texture_over = load_error_with(tex, {.memory_limit = std::uint64_t{2} << 20});
+  CAPTURE(texture_over);
+  CHECK(texture_over.find("tex512.gltf: /images/0: its texture (512x512) brings the model's buffers and textures to an "
+                          "estimated 2.3") != std::string::npos);
+  CHECK(texture_over.find(" MiB, over the memory limit of 2.0 MiB") != std::string::npos);
+  const pbr::GltfScene loaded = pbr::load_gltf(tex, {.memory_limit = std::uint64_t{3} << 20});
+  REQUIRE(loaded.objects.size() == 1);
+  CHECK(loaded.objects[0].material.base_color_texture.texture != nullptr);
+}
+
 TEST_CASE("scene files place a glTF model like an OBJ model: its primitives with their materials, or merged") {
   const fs::path triangle = fs::path(SOFTPBR_SOURCE_DIR) / "fuzz" / "corpus" / "gltf" / "triangle.gltf";
   const std::string own = R"({"objects": [{"mesh": {"file": ")" + triangle.string() + R"("}}]})";

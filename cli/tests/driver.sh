@@ -219,6 +219,14 @@ PY
   expect_error 4 "gltf-img.png: cannot write: it is an input of this command (an output never replaces an input)" \
     render tri.gltf -o gltf-img.png --width 32 --height 24
   cmp -s gltf-img.png "$src/cli/tests/goldens/lights.png" && pass "a glTF's image named as an output is untouched" || fail "gltf-img.png was overwritten"
+  # --max-memory bounds a glTF's textures (from their headers, before decoding) and its JSON.
+  expect_error 3 "tri.gltf: /images/0: its texture (640x400) brings the model's buffers and textures to an estimated 2.4 MiB, over the memory limit of 2.0 MiB" \
+    render tri.gltf -o memory.png --width 32 --height 24 --max-memory 2
+  [ ! -e memory.png ] && pass "nothing written when a glTF's textures are over --max-memory" || fail "memory.png was written"
+  python3 -c "
+import json; g = json.load(open('tri.gltf')); g['extras'] = list(range(20000)); open('tri-extras.gltf', 'w').write(json.dumps(g))"
+  expect_error 3 "tri-extras.gltf: parsing its JSON (20063 values) needs an estimated 3.8 MiB, over the memory limit of 1.0 MiB" \
+    render tri-extras.gltf -o memory.png --width 32 --height 24 --max-memory 1
   scene_with '' ''
   expect_error 2 "./bad.png: given twice as an output (under another name)" render bad.json -o bad.png -o ./bad.png
   # Files that merely look like temporaries are not ours: never removed.

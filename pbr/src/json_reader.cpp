@@ -92,9 +92,9 @@ namespace {
 // A SAX pass that tracks the pointer of the current value and the keys of each open object.
 class DuplicateFinder : public nlohmann::json_sax<Json> {
  public:
+  explicit DuplicateFinder(const StructureLimits& limits) : limits_(limits) {}
   std::optional<Problem> found;
-  std::size_t values() const { return values_; }
-  std::size_t containers() const { return containers_; }
+  Counts counts() const { return {values_, containers_, keys_}; }
 
   bool null() override { return value(); }
   // Every value and container counts against kMaxValues / kMaxContainers: they bound the
@@ -110,6 +110,7 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
     return push(true);
   }
   bool key(string_t& k) override {
+    ++keys_;
     Frame& top = stack_.back();
     top.key = k;
     if (!top.keys.insert(k).second) {  // a hash set: linear in the number of keys
@@ -145,20 +146,21 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
   };
   bool value() {
     if (!stack_.empty() && !stack_.back().object) ++stack_.back().index;
-    if (++values_ > kMaxValues) {
-      found = Problem{pointer(), "more than " + std::to_string(kMaxValues) + " values in the file (the limit that bounds its memory)"};
+    if (++values_ > limits_.max_values) {
+      found = Problem{pointer(), "more than " + std::to_string(limits_.max_values) +
+                                     " values in the file (the limit that bounds its memory)"};
       return false;
     }
     return true;
   }
   bool push(bool object) {
-    if (++containers_ > kMaxContainers) {
-      found = Problem{pointer(), "more than " + std::to_string(kMaxContainers) +
+    if (++containers_ > limits_.max_containers) {
+      found = Problem{pointer(), "more than " + std::to_string(limits_.max_containers) +
                                      " objects and arrays in the file (the limit that bounds its memory)"};
       return false;
     }
-    if (stack_.size() >= kMaxDepth) {
-      found = Problem{pointer(), "nested deeper than " + std::to_string(kMaxDepth) + " levels"};
+    if (stack_.size() >= limits_.max_depth) {
+      found = Problem{pointer(), "nested deeper than " + std::to_string(limits_.max_depth) + " levels"};
       return false;
     }
     stack_.push_back({object, {}, {}, -1});
@@ -176,15 +178,16 @@ class DuplicateFinder : public nlohmann::json_sax<Json> {
     }
     return p;
   }
+  StructureLimits limits_;
   std::vector<Frame> stack_;
-  std::size_t values_ = 0, containers_ = 0;
+  std::size_t values_ = 0, containers_ = 0, keys_ = 0;
 };
 }  // namespace
 
-std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts) {
-  DuplicateFinder finder;
+std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts, const StructureLimits& limits) {
+  DuplicateFinder finder(limits);
   Json::sax_parse(text.begin(), text.end(), &finder, nlohmann::detail::input_format_t::json, true, true);
-  if (counts) *counts = {finder.values(), finder.containers()};
+  if (counts) *counts = finder.counts();
   return finder.found;
 }
 

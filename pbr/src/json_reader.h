@@ -88,11 +88,19 @@ struct Problem {
   std::string pointer;
   std::string message;
 };
-// `counts`, when given, receives the number of values and of objects and arrays seen.
+// `counts`, when given, receives the number of values, of objects and arrays, and of keys
+// seen (up to the first problem or syntax error).
 struct Counts {
-  std::size_t values = 0, containers = 0;
+  std::size_t values = 0, containers = 0, keys = 0;
 };
-std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts = nullptr);
+// The limits of a pass: scene files' by default; glTF's are larger (pbr/src/gltf).
+struct StructureLimits {
+  std::size_t max_depth = kMaxDepth;
+  std::size_t max_values = kMaxValues;
+  std::size_t max_containers = kMaxContainers;
+};
+std::optional<Problem> find_structure_problem(std::string_view text, Counts* counts = nullptr,
+                                              const StructureLimits& limits = {});
 
 // JSON text of a value for "got …", shortened to about 40 characters.
 std::string show(const Json& value);

@@ -28,6 +28,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
 #include "softpbr/pbr/mesh.h"
+#include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/pool.h"
 #include "softpbr/raster/texture.h"
 
@@ -751,6 +752,29 @@ class Loader {
     return *(materials_[index] = std::move(m));
   }
 
+  // The memory the textures will take, from the images' headers, before any is decoded:
+  // each texture's mip chain (4/3 of its 8-bit texels) kept, and a decoded image for each
+  // thread decoding at once; with the model's buffers, within options_.memory_limit.
+  void check_texture_memory(const std::vector<std::pair<int, raster::ColorSpace>>& jobs) const {
+    std::uint64_t used = 0, largest = 0;
+    for (const tg::Buffer& b : m_.buffers) used += b.data.size();
+    for (const tg::Image& im : m_.images) used += im.image.size();
+    const std::uint64_t threads = options_.pool != nullptr ? options_.pool->size() : 1;
+    for (const auto& [index, space] : jobs) {
+      const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
+      const image::ImageHeader h = image::read_image_header(im.image);
+      const std::uint64_t texels = std::uint64_t(h.width) * std::uint64_t(h.height) * 4;
+      used += texels + texels / 3 + 64;
+      largest = std::max(largest, texels);
+      const std::uint64_t total = used + std::min<std::uint64_t>(threads, jobs.size()) * largest;
+      if (total > options_.memory_limit)
+        fail("/images/" + std::to_string(index),
+             "its texture (" + std::to_string(h.width) + "x" + std::to_string(h.height) +
+                 ") brings the model's buffers and textures to an estimated " + format_bytes(total) +
+                 ", over the memory limit of " + format_bytes(options_.memory_limit));
+    }
+  }
+
   // Decodes every image a slot needs, once per image and colour space, on the pool, and
   // fills the slots (of the cached materials and of the objects that copied them).
   void decode_images() {
@@ -760,6 +784,7 @@ class Loader {
       const auto key = std::make_pair(p.image, p.space);
       if (job_of.emplace(key, jobs.size()).second) jobs.push_back(key);
     }
+    check_texture_memory(jobs);
     std::vector<std::shared_ptr<const raster::Texture>> textures(jobs.size());
     auto decode = [&](std::size_t j) {
       const auto [index, space] = jobs[j];
@@ -977,6 +1002,42 @@ bool keep_encoded(tg::Image* image, const int index, std::string* err, std::stri
   return true;
 }
 
+// glTF's JSON before tinygltf parses it, in one streaming pass (json_reader's): keys
+// unique within each object (glTF 2.0 §3.2: "names (keys) within JSON objects MUST be
+// unique"; nlohmann would keep the last silently), nesting at most kJsonLimits.max_depth
+// (tinygltf converts extras and extensions recursively: 200000 nested arrays overflowed
+// the stack), at most so many values; then the memory of what tinygltf builds, from the
+// pass's counts, against the limit — before any of it is allocated. The estimate is
+// nlohmann's document plus tinygltf's copies of it (its Value is ~150 bytes): 192 bytes a
+// value, 128 a container, 160 a key (its string and map node, twice), and the text; it
+// came out 1.02–1.3× the measured peak on files of 5 M numbers, 300 k nodes and 1 M keys.
+// A file with EXT_meshopt_compression or Draco is parsed once more to be rewritten first.
+constexpr json_reader::StructureLimits kJsonLimits{.max_depth = 256,
+                                                   .max_values = std::size_t{1} << 27,
+                                                   .max_containers = std::size_t{1} << 25};
+
+void check_json(std::span<const std::uint8_t> bytes, const std::string& file, std::uint64_t memory_limit) {
+  const std::string_view text = gltf::json_text(bytes);
+  json_reader::Counts counts;
+  if (const auto problem = json_reader::find_structure_problem(text, &counts, kJsonLimits)) {
+    // A pointer 256 levels deep is shortened: one line stays readable.
+    const std::string& p = problem->pointer;
+    std::string where = p;
+    if (p.size() > 120) {  // cut at token boundaries: /a/b/…/y/z
+      const std::size_t head = p.rfind('/', 60), tail = p.find('/', p.size() - 40);
+      where = p.substr(0, head) + "/…" + p.substr(tail);
+    }
+    throw LoadError(file + ": " + (where.empty() ? std::string() : where + ": ") + problem->message);
+  }
+  std::uint64_t estimate = 192 * std::uint64_t{counts.values} + 128 * std::uint64_t{counts.containers} +
+                           160 * std::uint64_t{counts.keys} + text.size();
+  if (text.find(gltf::kMeshopt) != std::string_view::npos || text.find(gltf::kDraco) != std::string_view::npos)
+    estimate += 32 * std::uint64_t{counts.values} + 64 * std::uint64_t{counts.containers} + 80 * std::uint64_t{counts.keys};
+  if (estimate > memory_limit)
+    throw LoadError(file + ": parsing its JSON (" + std::to_string(counts.values) + " values) needs an estimated " +
+                    format_bytes(estimate) + ", over the memory limit of " + format_bytes(memory_limit));
+}
+
 std::string first_line(const std::string& s) {
   std::string line = s.substr(0, s.find('\n'));
   while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
@@ -1008,6 +1069,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
       throw LoadError(file + ": the .glb's binary chunk (" + std::to_string(le32(bin)) + " bytes at byte " +
                       std::to_string(bin + 8) + ") runs past the end of the file (" + std::to_string(end) + " bytes)");
   }
+  check_json(bytes, file, options.memory_limit);
   // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
   // tinygltf refuses, rewritten.
   std::vector<std::uint8_t> rewritten;

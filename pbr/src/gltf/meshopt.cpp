@@ -67,15 +67,9 @@ std::span<const std::uint8_t> prepare_for_tinygltf(std::span<const std::uint8_t>
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (text.find(kMeshopt) == std::string_view::npos && text.find(kDraco) == std::string_view::npos) return bytes;
   const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-  std::string_view json = text;
-  std::size_t json_end = bytes.size();
-  if (glb) {
-    if (bytes.size() < 20) return bytes;
-    const std::uint32_t length = le32(bytes.data() + 12);
-    if (le32(bytes.data() + 16) != 0x4E4F534Au || length > bytes.size() - 20) return bytes;  // "JSON"
-    json = text.substr(20, length);
-    json_end = 20 + static_cast<std::size_t>(length);
-  }
+  const std::string_view json = json_text(bytes);
+  if (glb && json.empty()) return bytes;
+  const std::size_t json_end = glb ? 20 + json.size() : bytes.size();
   nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return bytes;
   const auto used = doc.find("extensionsUsed");
@@ -135,7 +129,8 @@ std::span<const std::uint8_t> prepare_for_tinygltf(std::span<const std::uint8_t>
 
 namespace {
 
-// The JSON text of a .gltf, or of a .glb's JSON chunk (empty when the chunk is malformed).
+}  // namespace
+
 std::string_view json_text(std::span<const std::uint8_t> bytes) {
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (!(bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)) return text;
@@ -144,8 +139,6 @@ std::string_view json_text(std::span<const std::uint8_t> bytes) {
   if (le32(bytes.data() + 16) != 0x4E4F534Au || length > bytes.size() - 20) return {};
   return text.substr(20, length);
 }
-
-}  // namespace
 
 std::string tinygltf_error_with_pointer(std::span<const std::uint8_t> bytes, const std::string& err) {
   const bool indices_range = err.rfind("primitive indices accessor out of bounds", 0) == 0;

@@ -7,6 +7,7 @@
 #include <map>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -15,6 +16,10 @@
 namespace softpbr::pbr::gltf {
 
 inline constexpr const char* kMeshopt = "EXT_meshopt_compression";
+
+// The JSON text of a .gltf (the whole file), or of a .glb's JSON chunk (empty when that
+// chunk is malformed or runs past the file).
+std::string_view json_text(std::span<const std::uint8_t> bytes);
 
 // Two things tinygltf 2.7 refuses that these extensions write, rewritten in the file's
 // JSON before tinygltf sees it (`bytes` is returned unchanged when neither occurs, or when

@@ -149,6 +149,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
     check_at(r_, file, [&] {
       GltfOptions g;
       g.roots = textures_.cache().roots();
+      g.memory_limit = budget_.left();
       if (const std::string problem = detail::outside_roots(path, g.roots); !problem.empty())
         throw LoadError(path.string() + ": " + problem);
       g.image_limits.max_decoded_bytes = std::min<std::uint64_t>(g.image_limits.max_decoded_bytes, budget_.left());

@@ -66,6 +66,10 @@ struct GltfOptions {
   image::Limits image_limits{};           // per image, checked before decoding
   // The .gltf/.glb, each .bin, and the EXT_meshopt_compression views decoded (together).
   std::uint64_t max_file_bytes = std::uint64_t{1} << 31;
+  // What loading may use, estimated before each large allocation: the parsed JSON (from a
+  // streaming pass's counts, before the document is built), then the textures (from the
+  // images' headers, before any is decoded). The CLI passes --max-memory.
+  std::uint64_t memory_limit = std::uint64_t{4} << 30;
   // When not empty, every external buffer and image must lie inside one of these folders
   // (symbolic links and ".." resolved), as SceneLoadOptions::roots.
   std::vector<std::filesystem::path> roots{};
