@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <map>
 #include <new>
@@ -87,11 +88,12 @@ bool is_gltf(const std::string& path) {
 
 // A glTF model as a scene (docs/scene-format.md, "glTF models"): pbr::gltf_scene_file with
 // the command's view (--yaw, --pitch, --camera; --env none for the light rig).
-pbr::SceneFile gltf_scene(const RenderArgs& a, const std::string& input, raster::ThreadPool& pool) {
+pbr::SceneFile gltf_scene(const RenderArgs& a, const std::string& input, raster::ThreadPool& pool,
+                          std::uint64_t memory_limit) {
   pbr::GltfScene g;
   try {
     std::vector<fs::path> roots(a.roots.begin(), a.roots.end());
-    g = pbr::load_gltf(input, {.pool = &pool, .roots = roots});
+    g = pbr::load_gltf(input, {.pool = &pool, .memory_limit = memory_limit, .roots = roots});
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
   }
@@ -314,7 +316,7 @@ pbr::SceneFile load_input(Job& job, const std::string& input, raster::ThreadPool
   const RenderArgs& a = *job.args;
   pbr::SceneFile file;
   if (is_gltf(input)) {
-    file = gltf_scene(a, input, pool);
+    file = gltf_scene(a, input, pool, job.memory_limit);
   } else {
     try {
       file = pbr::load_scene_file(input, {.memory_limit = job.memory_limit,
@@ -426,27 +428,49 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
       continue;
     }
     for (const std::string& p : paths) check_not_input(p, inputs);
-    pbr::render(pbr::animate(file, frame), renderer, target);
-    const std::uint64_t hash = raster::hash_colors(target);
-    // Not silent: a colour beyond float (emissive or lights near 1e30 summed, or scaled by
-    // --exposure) is stored as 0 by .hdr and .exr while the PNG shows it white.
-    if (!a.quiet) {
-      const float scale = exposure_scale(s.output.exposure);
-      std::size_t non_finite = 0;
-      for (const glm::vec4& c : target.colors()) {
-        const glm::vec3 v = glm::vec3(c) * scale;
-        non_finite += !(std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b));
+    // A PNG output is tone mapped tile by tile on the renderer's threads, each tile right
+    // after it is drawn (render_rgba8: the same bytes as tone_map_to_rgba8 afterwards).
+    const auto png_at = std::find(job.formats.begin(), job.formats.end(), Format::Png);
+    const bool png = png_at != job.formats.end();
+    raster::Image8 rgba;
+    if (png) pbr::render_rgba8(pbr::animate(file, frame), renderer, target, s.output, rgba);
+    else pbr::render(pbr::animate(file, frame), renderer, target);
+    // Then three independent jobs on the renderer's threads: the hash (FNV-1a, serial by
+    // definition, the longest), the count of non-finite pixels, the PNG encoding.
+    std::uint64_t hash = 0;
+    std::size_t non_finite = 0;
+    std::vector<std::uint8_t> png_bytes;
+    std::exception_ptr png_error;
+    const std::string& png_name = png ? paths[static_cast<std::size_t>(png_at - job.formats.begin())] : paths[0];
+    renderer.pool().parallel_for(3, [&](std::size_t job_index) {
+      if (job_index == 0) {
+        hash = raster::hash_colors(target);
+      } else if (job_index == 1 && !a.quiet) {
+        // Not silent: a colour beyond float (emissive or lights near 1e30 summed, or scaled
+        // by --exposure) is stored as 0 by .hdr and .exr while the PNG shows it white.
+        const float scale = exposure_scale(s.output.exposure);
+        for (const glm::vec4& c : target.colors()) {
+          const glm::vec3 v = glm::vec3(c) * scale;
+          non_finite += !(std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b));
+        }
+      } else if (job_index == 2 && png) {
+        try {
+          png_bytes = image::encode_png(rgba, png_name);
+        } catch (...) {
+          png_error = std::current_exception();
+        }
       }
-      if (non_finite > 0)
-        std::fprintf(stderr, "softpbr: warning: %s: %zu pixels are not finite (a radiance beyond float, exposure included); .hdr and .exr store them as 0\n",
-                     paths[0].c_str(), non_finite);
-    }
+    });
+    if (non_finite > 0)
+      std::fprintf(stderr, "softpbr: warning: %s: %zu pixels are not finite (a radiance beyond float, exposure included); .hdr and .exr store them as 0\n",
+                   paths[0].c_str(), non_finite);
     // Every output of the frame is written to a temporary first, then all are renamed: on
     // any failure none is replaced.
     image::OutputFiles files;
     try {
+      if (png_error) std::rethrow_exception(png_error);
       for (std::size_t i = 0; i < paths.size(); ++i) {
-        if (job.formats[i] == Format::Png) files.add(paths[i], image::encode_png(pbr::tone_map_to_rgba8(target, s.output), paths[i]));
+        if (job.formats[i] == Format::Png) files.add(paths[i], png_bytes);
         else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
         else files.add(paths[i], image::encode_exr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
       }

@@ -1,7 +1,9 @@
-// PNG through stb_image (loading, after png_scan.h's chunk walk) and stb_image_write.
+// PNG through stb_image (loading, after png_scan.h's chunk walk) and libspng (writing).
+#include <cstdlib>
+#include <memory>
 #include <string>
 
-#include <stb_image_write.h>
+#include <spng.h>
 
 #include "formats.h"
 #include "png_scan.h"
@@ -36,11 +38,29 @@ Image8 load_png(const std::filesystem::path& path, const Limits& limits) {
 
 std::vector<std::uint8_t> encode_png(const ImageView8& image, std::string_view name) {
   detail::check_writable(image, name);
-  std::vector<std::uint8_t> png;
-  if (!stbi_write_png_to_func(detail::append_bytes, &png, image.width, image.height, 4, image.rgba.data(),
-                              image.width * 4))
-    detail::fail(name, "PNG encoding failed");
-  return png;
+  // libspng with zlib at level 2 and the Sub filter on every row: at 1920×1080 about a
+  // fifth of the time stb_image_write took (level 8, all five filters tried per row) for
+  // files 5–15% smaller on renders (docs/design.md, "Images"). The bytes depend on libspng
+  // and zlib's versions; the pixels never do.
+  const std::unique_ptr<spng_ctx, decltype(&spng_ctx_free)> ctx(spng_ctx_new(SPNG_CTX_ENCODER), &spng_ctx_free);
+  if (!ctx) detail::fail(name, "PNG encoding failed (out of memory)");
+  spng_ihdr ihdr{};
+  ihdr.width = static_cast<std::uint32_t>(image.width);
+  ihdr.height = static_cast<std::uint32_t>(image.height);
+  ihdr.bit_depth = 8;
+  ihdr.color_type = SPNG_COLOR_TYPE_TRUECOLOR_ALPHA;
+  int e = spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1);
+  if (!e) e = spng_set_ihdr(ctx.get(), &ihdr);
+  if (!e) e = spng_set_option(ctx.get(), SPNG_IMG_COMPRESSION_LEVEL, 2);
+  if (!e) e = spng_set_option(ctx.get(), SPNG_FILTER_CHOICE, SPNG_FILTER_CHOICE_SUB);
+  if (!e)
+    e = spng_encode_image(ctx.get(), image.rgba.data(), image.rgba.size(), SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
+  std::size_t size = 0;
+  void* const bytes = e ? nullptr : spng_get_png_buffer(ctx.get(), &size, &e);
+  if (!bytes) detail::fail(name, std::string("PNG encoding failed (") + spng_strerror(e) + ")");
+  const std::unique_ptr<void, decltype(&std::free)> owned(bytes, &std::free);
+  const auto* first = static_cast<const std::uint8_t*>(bytes);
+  return std::vector<std::uint8_t>(first, first + size);
 }
 
 void write_png(const std::filesystem::path& path, const ImageView8& image) {

@@ -19,7 +19,7 @@
 
 namespace softpbr::image {
 
-// 8-bit RGBA PNG through stb_image_write.
+// 8-bit RGBA PNG through libspng (zlib level 2, the Sub filter).
 std::vector<std::uint8_t> encode_png(const ImageView8& image, std::string_view name);
 void write_png(const std::filesystem::path& path, const ImageView8& image);
 
