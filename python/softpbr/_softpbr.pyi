@@ -82,14 +82,32 @@ class Light:
     def outer_cone(self) -> float: ...
 
 class Camera:
+    """A look-at camera: perspective (fov, degrees) or orthographic (2*xmag x 2*ymag world units)."""
     position: Tuple[float, float, float]
     target: Tuple[float, float, float]
     up: Tuple[float, float, float]
     fov: float
     near: float
     far: float
+    orthographic: bool
+    ymag: float
+    xmag: float
     def __init__(self, *, position: _Vec3 = ..., target: _Vec3 = ..., up: _Vec3 = ..., fov: float = ...,
-                 near: float = ..., far: float = ...) -> None: ...
+                 near: float = ..., far: float = ..., orthographic: bool = ..., ymag: float = ...,
+                 xmag: float = ...) -> None: ...
+
+class Environment:
+    """An HDR environment prefiltered for image-based lighting; immutable and shareable."""
+    @staticmethod
+    def studio() -> Environment: ...
+    @staticmethod
+    def load(path: _Path, *, size: int = ..., samples: int = ..., cache_dir: Optional[_Path] = ...) -> Environment: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def size(self) -> int: ...
+    @property
+    def bytes(self) -> int: ...
 
 class Object:
     @property
@@ -111,18 +129,31 @@ class Scene:
     gamma: float
     threads: int
     tile_size: int
+    msaa: int
+    resolve: str
+    environment_intensity: float
+    environment_rotation: float
+    multiscatter: bool
+    background_mode: str
+    background_blur: float
     def __init__(self) -> None: ...
     @staticmethod
     def load(path: _Path) -> Scene: ...
     @staticmethod
     def load_gltf(path: _Path, *, width: int = ..., height: int = ..., yaw: float = ..., pitch: float = ...,
-                  camera: Optional[int] = ...) -> Scene: ...
+                  camera: Optional[int] = ..., environment: bool = ...) -> Scene: ...
     @staticmethod
     def from_json(text: str, name: str = ..., base_dir: _Path = ...) -> Scene: ...
     @staticmethod
     def from_dict(scene: Mapping[str, Any], base_dir: Optional[_Path] = ..., name: str = ...) -> Scene: ...
     def add(self, mesh: Mesh, material: Optional[Material] = ..., transform: Optional[npt.ArrayLike] = ...) -> None: ...
     def add_light(self, light: Light) -> None: ...
+    def set_environment(self, environment: Union[Environment, _Path, None], *, intensity: Optional[float] = ...,
+                        rotation: Optional[float] = ...,
+                        background: Union[str, Sequence[float], None] = ..., blur: Optional[float] = ...,
+                        multiscatter: Optional[bool] = ...) -> None: ...
+    @property
+    def environment(self) -> Optional[Environment]: ...
     @property
     def objects(self) -> List[Object]: ...
     @property
@@ -132,9 +163,10 @@ class Scene:
 
 def render(scene: Scene, *, width: Optional[int] = ..., height: Optional[int] = ..., threads: Optional[int] = ...,
            tile_size: Optional[int] = ..., tonemap: Optional[str] = ..., exposure: Optional[float] = ...,
-           gamma: Optional[float] = ..., frame: int = ...) -> npt.NDArray[numpy.uint8]: ...
+           gamma: Optional[float] = ..., msaa: Optional[int] = ..., frame: int = ...) -> npt.NDArray[numpy.uint8]: ...
 def render_hdr(scene: Scene, *, width: Optional[int] = ..., height: Optional[int] = ..., threads: Optional[int] = ...,
-               tile_size: Optional[int] = ..., exposure: Optional[float] = ..., frame: int = ...) -> npt.NDArray[numpy.float32]: ...
+               tile_size: Optional[int] = ..., exposure: Optional[float] = ..., msaa: Optional[int] = ...,
+               frame: int = ...) -> npt.NDArray[numpy.float32]: ...
 def active_renders() -> int: ...
 
 class Comparison:
