@@ -24,6 +24,7 @@ from ._softpbr import (
     Camera,
     Comparison,
     Environment,
+    GltfModel,
     Light,
     Material,
     MatchResult,
@@ -34,6 +35,7 @@ from ._softpbr import (
     compare,
     content_hash,
     diff_image,
+    load_gltf,
     load_image,
     match_golden,
     side_by_side,
@@ -120,7 +122,7 @@ def load_obj(path: Union[str, "os.PathLike[str]"]) -> Mesh:
 
 
 __all__ = [
-    "Camera", "Comparison", "Environment", "Light", "Material", "MatchResult", "Mesh", "Object", "Scene", "SceneLike",
-    "active_renders", "compare", "content_hash", "diff_image", "load_image", "load_obj", "load_scene",
+    "Camera", "Comparison", "Environment", "GltfModel", "Light", "Material", "MatchResult", "Mesh", "Object", "Scene", "SceneLike",
+    "active_renders", "compare", "content_hash", "diff_image", "load_gltf", "load_image", "load_obj", "load_scene",
     "match_golden", "render", "render_hdr", "side_by_side", "translate", "write_hdr", "write_png",
 ]

@@ -189,6 +189,23 @@ std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width
 }
 
 
+
+// softpbr.load_gltf: a glTF model's objects, lights and cameras as the file places them, to
+// add to a Scene (pbr::load_gltf).
+struct PyGltfModel {
+  pbr::GltfScene model;
+};
+
+std::shared_ptr<PyGltfModel> load_gltf_model(const std::filesystem::path& path, std::optional<int> scene) {
+  require_readable(path);
+  if (scene && *scene < 0) value_error("load_gltf: scene: expected an index >= 0, got " + std::to_string(*scene));
+  auto out = std::make_shared<PyGltfModel>();
+  py::gil_scoped_release unlocked;
+  raster::ThreadPool pool(0);
+  out->model = pbr::load_gltf(path, {.scene = scene.value_or(-1), .pool = &pool});
+  return out;
+}
+
 // ---- Environments (image-based lighting) ----------------------------------------------------
 // softpbr.Environment: a prefiltered map, immutable and shared by the scenes that use it.
 struct PyEnvironment {
@@ -504,6 +521,37 @@ height); near may be 0 and fov is not used. Values are checked when rendered (Va
       .def_readonly("material", &pbr::Object::material)
       .def_property_readonly("transform", [](const pbr::Object& o) { return matrix_to(o.transform); },
                              "4x4 float32 matrix (numpy rows: a point p maps to transform @ [p, 1]).");
+
+  py::class_<PyGltfModel, std::shared_ptr<PyGltfModel>>(m, "GltfModel", R"(A glTF 2.0 model as loaded by softpbr.load_gltf(path).
+
+objects: one Object per mesh primitive per node, with the node's world transform and the
+glTF material (textures included); lights: its KHR_lights_punctual lights placed by their
+nodes; cameras: its cameras placed by their nodes (perspective or orthographic). Add them to
+a Scene: scene.add(o.mesh, o.material, o.transform) for o in model.objects. Scene.load_gltf
+is the whole model framed and lit as `softpbr render model.glb` shows it.)")
+      .def_property_readonly("objects", [](const PyGltfModel& g) { return g.model.objects; })
+      .def_property_readonly("lights", [](const PyGltfModel& g) { return g.model.lights; })
+      .def_property_readonly("cameras", [](const PyGltfModel& g) {
+        std::vector<pbr::Camera> c;
+        for (const pbr::GltfCamera& k : g.model.cameras) c.push_back(k.camera);
+        return c;
+      }, "The file's cameras, in its order (Scene.load_gltf(path, camera=N) views through camera N).")
+      .def_property_readonly("camera_names", [](const PyGltfModel& g) {
+        std::vector<std::string> n;
+        for (const pbr::GltfCamera& k : g.model.cameras) n.push_back(k.name);
+        return n;
+      })
+      .def_property_readonly("warnings", [](const PyGltfModel& g) { return g.model.warnings; })
+      .def_property_readonly("triangles", [](const PyGltfModel& g) { return g.model.triangles; })
+      .def_property_readonly("files", [](const PyGltfModel& g) { return g.model.files; },
+                             "The external buffers and images read (not the model's own file).")
+      .def("__repr__", [](const PyGltfModel& g) {
+        return "<softpbr.GltfModel " + std::to_string(g.model.objects.size()) + " objects, " +
+               std::to_string(g.model.lights.size()) + " lights, " + std::to_string(g.model.cameras.size()) + " cameras>";
+      });
+  m.def("load_gltf", &load_gltf_model, py::arg("path"), py::kw_only(), py::arg("scene") = py::none(),
+        "Loads a glTF 2.0 model (.gltf, .glb): its objects, lights and cameras (scene: the glTF scene to read, default "
+        "the file's). OSError if it cannot be read; ValueError with the file and the JSON pointer if it is invalid.");
 
   py::class_<PyEnvironment, std::shared_ptr<PyEnvironment>>(m, "Environment", R"(An HDR environment prefiltered for image-based lighting (docs/design.md, "Image-based lighting").
 

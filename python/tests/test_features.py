@@ -344,3 +344,31 @@ def test_a_khronos_sample_model_renders_as_the_command(cli, source_dir, tmp_path
     assert_same(softpbr.render_hdr(model, width=64, height=48), exr)
     png, _ = cli_render(cli, model, tmp_path, "--width", 64, "--height", 48, "--msaa", 4, name="box", png_only=True)
     assert_same(softpbr.render(model, width=64, height=48, msaa=4), png)
+
+
+def test_a_gltf_models_objects_added_to_a_scene_render_as_the_model(source_dir):
+    for model in models(source_dir) + [source_dir / "fuzz" / "corpus" / "gltf" / "triangle.gltf"]:
+        shown = softpbr.Scene.load_gltf(model, width=80, height=48)
+        loaded = softpbr.load_gltf(model)
+        assert len(loaded.objects) == len(shown.objects) > 0 and loaded.triangles == shown.triangles
+        scene = softpbr.Scene()
+        scene.camera, scene.lights = shown.camera, loaded.lights
+        scene.ambient, scene.background = shown.ambient, shown.background
+        scene.set_environment("studio", background="blur")
+        for o in loaded.objects:
+            scene.add(o.mesh, o.material, o.transform)
+        assert_same(softpbr.render(scene, width=80, height=48), softpbr.render(model, width=80, height=48))
+    assert "0 cameras" in repr(loaded) and loaded.cameras == [] and loaded.camera_names == []
+    assert loaded.objects[0].material.textured  # the fixture's texture came along
+
+
+def test_load_gltf_errors(tmp_path, source_dir):
+    with pytest.raises(FileNotFoundError):
+        softpbr.load_gltf(tmp_path / "missing.glb")
+    bad = tmp_path / "bad.gltf"
+    bad.write_text('{"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], '
+                   '"meshes": [{"primitives": [{"attributes": {"POSITION": 3}}]}]}')
+    with pytest.raises(ValueError, match=r"bad.gltf: /meshes/0/primitives/0/attributes/POSITION: accessor 3 does not exist$"):
+        softpbr.load_gltf(bad)
+    with pytest.raises(ValueError, match="scene: expected an index >= 0"):
+        softpbr.load_gltf(models(source_dir)[0], scene=-2)
