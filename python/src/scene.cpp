@@ -619,9 +619,15 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
             s.file.mesh_bytes += raster::draw_geometry_bytes(mesh->vertices.size(), mesh->triangle_count(), 18) +
                                  mesh->vertices.size() * sizeof(pbr::MeshVertex) + mesh->indices.size() * 4;
             s.file.triangles += mesh->triangle_count();
+            // A glTF material's textures (softpbr.load_gltf), each counted once.
+            const pbr::Material& mat = s.file.scene.objects.back().material;
+            for (const pbr::TextureSlot* t : {&mat.base_color_texture, &mat.metallic_roughness_texture, &mat.normal_texture,
+                                              &mat.occlusion_texture, &mat.emissive_texture})
+              if (t->texture && s.counted_textures.insert(t->texture.get()).second) s.file.texture_bytes += t->texture->texel_bytes();
           },
           py::arg("mesh"), py::arg("material") = py::none(), py::arg("transform") = py::none(),
-          "Adds an object: `mesh` with `material` (default: grey, roughness 0.5) placed by `transform` (4x4, default identity).")
+          "Adds an object: `mesh` with `material` (default: grey, roughness 0.5) placed by `transform` (4x4, default identity); "
+          "its memory (and a glTF material's textures) counts toward the render's estimate.")
       .def("add_light", [](PyScene& s, const pbr::Light& l) {
         if (s.file.scene.lights.size() >= pbr::kMaxLights)
           value_error("Scene.add_light: a scene has at most " + std::to_string(pbr::kMaxLights) + " lights");
