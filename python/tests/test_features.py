@@ -116,6 +116,7 @@ def test_a_dict_scene_with_msaa_renders_as_the_command(cli, tmp_path):
     png, _ = cli_render(cli, scene, tmp_path, png_only=True)
     assert_same(softpbr.render(scene), png)
     assert_msaa_hdr_is_the_box_resolve(cli, scene, tmp_path, softpbr.render_hdr(scene))
+    assert not softpbr.render_hdr(scene).flags.owndata  # the resolved target's buffer, not a copy
     # Antialiased: not the 1-sample image, in 8 bits or in float.
     assert not numpy.array_equal(softpbr.render(scene), softpbr.render(scene_with()))
     assert not numpy.array_equal(softpbr.render_hdr(scene), softpbr.render_hdr(scene_with()))
@@ -334,15 +335,24 @@ def with_env(scene, path, intensity, rotation):
     return scene
 
 
-def test_a_khronos_sample_model_renders_as_the_command(cli, source_dir, tmp_path):
+def khronos_sample(source_dir, name):
+    """A Khronos sample model of ../shared/gltf (SOFTPBR_SHARED_GLTF), its .glb or .gltf; skips
+    when it is not there (the samples are optional)."""
     shared = Path(os.environ.get("SOFTPBR_SHARED_GLTF", source_dir.parent / "shared" / "gltf"))
-    model = shared / "Box" / "glTF-Binary" / "Box.glb"
-    if not model.is_file():
-        pytest.skip(f"{model} is not here (the Khronos samples are optional)")
-    png, exr = cli_render(cli, model, tmp_path, "--width", 64, "--height", 48, name="box")
+    for sub, ext in [("glTF-Binary", ".glb"), ("glTF", ".gltf")]:
+        model = shared / name / sub / (name + ext)
+        if model.is_file():
+            return model
+    pytest.skip(f"{shared / name} is not here (the Khronos samples are optional)")
+
+
+@pytest.mark.parametrize("name", ["Box", "MetalRoughSpheresNoTextures", "TextureTransformTest", "TwoSidedPlane"])
+def test_a_khronos_sample_model_renders_as_the_command(cli, source_dir, tmp_path, name):
+    model = khronos_sample(source_dir, name)
+    png, exr = cli_render(cli, model, tmp_path, "--width", 64, "--height", 48, name="sample")
     assert_same(softpbr.render(model, width=64, height=48), png)
     assert_same(softpbr.render_hdr(model, width=64, height=48), exr)
-    png, _ = cli_render(cli, model, tmp_path, "--width", 64, "--height", 48, "--msaa", 4, name="box", png_only=True)
+    png, _ = cli_render(cli, model, tmp_path, "--width", 64, "--height", 48, "--msaa", 4, name="sample", png_only=True)
     assert_same(softpbr.render(model, width=64, height=48, msaa=4), png)
 
 
