@@ -23,6 +23,8 @@ import numpy
 from ._softpbr import (
     Camera,
     Comparison,
+    Environment,
+    GltfModel,
     Light,
     Material,
     MatchResult,
@@ -33,6 +35,7 @@ from ._softpbr import (
     compare,
     content_hash,
     diff_image,
+    load_gltf,
     load_image,
     match_golden,
     side_by_side,
@@ -62,8 +65,8 @@ Scene.from_dict = staticmethod(_scene_from_dict)  # type: ignore[attr-defined]
 def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", None] = None,
                width: Optional[int] = None, height: Optional[int] = None) -> Scene:
     """A Scene from a path, a dict (see Scene.from_dict) or a Scene (returned as is). A glTF
-    model (.gltf, .glb) is framed for a width x height image (default 1280x720) as the
-    command frames it (Scene.load_gltf)."""
+    model (.gltf, .glb) is framed for a width x height image (default 1280x720) and lit by
+    the studio environment as ``softpbr render model.glb`` shows it (Scene.load_gltf)."""
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):
@@ -78,7 +81,7 @@ def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", Non
 
 def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[int] = None, threads: Optional[int] = None,
            tile_size: Optional[int] = None, tonemap: Optional[str] = None, exposure: Optional[float] = None,
-           gamma: Optional[float] = None, frame: int = 0,
+           gamma: Optional[float] = None, msaa: Optional[int] = None, frame: int = 0,
            base_dir: Union[str, "os.PathLike[str]", None] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) uint8 array: tone mapped, sRGB (or gamma)
     encoded, the bytes ``softpbr render scene.json -o out.png`` writes. ``scene`` is a scene
@@ -88,20 +91,22 @@ def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[in
     Keyword arguments override the scene's render block as the command's options do:
     width, height (1..16384), threads (0 = all cores; the image is the same for any),
     tile_size, tonemap ("none", "reinhard", "aces", "neutral"), exposure (stops), gamma
-    (0 = exact sRGB). ``frame`` picks a frame of the scene's turntable animation.
+    (0 = exact sRGB), msaa (samples a pixel: 1, 4 or 8, as ``--msaa``). ``frame`` picks a
+    frame of the scene's turntable animation.
     The GIL is released while rendering; Ctrl-C raises KeyboardInterrupt from here.
     """
     return _softpbr.render(load_scene(scene, base_dir=base_dir, width=width, height=height), width=width, height=height, threads=threads,
-                           tile_size=tile_size, tonemap=tonemap, exposure=exposure, gamma=gamma, frame=frame)
+                           tile_size=tile_size, tonemap=tonemap, exposure=exposure, gamma=gamma, msaa=msaa, frame=frame)
 
 
 def render_hdr(scene: SceneLike, *, width: Optional[int] = None, height: Optional[int] = None, threads: Optional[int] = None,
-               tile_size: Optional[int] = None, exposure: Optional[float] = None, frame: int = 0,
-               base_dir: Union[str, "os.PathLike[str]", None] = None) -> numpy.ndarray:
+               tile_size: Optional[int] = None, exposure: Optional[float] = None, msaa: Optional[int] = None,
+               frame: int = 0, base_dir: Union[str, "os.PathLike[str]", None] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) float32 array of linear colour x 2^exposure
-    (what ``.exr`` output holds), without a copy of the render target's colour buffer."""
+    (what ``.exr`` output holds; with MSAA the samples' linear average, the box filter),
+    without a copy of the render target's colour buffer."""
     return _softpbr.render_hdr(load_scene(scene, base_dir=base_dir, width=width, height=height), width=width, height=height, threads=threads,
-                               tile_size=tile_size, exposure=exposure, frame=frame)
+                               tile_size=tile_size, exposure=exposure, msaa=msaa, frame=frame)
 
 
 def translate(x: float, y: float, z: float) -> numpy.ndarray:
@@ -117,7 +122,7 @@ def load_obj(path: Union[str, "os.PathLike[str]"]) -> Mesh:
 
 
 __all__ = [
-    "Camera", "Comparison", "Light", "Material", "MatchResult", "Mesh", "Object", "Scene", "SceneLike",
-    "active_renders", "compare", "content_hash", "diff_image", "load_image", "load_obj", "load_scene",
+    "Camera", "Comparison", "Environment", "GltfModel", "Light", "Material", "MatchResult", "Mesh", "Object", "Scene", "SceneLike",
+    "active_renders", "compare", "content_hash", "diff_image", "load_gltf", "load_image", "load_obj", "load_scene",
     "match_golden", "render", "render_hdr", "side_by_side", "translate", "write_hdr", "write_png",
 ]

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <set>
 #include <string>
 
 #include <pybind11/numpy.h>
@@ -21,6 +22,7 @@ namespace py = pybind11;
 // softpbr.Scene: a scene with its render settings and animation, as a scene file gives them.
 struct PyScene {
   pbr::SceneFile file;
+  std::set<const void*> counted_textures;  // textures of Scene.add's materials already in file.texture_bytes
 };
 
 void bind_scene(py::module_& m);

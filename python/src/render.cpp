@@ -36,6 +36,7 @@ struct Overrides {
   std::optional<int> tile_size;
   std::optional<std::string> tonemap;
   std::optional<float> exposure, gamma;
+  std::optional<int> msaa;
   long frame = 0;
 };
 
@@ -55,6 +56,8 @@ pbr::RenderSettings settings_for(const PyScene& s, const Overrides& o) {
   in_range("height", r.height, 1, raster::kMaxTargetSize);
   if (o.threads) r.threads = *o.threads;
   in_range("threads", r.threads, 0u, 1024u);
+  if (o.msaa) r.msaa = *o.msaa;
+  if (!raster::valid_sample_count(r.msaa)) value_error("msaa: expected 1, 4 or 8, got " + std::to_string(r.msaa));
   if (o.tile_size) r.tile_size = *o.tile_size;
   if (!raster::valid_tile_size(r.tile_size))
     value_error("tile_size: expected an even size in [" + std::to_string(raster::kMinTileSize) + ", " +
@@ -74,7 +77,7 @@ pbr::RenderSettings settings_for(const PyScene& s, const Overrides& o) {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   const std::uint64_t physical = pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : 0;
   const std::uint64_t limit = physical ? std::min(pbr::kDefaultMemoryLimit, physical) : pbr::kDefaultMemoryLimit;
-  const std::uint64_t needed = pbr::image_memory(r.width, r.height) + s.file.mesh_bytes + s.file.texture_bytes;
+  const std::uint64_t needed = pbr::image_memory(r.width, r.height, r.msaa) + s.file.mesh_bytes + s.file.texture_bytes;
   if (needed > limit)
     value_error("a " + std::to_string(r.width) + "x" + std::to_string(r.height) + " render of this scene needs an estimated " +
                 pbr::format_bytes(needed) + ", over the limit of " + pbr::format_bytes(limit));
@@ -152,7 +155,7 @@ py::array_t<std::uint8_t> render(const PyScene& s, const Overrides& o) {
   const pbr::Scene scene = pbr::animate(s.file, o.frame);  // a copy: Python may change `s` while C++ runs
   raster::Image8 image;
   run_released(r, [&](raster::Renderer& renderer) {
-    raster::Target target(r.width, r.height);
+    raster::Target target(r.width, r.height, r.msaa);
     pbr::render_rgba8(scene, renderer, target, r.output, image);
   });
   return to_numpy(std::move(image));
@@ -161,9 +164,11 @@ py::array_t<std::uint8_t> render(const PyScene& s, const Overrides& o) {
 py::array_t<float> render_hdr(const PyScene& s, const Overrides& o) {
   const pbr::RenderSettings r = settings_for(s, o);
   const pbr::Scene scene = pbr::animate(s.file, o.frame);
-  auto target = std::make_unique<raster::Target>(r.width, r.height);
+  auto target = std::make_unique<raster::Target>(r.width, r.height, r.msaa);
   run_released(r, [&](raster::Renderer& renderer) {
     pbr::render(scene, renderer, *target);
+    // MSAA: the box filter's linear average, as .hdr and .exr output (pbr::write_exr).
+    if (target->samples() > 1) target = std::make_unique<raster::Target>(raster::resolve_box(*target));
     // × 2^exposure on RGB, as .hdr and .exr output (pbr::write_exr).
     const auto scale = static_cast<float>(dmath::exp2(r.output.exposure));
     if (scale != 1.0f)
@@ -183,29 +188,31 @@ py::array_t<float> render_hdr(const PyScene& s, const Overrides& o) {
 void bind_render(py::module_& m) {
   auto overrides = [](std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
                       std::optional<int> tile_size, std::optional<std::string> tonemap, std::optional<float> exposure,
-                      std::optional<float> gamma, long frame) {
-    return Overrides{width, height, threads, tile_size, std::move(tonemap), exposure, gamma, frame};
+                      std::optional<float> gamma, std::optional<int> msaa, long frame) {
+    return Overrides{width, height, threads, tile_size, std::move(tonemap), exposure, gamma, msaa, frame};
   };
   m.def(
       "render",
       [overrides](const PyScene& s, std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
                   std::optional<int> tile_size, std::optional<std::string> tonemap, std::optional<float> exposure,
-                  std::optional<float> gamma, long frame) {
-        return render(s, overrides(width, height, threads, tile_size, std::move(tonemap), exposure, gamma, frame));
+                  std::optional<float> gamma, std::optional<int> msaa, long frame) {
+        return render(s, overrides(width, height, threads, tile_size, std::move(tonemap), exposure, gamma, msaa, frame));
       },
       py::arg("scene"), py::kw_only(), py::arg("width") = py::none(), py::arg("height") = py::none(),
       py::arg("threads") = py::none(), py::arg("tile_size") = py::none(), py::arg("tonemap") = py::none(),
-      py::arg("exposure") = py::none(), py::arg("gamma") = py::none(), py::arg("frame") = 0,
+      py::arg("exposure") = py::none(), py::arg("gamma") = py::none(), py::arg("msaa") = py::none(), py::arg("frame") = 0,
       "Renders a Scene to a (height, width, 4) uint8 numpy array (sRGB or gamma encoded, tone mapped).");
   m.def(
       "render_hdr",
       [overrides](const PyScene& s, std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
-                  std::optional<int> tile_size, std::optional<float> exposure, long frame) {
-        return render_hdr(s, overrides(width, height, threads, tile_size, std::nullopt, exposure, std::nullopt, frame));
+                  std::optional<int> tile_size, std::optional<float> exposure, std::optional<int> msaa, long frame) {
+        return render_hdr(s, overrides(width, height, threads, tile_size, std::nullopt, exposure, std::nullopt, msaa, frame));
       },
       py::arg("scene"), py::kw_only(), py::arg("width") = py::none(), py::arg("height") = py::none(),
       py::arg("threads") = py::none(), py::arg("tile_size") = py::none(), py::arg("exposure") = py::none(),
-      py::arg("frame") = 0, "Renders a Scene to a (height, width, 4) float32 numpy array: linear colour x 2^exposure.");
+      py::arg("msaa") = py::none(), py::arg("frame") = 0,
+      "Renders a Scene to a (height, width, 4) float32 numpy array: linear colour x 2^exposure (MSAA: the samples' "
+      "linear average).");
   m.def("active_renders", [] { return g_active_renders.load(); },
         "How many renders are inside C++ right now, in all threads (they run without the GIL).");
 }

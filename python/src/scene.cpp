@@ -1,6 +1,8 @@
 // softpbr.Scene, Mesh, Material, Light, Camera and Object (see python/softpbr/_softpbr.pyi
 // for the Python signatures). Angles are in degrees, as in scene files; colours are linear.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <set>
 #include <string>
@@ -13,6 +15,7 @@
 
 #include "bindings.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/pbr/obj.h"
@@ -156,7 +159,7 @@ pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
 // A glTF model as a scene, as `softpbr render model.glb` makes it: pbr::gltf_scene_file
 // (docs/scene-format.md, "glTF models") with the same view.
 std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
-                                    std::optional<int> camera) {
+                                    std::optional<int> camera, bool environment) {
   require_readable(path);
   if (width < 1 || width > raster::kMaxTargetSize || height < 1 || height > raster::kMaxTargetSize)
     value_error("Scene.load_gltf: width and height: expected values in [1, 16384], got " + std::to_string(width) + "x" +
@@ -169,9 +172,11 @@ std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width
   view.yaw = static_cast<float>(yaw);
   view.pitch = static_cast<float>(pitch);
   view.camera = camera ? *camera : -1;
+  view.environment = environment;
   {
     py::gil_scoped_release unlocked;
     raster::ThreadPool pool(0);
+    view.pool = &pool;  // builds the studio environment on first use (the same bits on any pool)
     pbr::GltfScene g = pbr::load_gltf(path, {.pool = &pool});
     try {
       s->file = pbr::gltf_scene_file(std::move(g), view, path.string());
@@ -181,6 +186,162 @@ std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width
     }
   }
   return s;
+}
+
+
+
+// softpbr.load_gltf: a glTF model's objects, lights and cameras as the file places them, to
+// add to a Scene (pbr::load_gltf).
+struct PyGltfModel {
+  pbr::GltfScene model;
+};
+
+std::shared_ptr<PyGltfModel> load_gltf_model(const std::filesystem::path& path, std::optional<int> scene) {
+  require_readable(path);
+  if (scene && *scene < 0) value_error("load_gltf: scene: expected an index >= 0, got " + std::to_string(*scene));
+  auto out = std::make_shared<PyGltfModel>();
+  py::gil_scoped_release unlocked;
+  raster::ThreadPool pool(0);
+  out->model = pbr::load_gltf(path, {.scene = scene.value_or(-1), .pool = &pool});
+  return out;
+}
+
+// ---- Environments (image-based lighting) ----------------------------------------------------
+// softpbr.Environment: a prefiltered map, immutable and shared by the scenes that use it.
+struct PyEnvironment {
+  std::shared_ptr<const pbr::Environment> map;
+};
+
+std::shared_ptr<PyEnvironment> studio_environment() {
+  auto e = std::make_shared<PyEnvironment>();
+  py::gil_scoped_release unlocked;
+  raster::ThreadPool pool(0);
+  e->map = pbr::Environment::studio(&pool);  // built once per process; the same bits on any pool
+  return e;
+}
+
+std::shared_ptr<PyEnvironment> load_environment_file(const std::filesystem::path& path, int size, int samples,
+                                                const std::optional<std::filesystem::path>& cache_dir) {
+  require_readable(path);
+  pbr::EnvironmentOptions options;
+  options.size = size;
+  options.samples = samples;
+  try {
+    pbr::validate(options);
+  } catch (const std::invalid_argument& e) {
+    value_error(std::string("Environment.load: ") + e.what());
+  }
+  auto env = std::make_shared<PyEnvironment>();
+  std::string error;
+  {
+    py::gil_scoped_release unlocked;
+    raster::ThreadPool pool(0);
+    try {
+      env->map = pbr::load_environment(path, options, &pool, cache_dir.value_or(std::filesystem::path{}));
+    } catch (const std::invalid_argument& e) {
+      error = e.what();
+    } catch (const std::runtime_error& e) {
+      error = e.what();
+    }
+  }
+  if (!error.empty()) value_error(error);  // names the file, as the scene file's /environment/file
+  return env;
+}
+
+const char* background_mode_name(pbr::BackgroundMode m) {
+  return m == pbr::BackgroundMode::Color ? "color" : m == pbr::BackgroundMode::Environment ? "environment" : "blur";
+}
+
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+// The scene file's ranges (docs/scene-format.md, "Environment"), named as Python's arguments.
+float env_number(const char* what, double v, double lo, double hi) {
+  if (!(v >= lo && v <= hi))
+    value_error(std::string(what) + ": expected a number in [" + number_text(lo) + ", " + number_text(hi) +
+                "], got " + number_text(v));
+  return static_cast<float>(v);
+}
+
+// The environment's map, its memory counted with the scene's (as the loaders count it).
+void set_map(PyScene& s, std::shared_ptr<const pbr::Environment> map) {
+  if (const auto& old = s.file.scene.environment.map) s.file.mesh_bytes -= std::min<std::uint64_t>(s.file.mesh_bytes, old->bytes());
+  if (map) s.file.mesh_bytes += map->bytes();
+  s.file.scene.environment.map = std::move(map);
+}
+
+void set_background_mode(PyScene& s, const std::string& mode) {
+  pbr::Scene& sc = s.file.scene;
+  if (mode == "color") sc.background_mode = pbr::BackgroundMode::Color;
+  else if (mode == "environment" || mode == "blur") {
+    if (!sc.environment.map) value_error("background_mode \"" + mode + "\": the scene has no environment (set_environment first)");
+    sc.background_mode = mode == "blur" ? pbr::BackgroundMode::Blur : pbr::BackgroundMode::Environment;
+  } else {
+    value_error("background_mode: expected \"color\", \"environment\" or \"blur\", got \"" + mode + "\"");
+  }
+}
+
+// Scene.set_environment: the scene file's /environment, or `softpbr render --env …` on a
+// loaded scene: a value left None keeps the scene's (a scene without an environment shows
+// it as its background, as a file's "environment" section does).
+void set_environment(PyScene& s, const py::object& environment, std::optional<double> intensity,
+                     std::optional<double> rotation, const py::object& background, std::optional<double> blur,
+                     std::optional<bool> multiscatter) {
+  pbr::Scene& sc = s.file.scene;
+  // Everything checked before the scene changes.
+  const float i = intensity ? env_number("intensity", *intensity, 0, 1e6) : sc.environment.intensity;
+  const float r = rotation ? env_number("rotation", *rotation, -1e6, 1e6) : sc.environment.rotation;
+  const float b = blur ? env_number("blur", *blur, 0, 1) : sc.background_blur;
+  std::optional<std::string> mode;
+  std::optional<glm::vec4> colour;
+  if (py::isinstance<py::str>(background)) {
+    mode = background.cast<std::string>();
+    if (*mode != "environment" && *mode != "blur" && *mode != "transparent")
+      value_error("background: expected \"environment\", \"blur\", \"transparent\" or a colour (r, g, b), got \"" + *mode + "\"");
+    if (mode == "transparent") colour = glm::vec4(0.0f);
+  } else if (!background.is_none()) {
+    Vec3 c{};
+    try {
+      c = background.cast<Vec3>();
+    } catch (const py::cast_error&) {
+      value_error("background: expected \"environment\", \"blur\", \"transparent\" or a colour (r, g, b), got " +
+                  std::string(py::str(py::repr(background))));
+    }
+    for (float v : c) env_number("background", v, 0, 1e30);
+    colour = glm::vec4(c[0], c[1], c[2], 1.0f);
+  }
+  std::shared_ptr<const pbr::Environment> map;
+  if (environment.is_none()) {
+    if (mode == "environment" || mode == "blur") value_error("background \"" + *mode + "\": the environment is None");
+  } else if (py::isinstance<PyEnvironment>(environment)) {
+    map = environment.cast<const PyEnvironment&>().map;
+  } else if (py::isinstance<py::str>(environment) && environment.cast<std::string>() == "studio") {
+    map = studio_environment()->map;
+  } else {
+    try {
+      map = load_environment_file(environment.cast<std::filesystem::path>(), 0, 64, std::nullopt)->map;
+    } catch (const py::cast_error&) {
+      type_error("environment: expected an Environment, \"studio\", a path to an .hdr/.exr or None, got " +
+                 std::string(py::str(environment.get_type().attr("__name__"))));
+    }
+  }
+  const bool had_map = sc.environment.map != nullptr;
+  set_map(s, std::move(map));
+  if (!sc.environment.map) sc.background_mode = pbr::BackgroundMode::Color;
+  else if (!had_map) sc.background_mode = pbr::BackgroundMode::Environment;
+  if (mode == "environment") sc.background_mode = pbr::BackgroundMode::Environment;
+  if (mode == "blur") sc.background_mode = pbr::BackgroundMode::Blur;
+  if (colour) {
+    sc.background_mode = pbr::BackgroundMode::Color;
+    sc.background = *colour;
+  }
+  sc.environment.intensity = i;
+  sc.environment.rotation = r;
+  sc.background_blur = b;
+  if (multiscatter) sc.environment.multiscatter = *multiscatter;
 }
 
 }  // namespace
@@ -314,8 +475,14 @@ Light.point(), Light.directional() or Light.spot(); cone angles are in degrees.)
       .def_property_readonly("outer_cone", [](const pbr::Light& l) { return degrees(l.outer_cone); })
       .def("__repr__", [](const pbr::Light& l) { return std::string("<softpbr.Light ") + light_type_name(l.type) + ">"; });
 
-  py::class_<pbr::Camera>(m, "Camera", "A perspective look-at camera; fov is the vertical field of view in degrees.")
-      .def(py::init([](Vec3 position, Vec3 target, Vec3 up, double fov, float near, float far) {
+  py::class_<pbr::Camera>(m, "Camera", R"(A look-at camera, perspective or orthographic (as a scene file's camera).
+
+Perspective (the default): fov is the vertical field of view in degrees, the aspect ratio
+the image's. Orthographic (orthographic=True): rays parallel to target - position, the view
+2*xmag x 2*ymag world units (glTF's xmag, ymag); xmag 0 follows the image (ymag x width /
+height); near may be 0 and fov is not used. Values are checked when rendered (ValueError).)")
+      .def(py::init([](Vec3 position, Vec3 target, Vec3 up, double fov, float near, float far, bool orthographic, float ymag,
+                       float xmag) {
              pbr::Camera c;
              c.position = to_glm(position);
              c.target = to_glm(target);
@@ -323,22 +490,90 @@ Light.point(), Light.directional() or Light.spot(); cone angles are in degrees.)
              c.fovy = radians(fov);
              c.near = near;
              c.far = far;
+             c.orthographic = orthographic;
+             c.ymag = ymag;
+             c.xmag = xmag;
              return c;
            }),
            py::kw_only(), py::arg("position") = Vec3{0, 0, 3}, py::arg("target") = Vec3{0, 0, 0}, py::arg("up") = Vec3{0, 1, 0},
-           py::arg("fov") = 45.0, py::arg("near") = 0.1f, py::arg("far") = 100.0f)
+           py::arg("fov") = 45.0, py::arg("near") = 0.1f, py::arg("far") = 100.0f, py::arg("orthographic") = false,
+           py::arg("ymag") = 1.0f, py::arg("xmag") = 0.0f)
       .def_property("position", [](const pbr::Camera& c) { return from_glm(c.position); }, [](pbr::Camera& c, Vec3 v) { c.position = to_glm(v); })
       .def_property("target", [](const pbr::Camera& c) { return from_glm(c.target); }, [](pbr::Camera& c, Vec3 v) { c.target = to_glm(v); })
       .def_property("up", [](const pbr::Camera& c) { return from_glm(c.up); }, [](pbr::Camera& c, Vec3 v) { c.up = to_glm(v); })
-      .def_property("fov", [](const pbr::Camera& c) { return degrees(c.fovy); }, [](pbr::Camera& c, double f) { c.fovy = radians(f); })
+      .def_property("fov", [](const pbr::Camera& c) { return degrees(c.fovy); }, [](pbr::Camera& c, double f) { c.fovy = radians(f); },
+                    "Perspective: the vertical field of view, degrees.")
       .def_readwrite("near", &pbr::Camera::near)
-      .def_readwrite("far", &pbr::Camera::far);
+      .def_readwrite("far", &pbr::Camera::far)
+      .def_readwrite("orthographic", &pbr::Camera::orthographic, "True: an orthographic projection (ymag, xmag).")
+      .def_readwrite("ymag", &pbr::Camera::ymag, "Orthographic: half the view's height in world units (> 0).")
+      .def_readwrite("xmag", &pbr::Camera::xmag,
+                     "Orthographic: half the view's width in world units; 0 follows the image (ymag x width / height).")
+      .def("__repr__", [](const pbr::Camera& c) {
+        return std::string("<softpbr.Camera ") + (c.orthographic ? "orthographic ymag=" + std::to_string(c.ymag) +
+                                                                       " xmag=" + std::to_string(c.xmag)
+                                                                 : "perspective fov=" + std::to_string(degrees(c.fovy))) +
+               ">";
+      });
 
   py::class_<pbr::Object>(m, "Object", "One object of a scene: a mesh drawn with a material and a model-to-world transform.")
       .def_property_readonly("mesh", [](const pbr::Object& o) { return std::const_pointer_cast<pbr::Mesh>(o.mesh); })
       .def_readonly("material", &pbr::Object::material)
       .def_property_readonly("transform", [](const pbr::Object& o) { return matrix_to(o.transform); },
                              "4x4 float32 matrix (numpy rows: a point p maps to transform @ [p, 1]).");
+
+  py::class_<PyGltfModel, std::shared_ptr<PyGltfModel>>(m, "GltfModel", R"(A glTF 2.0 model as loaded by softpbr.load_gltf(path).
+
+objects: one Object per mesh primitive per node, with the node's world transform and the
+glTF material (textures included); lights: its KHR_lights_punctual lights placed by their
+nodes; cameras: its cameras placed by their nodes (perspective or orthographic). Add them to
+a Scene: scene.add(o.mesh, o.material, o.transform) for o in model.objects. Scene.load_gltf
+is the whole model framed and lit as `softpbr render model.glb` shows it.)")
+      .def_property_readonly("objects", [](const PyGltfModel& g) { return g.model.objects; })
+      .def_property_readonly("lights", [](const PyGltfModel& g) { return g.model.lights; })
+      .def_property_readonly("cameras", [](const PyGltfModel& g) {
+        std::vector<pbr::Camera> c;
+        for (const pbr::GltfCamera& k : g.model.cameras) c.push_back(k.camera);
+        return c;
+      }, "The file's cameras, in its order (Scene.load_gltf(path, camera=N) views through camera N).")
+      .def_property_readonly("camera_names", [](const PyGltfModel& g) {
+        std::vector<std::string> n;
+        for (const pbr::GltfCamera& k : g.model.cameras) n.push_back(k.name);
+        return n;
+      })
+      .def_property_readonly("warnings", [](const PyGltfModel& g) { return g.model.warnings; })
+      .def_property_readonly("triangles", [](const PyGltfModel& g) { return g.model.triangles; })
+      .def_property_readonly("files", [](const PyGltfModel& g) { return g.model.files; },
+                             "The external buffers and images read (not the model's own file).")
+      .def("__repr__", [](const PyGltfModel& g) {
+        return "<softpbr.GltfModel " + std::to_string(g.model.objects.size()) + " objects, " +
+               std::to_string(g.model.lights.size()) + " lights, " + std::to_string(g.model.cameras.size()) + " cameras>";
+      });
+  m.def("load_gltf", &load_gltf_model, py::arg("path"), py::kw_only(), py::arg("scene") = py::none(),
+        "Loads a glTF 2.0 model (.gltf, .glb): its objects, lights and cameras (scene: the glTF scene to read, default "
+        "the file's). OSError if it cannot be read; ValueError with the file and the JSON pointer if it is invalid.");
+
+  py::class_<PyEnvironment, std::shared_ptr<PyEnvironment>>(m, "Environment", R"(An HDR environment prefiltered for image-based lighting (docs/design.md, "Image-based lighting").
+
+Environment.studio() is the built-in studio (what `softpbr render model.glb` lights a model
+with); Environment.load(path) reads an equirectangular .hdr or .exr (linear radiance, every
+value finite and >= 0). Immutable: one Environment may light many scenes, in many threads.
+Give it to a scene with Scene.set_environment(env, intensity=…, rotation=…).)")
+      .def_static("studio", &studio_environment, "The built-in studio: a grey dome, a darker floor and softboxes (no file).")
+      .def_static("load", &load_environment_file, py::arg("path"), py::kw_only(), py::arg("size") = 0, py::arg("samples") = 64,
+                  py::arg("cache_dir") = py::none(),
+                  "Loads and prefilters an .hdr or .exr (the scene file's /environment/file, size and samples; "
+                  "cache_dir as the command's --env-cache). Cached in memory by content: the same file gives the same "
+                  "Environment. OSError if unreadable; ValueError naming the file if it is not a valid environment.")
+      .def_property_readonly("name", [](const PyEnvironment& e) { return e.map->name(); })
+      .def_property_readonly("size", [](const PyEnvironment& e) { return e.map->size(); },
+                             "Side of the sharpest octahedral map, texels.")
+      .def_property_readonly("bytes", [](const PyEnvironment& e) { return e.map->bytes(); }, "Memory held by its maps.")
+      .def("__eq__", [](const PyEnvironment& a, const PyEnvironment& b) { return a.map == b.map; })
+      .def("__hash__", [](const PyEnvironment& e) { return std::hash<const void*>()(e.map.get()); })
+      .def("__repr__", [](const PyEnvironment& e) {
+        return "<softpbr.Environment " + e.map->name() + " " + std::to_string(e.map->size()) + "x" + std::to_string(e.map->size()) + ">";
+      });
 
   py::class_<PyScene, std::shared_ptr<PyScene>>(m, "Scene", R"(A scene: camera, objects, lights, and the render settings of a scene file.
 
@@ -357,10 +592,12 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
           py::arg("path"),
           "Reads a scene file. OSError if it cannot be read; ValueError with the file and JSON pointer if it is invalid.")
       .def_static("load_gltf", &gltf_scene, py::arg("path"), py::kw_only(), py::arg("width") = 1280, py::arg("height") = 720,
-                  py::arg("yaw") = 0.0, py::arg("pitch") = 0.0, py::arg("camera") = py::none(),
+                  py::arg("yaw") = 0.0, py::arg("pitch") = 0.0, py::arg("camera") = py::none(), py::arg("environment") = true,
                   "A glTF 2.0 model (.gltf, .glb) as `softpbr render model.glb` shows it: framed for a width x height "
-                  "image, turned by yaw and raised by pitch (degrees), or through camera N of the file; the default light "
-                  "rig when the file has no lights. OSError if unreadable, ValueError naming the JSON pointer if invalid.")
+                  "image, turned by yaw and raised by pitch (degrees), or through camera N of the file; lit by the "
+                  "built-in studio environment (blurred background) and the file's lights, or with environment=False "
+                  "(`--env none`) by the file's lights or the default light rig when it has none. OSError if unreadable, "
+                  "ValueError naming the JSON pointer if invalid.")
       .def_static(
           "from_json",
           [](const std::string& text, const std::string& name, const std::filesystem::path& base_dir) {
@@ -382,9 +619,15 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
             s.file.mesh_bytes += raster::draw_geometry_bytes(mesh->vertices.size(), mesh->triangle_count(), 18) +
                                  mesh->vertices.size() * sizeof(pbr::MeshVertex) + mesh->indices.size() * 4;
             s.file.triangles += mesh->triangle_count();
+            // A glTF material's textures (softpbr.load_gltf), each counted once.
+            const pbr::Material& mat = s.file.scene.objects.back().material;
+            for (const pbr::TextureSlot* t : {&mat.base_color_texture, &mat.metallic_roughness_texture, &mat.normal_texture,
+                                              &mat.occlusion_texture, &mat.emissive_texture})
+              if (t->texture && s.counted_textures.insert(t->texture.get()).second) s.file.texture_bytes += t->texture->texel_bytes();
           },
           py::arg("mesh"), py::arg("material") = py::none(), py::arg("transform") = py::none(),
-          "Adds an object: `mesh` with `material` (default: grey, roughness 0.5) placed by `transform` (4x4, default identity).")
+          "Adds an object: `mesh` with `material` (default: grey, roughness 0.5) placed by `transform` (4x4, default identity); "
+          "its memory (and a glTF material's textures) counts toward the render's estimate.")
       .def("add_light", [](PyScene& s, const pbr::Light& l) {
         if (s.file.scene.lights.size() >= pbr::kMaxLights)
           value_error("Scene.add_light: a scene has at most " + std::to_string(pbr::kMaxLights) + " lights");
@@ -418,6 +661,49 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
                     "0: the exact sRGB curve; > 0: a power law.")
       .def_property("threads", [](PyScene& s) { return settings(s).threads; }, [](PyScene& s, unsigned v) { settings(s).threads = v; })
       .def_property("tile_size", [](PyScene& s) { return settings(s).tile_size; }, [](PyScene& s, int v) { settings(s).tile_size = v; })
+      .def("set_environment", &set_environment, py::arg("environment"), py::kw_only(), py::arg("intensity") = py::none(),
+           py::arg("rotation") = py::none(), py::arg("background") = py::none(), py::arg("blur") = py::none(),
+           py::arg("multiscatter") = py::none(),
+           R"(Lights the scene with an environment, as a scene file's "environment" section does.
+
+environment: an Environment, "studio" (the built-in one), a path to an .hdr/.exr (loaded with
+the default size and samples), or None (no image-based lighting; the background is the colour).
+intensity (in [0, 1e6]) scales its radiance; rotation turns it about +Y, degrees;
+background: "environment", "blur" (its radiance at roughness `blur`, in [0, 1]),
+"transparent" (alpha 0) or a linear colour (r, g, b); multiscatter: energy compensation.
+An argument left None keeps the scene's value, so on a scene that already has an environment
+this is `softpbr render --env … --env-intensity … --env-rotation …`; a scene without one
+shows the environment as its background (the file's default).)")
+      .def_property_readonly("environment", [](const PyScene& s) -> std::shared_ptr<PyEnvironment> {
+        if (!s.file.scene.environment.map) return nullptr;
+        return std::make_shared<PyEnvironment>(PyEnvironment{s.file.scene.environment.map});
+      }, "The Environment lighting the scene, or None (set it with set_environment).")
+      .def_property("environment_intensity", [](const PyScene& s) { return s.file.scene.environment.intensity; },
+                    [](PyScene& s, double v) { s.file.scene.environment.intensity = env_number("environment_intensity", v, 0, 1e6); },
+                    "Scale of the environment's radiance, [0, 1e6].")
+      .def_property("environment_rotation", [](const PyScene& s) { return s.file.scene.environment.rotation; },
+                    [](PyScene& s, double v) { s.file.scene.environment.rotation = env_number("environment_rotation", v, -1e6, 1e6); },
+                    "Degrees about +Y, counter-clockwise seen from above.")
+      .def_property("multiscatter", [](const PyScene& s) { return s.file.scene.environment.multiscatter; },
+                    [](PyScene& s, bool v) { s.file.scene.environment.multiscatter = v; },
+                    "Multiple-scattering energy compensation of the environment lighting.")
+      .def_property("background_mode", [](const PyScene& s) { return std::string(background_mode_name(s.file.scene.background_mode)); },
+                    &set_background_mode,
+                    "\"color\" (the background colour), \"environment\" or \"blur\" (both need an environment).")
+      .def_property("background_blur", [](const PyScene& s) { return s.file.scene.background_blur; },
+                    [](PyScene& s, double v) { s.file.scene.background_blur = env_number("background_blur", v, 0, 1); },
+                    "Roughness of the \"blur\" background, [0, 1].")
+      .def_property("msaa", [](PyScene& s) { return settings(s).msaa; },
+                    [](PyScene& s, int v) {
+                      if (!raster::valid_sample_count(v)) value_error("msaa: expected 1, 4 or 8, got " + std::to_string(v));
+                      settings(s).msaa = v;
+                    }, "Samples a pixel: 1, 4 or 8 (MSAA).")
+      .def_property("resolve", [](PyScene& s) { return std::string(pbr::resolve_name(settings(s).output.resolve)); },
+                    [](PyScene& s, const std::string& name) {
+                      const auto r = pbr::resolve_from_name(name);
+                      if (!r) value_error("resolve: expected \"tonemapped\" or \"linear\", got \"" + name + "\"");
+                      settings(s).output.resolve = *r;
+                    }, "How MSAA samples become a pixel of render(): \"tonemapped\" (the default) or \"linear\".")
       .def_property_readonly("warnings", [](const PyScene& s) { return s.file.warnings; })
       .def_property_readonly("triangles", [](const PyScene& s) { return s.file.triangles; })
       .def("__repr__", [](const PyScene& s) {
