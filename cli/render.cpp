@@ -469,10 +469,19 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     image::OutputFiles files;
     try {
       if (png_error) std::rethrow_exception(png_error);
+      // .hdr and .exr hold one linear colour a pixel: a multisampled target's samples are
+      // averaged first (the box resolve of linear radiance, as pbr::write_exr does).
+      std::optional<raster::Target> resolved;
+      auto linear = [&]() -> const raster::Target& {
+        if (target.samples() == 1) return target;
+        if (!resolved) resolved.emplace(raster::resolve_box(target));
+        return *resolved;
+      };
       for (std::size_t i = 0; i < paths.size(); ++i) {
+        const float scale = exposure_scale(s.output.exposure);
         if (job.formats[i] == Format::Png) files.add(paths[i], png_bytes);
-        else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
-        else files.add(paths[i], image::encode_exr(colour_view(target), paths[i], exposure_scale(s.output.exposure)));
+        else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(linear()), paths[i], scale));
+        else files.add(paths[i], image::encode_exr(colour_view(linear()), paths[i], scale));
       }
       files.commit();
     } catch (const std::bad_alloc&) {
