@@ -3,8 +3,21 @@
 #include <cmath>
 #include <string>
 
-#include <stb_image.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#endif
+// stb_image_write's implementation, static here (its one user), as stb_image's is in
+// stb_decode.cpp.
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb_image_write.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 #include "formats.h"
 #include "hdr_scan.h"
@@ -21,10 +34,8 @@ ImageF load_hdr(std::span<const std::uint8_t> bytes, std::string_view name, cons
   // stb_image hangs on some truncated files (hdr_scan.h): check the data is all there.
   if (const std::string problem = detail::hdr_truncation(bytes, size.width, size.height); !problem.empty())
     detail::fail(name, problem);
-  int w = 0, h = 0, channels = 0;
-  const detail::StbPixels<float> rgb(
-      stbi_loadf_from_memory(bytes.data(), detail::stb_size(bytes, name), &w, &h, &channels, 3));
-  if (!rgb) detail::fail(name, std::string("cannot decode (") + stbi_failure_reason() + ")");
+  int w = 0, h = 0;
+  const auto rgb = detail::stb_load_rgb_float(bytes, name, w, h);
   ImageF image{w, h, {}};
   const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   image.rgba.resize(n * 4);

@@ -1,9 +1,28 @@
-// The shared calls into stb_image (see stb_decode.h).
+// The shared calls into stb_image (see stb_decode.h), and stb_image itself: its
+// implementation (Debian's libstb-dev header) compiled here, with the project's flags and
+// static, so no other copy in the process can take its place. Linking libstb.so instead
+// left the choice to the dynamic linker: libdraco.so exports the copy of stb_image it
+// bundles, and as it came first in the link line, that copy decoded every image.
 #include "stb_decode.h"
 
 #include <string>
 
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wtype-limits"
+#pragma GCC diagnostic ignored "-Wunused-but-set-variable"
+#endif
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
 #include <stb_image.h>
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 #include "formats.h"
 
@@ -21,11 +40,20 @@ StbSize stb_info(std::span<const std::uint8_t> bytes, std::string_view name) {
 
 Image8 stb_load_rgba8(std::span<const std::uint8_t> bytes, std::string_view name) {
   int w = 0, h = 0, channels = 0;
-  const StbPixels<stbi_uc> data(stbi_load_from_memory(bytes.data(), stb_size(bytes, name), &w, &h, &channels, 4));
+  const std::unique_ptr<stbi_uc[], StbFree> data(stbi_load_from_memory(bytes.data(), stb_size(bytes, name), &w, &h, &channels, 4));
   if (!data) fail(name, std::string("cannot decode (") + stbi_failure_reason() + ")");
   Image8 image{w, h, {}};
   image.rgba.assign(data.get(), data.get() + static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
   return image;
+}
+
+std::unique_ptr<float[], StbFree> stb_load_rgb_float(std::span<const std::uint8_t> bytes, std::string_view name,
+                                                     int& width, int& height) {
+  int channels = 0;
+  std::unique_ptr<float[], StbFree> rgb(
+      stbi_loadf_from_memory(bytes.data(), stb_size(bytes, name), &width, &height, &channels, 3));
+  if (!rgb) fail(name, std::string("cannot decode (") + stbi_failure_reason() + ")");
+  return rgb;
 }
 
 }  // namespace softpbr::image::detail

@@ -1,5 +1,6 @@
 // Internal to softpbr_image: the calls into stb_image that png.cpp, jpeg.cpp and hdr.cpp
-// share, each run after the file's own checks.
+// share, each run after the file's own checks. stb_decode.cpp is the one file that
+// includes stb_image.h (its implementation is static there).
 #pragma once
 
 #include <cstdint>
@@ -25,7 +26,10 @@ Image8 stb_load_rgba8(std::span<const std::uint8_t> bytes, std::string_view name
 struct StbFree {
   void operator()(void* p) const;
 };
-template <class T>
-using StbPixels = std::unique_ptr<T, StbFree>;
+
+// A Radiance .hdr decoded to float RGB (width × height × 3 values), or "<name>: cannot
+// decode (why)".
+std::unique_ptr<float[], StbFree> stb_load_rgb_float(std::span<const std::uint8_t> bytes, std::string_view name,
+                                                     int& width, int& height);
 
 }  // namespace softpbr::image::detail
