@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <memory>
+#include <new>
 #include <string>
 
 #include <spng.h>
@@ -39,7 +40,11 @@ Image8 decode_png(std::span<const std::uint8_t> bytes, std::string_view name, co
   if (!e) {
     image.width = static_cast<int>(ihdr.width);
     image.height = static_cast<int>(ihdr.height);
-    image.rgba.resize(size);
+    try {
+      image.rgba.resize(size);
+    } catch (const std::bad_alloc&) {  // a process or address-space limit: as stb_image said it
+      detail::fail(name, "cannot decode (out of memory for " + std::to_string(size) + " bytes of pixels)");
+    }
     e = spng_decode_image(ctx.get(), image.rgba.data(), size, SPNG_FMT_RGBA8, SPNG_DECODE_TRNS);
   }
   if (e) detail::fail(name, std::string("cannot decode (") + spng_strerror(e) + ")");
