@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <new>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -135,6 +136,8 @@ int info_gltf(const std::string& path) {
     info = pbr::inspect_gltf(path);
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
+  } catch (const std::bad_alloc&) {
+    throw Error(kExitInput, path + ": out of memory while loading it (the process's memory or address-space limit)");
   }
   std::printf("%s\n", path.c_str());
   std::printf("  asset      glTF %s%s\n", printable_line(info.version).c_str(),

@@ -96,6 +96,8 @@ pbr::SceneFile gltf_scene(const RenderArgs& a, const std::string& input, raster:
     g = pbr::load_gltf(input, {.pool = &pool, .memory_limit = memory_limit, .roots = roots});
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
+  } catch (const std::bad_alloc&) {
+    throw Error(kExitInput, input + ": out of memory while loading it (the process's memory or address-space limit)");
   }
   pbr::GltfView view;
   view.width = a.width_opt->count() ? a.width : view.width;

@@ -235,6 +235,15 @@ PY
 import json; g = json.load(open('tri.gltf')); g['extras'] = list(range(20000)); open('tri-extras.gltf', 'w').write(json.dumps(g))"
   expect_error 3 "tri-extras.gltf: parsing its JSON (20063 values) needs an estimated 3.8 MiB, over the memory limit of 1.0 MiB" \
     render tri-extras.gltf -o memory.png --width 32 --height 24 --max-memory 1
+  # Out of the process's memory while tinygltf parses (a limit the estimate does not know):
+  # one line naming the file, exit 3. Not under ASan, which reserves terabytes of address space.
+  if ! ldd "$softpbr" 2>/dev/null | grep -q libasan; then
+    python3 -c "
+import json; g = json.load(open('tri.gltf')); g['extras'] = [[1.5, 2.5, 3.5, 4.5]] * 1000000; open('tri-huge.gltf', 'w').write(json.dumps(g))"
+    (ulimit -v 600000; "$softpbr" render tri-huge.gltf -o memory.png --width 32 --height 24 --max-memory 100000 >/dev/null 2>stderr.txt; echo $? >rc.txt)
+    [ "$(cat rc.txt)" = 3 ] && [ "$(cat stderr.txt)" = "tri-huge.gltf: out of memory while loading it (the process's memory or address-space limit)" ] \
+      && pass "a glTF that runs out of memory: exit 3, one line" || fail "tri-huge.gltf under ulimit -v: exit $(cat rc.txt), stderr: $(cat stderr.txt)"
+  fi
   scene_with '' ''
   expect_error 2 "./bad.png: given twice as an output (under another name)" render bad.json -o bad.png -o ./bad.png
   # Files that merely look like temporaries are not ours: never removed.
