@@ -6,7 +6,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "softpbr/image/write.h"
 #include "softpbr/pbr/gltf.h"
@@ -286,6 +289,87 @@ TEST_CASE("glTF JSON is checked in a streaming pass before it is parsed, and tex
   const pbr::GltfScene loaded = pbr::load_gltf(tex, {.memory_limit = std::uint64_t{3} << 20});
   REQUIRE(loaded.objects.size() == 1);
   CHECK(loaded.objects[0].material.base_color_texture.texture != nullptr);
+}
+
+TEST_CASE("glTF's schema is checked before tinygltf: required properties, JSON types and enums, with their JSON pointers") {
+  // The textured triangle of a sampler, a texture, an image and a material, then one change each.
+  const nlohmann::json base = nlohmann::json::parse(triangle_gltf(
+      kGoodAccessors, R"(, "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+      "samplers": [{"magFilter": 9729}], "textures": [{"source": 0, "sampler": 0}],
+      "images": [{"uri": "data:image/png;base64,iVBORw0KGgo="}])"));
+  struct Case {
+    const char* name;
+    std::function<void(nlohmann::json&)> change;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"no_asset", [](nlohmann::json& g) { g.erase("asset"); }, "missing required property \"asset\""},
+      {"version_number", [](nlohmann::json& g) { g["asset"]["version"] = 2; }, "/asset/version: must be a string, got 2"},
+      {"no_count", [](nlohmann::json& g) { g["accessors"][0].erase("count"); },
+       "/accessors/0: missing required property \"count\""},
+      {"no_component_type", [](nlohmann::json& g) { g["accessors"][1].erase("componentType"); },
+       "/accessors/1: missing required property \"componentType\""},
+      {"vec7", [](nlohmann::json& g) { g["accessors"][0]["type"] = "VEC7"; },
+       "/accessors/0/type: must be one of SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3, MAT4, got \"VEC7\""},
+      {"component_type", [](nlohmann::json& g) { g["accessors"][0]["componentType"] = 5124; },
+       "/accessors/0/componentType: must be one of 5120, 5121, 5122, 5123, 5125, 5126, got 5124"},
+      {"no_byte_length", [](nlohmann::json& g) { g["buffers"][0].erase("byteLength"); },
+       "/buffers/0: missing required property \"byteLength\""},
+      {"view_no_buffer", [](nlohmann::json& g) { g["bufferViews"][1].erase("buffer"); },
+       "/bufferViews/1: missing required property \"buffer\""},
+      {"bad_base64", [](nlohmann::json& g) { g["buffers"][0]["uri"] = "data:application/octet-stream;base64,AA@A"; },
+       "/buffers/0/uri: the data URI's base64 data has a character that is not base64 at byte 39 of the URI"},
+      {"not_base64", [](nlohmann::json& g) { g["images"][0]["uri"] = "data:image/png,abc"; },
+       "/images/0/uri: a data URI must be base64 (\"data:<type>;base64,<data>\")"},
+      {"missing_bin", [](nlohmann::json& g) { g["buffers"][0]["uri"] = "nope.bin"; }, "/buffers/0/uri: nope.bin: no such file"},
+      {"nodes_object", [](nlohmann::json& g) { g["nodes"] = {{"a", 1}}; }, "/nodes: must be an array, got {\"a\":1}"},
+      {"node_string", [](nlohmann::json& g) { g["nodes"][0] = "node"; }, "/nodes/0: must be a JSON object, got \"node\""},
+      {"translation", [](nlohmann::json& g) { g["nodes"][0]["translation"] = {1, 2}; },
+       "/nodes/0/translation: must be an array of 3 numbers, got [1,2]"},
+      {"child_string", [](nlohmann::json& g) { g["nodes"][0]["children"] = {"x"}; },
+       "/nodes/0/children/0: must be an index (an integer >= 0), got \"x\""},
+      {"source_string", [](nlohmann::json& g) { g["textures"][0]["source"] = "zero"; },
+       "/textures/0/source: must be an index (an integer >= 0), got \"zero\""},
+      {"mag_filter", [](nlohmann::json& g) { g["samplers"][0]["magFilter"] = "x"; },
+       "/samplers/0/magFilter: must be one of 9728, 9729, got \"x\""},
+      {"wrap", [](nlohmann::json& g) { g["samplers"][0]["wrapS"] = 10496; },
+       "/samplers/0/wrapS: must be one of 33071, 33648, 10497, got 10496"},
+      {"factor", [](nlohmann::json& g) { g["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1}; },
+       "/materials/0/pbrMetallicRoughness/baseColorFactor: must be an array of 4 numbers, got [1,1]"},
+      {"texture_index", [](nlohmann::json& g) { g["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"].erase("index"); },
+       "/materials/0/pbrMetallicRoughness/baseColorTexture: missing required property \"index\""},
+      {"alpha_mode", [](nlohmann::json& g) { g["materials"][0]["alphaMode"] = "blend"; },
+       "/materials/0/alphaMode: must be one of OPAQUE, MASK, BLEND, got \"blend\""},
+      {"no_primitives", [](nlohmann::json& g) { g["meshes"][0].erase("primitives"); },
+       "/meshes/0: missing required property \"primitives\""},
+      {"empty_primitives", [](nlohmann::json& g) { g["meshes"][0]["primitives"] = nlohmann::json::array(); },
+       "/meshes/0/primitives: must be an array of at least one primitive, got []"},
+      {"no_attributes", [](nlohmann::json& g) { g["meshes"][0]["primitives"][0].erase("attributes"); },
+       "/meshes/0/primitives/0: missing required property \"attributes\""},
+      {"attribute_string", [](nlohmann::json& g) { g["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = "0"; },
+       "/meshes/0/primitives/0/attributes/POSITION: must be an accessor index (an integer >= 0), got \"0\""},
+      {"mode", [](nlohmann::json& g) { g["meshes"][0]["primitives"][0]["mode"] = 7; },
+       "/meshes/0/primitives/0/mode: must be one of 0, 1, 2, 3, 4, 5, 6, got 7"},
+      {"camera_type", [](nlohmann::json& g) { g["cameras"] = {{{"type", "fisheye"}}}; },
+       "/cameras/0/type: must be one of perspective, orthographic, got \"fisheye\""},
+      {"camera_yfov", [](nlohmann::json& g) { g["cameras"] = {{{"type", "perspective"}, {"perspective", {{"znear", 0.1}}}}}; },
+       "/cameras/0/perspective: missing required property \"yfov\""},
+      {"extensions_used", [](nlohmann::json& g) { g["extensionsUsed"] = {1}; }, "/extensionsUsed/0: must be a string, got 1"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.name);
+    nlohmann::json g = base;
+    c.change(g);
+    const std::string message = load_error(write_gltf(std::string(c.name) + ".gltf", g.dump()));
+    CAPTURE(message);
+    CHECK(message.find(std::string(c.name) + ".gltf: " + c.message) != std::string::npos);
+    CHECK(message.find('\n') == std::string::npos);
+  }
+  // An integer written with a zero fraction is an integer (JSON Schema), as tinygltf reads it.
+  nlohmann::json g = base;
+  g["meshes"][0]["primitives"][0]["indices"] = 1.0;
+  g.erase("materials");
+  CHECK_NOTHROW(pbr::load_gltf(write_gltf("integral_float.gltf", g.dump())));
 }
 
 TEST_CASE("scene files place a glTF model like an OBJ model: its primitives with their materials, or merged") {

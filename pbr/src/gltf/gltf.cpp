@@ -22,6 +22,7 @@
 
 #include "gltf/draco.h"
 #include "gltf/meshopt.h"
+#include "gltf/schema.h"
 #include "gltf/tinygltf.h"
 #include "json_reader.h"
 #include "texture_cache.h"
@@ -1008,9 +1009,10 @@ bool keep_encoded(tg::Image* image, const int index, std::string* err, std::stri
 // (tinygltf converts extras and extensions recursively: 200000 nested arrays overflowed
 // the stack), at most so many values; then the memory of what tinygltf builds, from the
 // pass's counts, against the limit — before any of it is allocated. The estimate is
-// nlohmann's document plus tinygltf's copies of it (its Value is ~150 bytes): 192 bytes a
-// value, 128 a container, 160 a key (its string and map node, twice), and the text; it
-// came out 1.02–1.3× the measured peak on files of 5 M numbers, 300 k nodes and 1 M keys.
+// nlohmann's document plus tinygltf's copies of it (its Value is ~150 bytes): 192 bytes
+// a value, 128 a container, 160 a key (its string and map node, twice), and the text; it
+// came out 1.0–1.4× the measured peak on files of 5 M numbers, 300 k nodes and 1 M keys.
+// (The schema check's document, gltf/schema.h, is smaller and freed before tinygltf runs.)
 // A file with EXT_meshopt_compression or Draco is parsed once more to be rewritten first.
 constexpr json_reader::StructureLimits kJsonLimits{.max_depth = 256,
                                                    .max_values = std::size_t{1} << 27,
@@ -1070,6 +1072,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
                       std::to_string(bin + 8) + ") runs past the end of the file (" + std::to_string(end) + " bytes)");
   }
   check_json(bytes, file, options.memory_limit);
+  if (const auto problem = gltf::check_schema(gltf::json_text(bytes))) throw LoadError(file + ": " + *problem);
   // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
   // tinygltf refuses, rewritten.
   std::vector<std::uint8_t> rewritten;

@@ -144,7 +144,8 @@ std::string tinygltf_error_with_pointer(std::span<const std::uint8_t> bytes, con
   const bool indices_range = err.rfind("primitive indices accessor out of bounds", 0) == 0;
   const bool indices_view = err.rfind("accessor[", 0) == 0 && err.find("] invalid bufferView") != std::string::npos;
   const bool stride = err.rfind("Invalid `byteStride' value.", 0) == 0;
-  if (!indices_range && !indices_view && !stride) return {};
+  const bool missing = err.rfind("File not found : ", 0) == 0;
+  if (!indices_range && !indices_view && !stride && !missing) return {};
   const nlohmann::json doc = nlohmann::json::parse(json_text(bytes), nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return {};
   auto array = [&](const char* key) -> const nlohmann::json* {
@@ -155,6 +156,18 @@ std::string tinygltf_error_with_pointer(std::span<const std::uint8_t> bytes, con
   const nlohmann::json* views = array("bufferViews");
   const std::size_t accessor_count = accessors != nullptr ? accessors->size() : 0;
   const std::size_t view_count = views != nullptr ? views->size() : 0;
+  if (missing) {
+    // tinygltf looks for a buffer's file before reading it: the buffer whose uri it is.
+    std::string uri = err.substr(17);
+    if (const std::size_t nl = uri.find('\n'); nl != std::string::npos) uri.resize(nl);
+    const nlohmann::json* buffers = array("buffers");
+    for (std::size_t b = 0; buffers != nullptr && b < buffers->size(); ++b) {
+      const nlohmann::json& buffer = (*buffers)[b];
+      if (buffer.is_object() && buffer.contains("uri") && buffer["uri"].is_string() && buffer["uri"].get<std::string>() == uri)
+        return "/buffers/" + std::to_string(b) + "/uri: " + uri + ": no such file";
+    }
+    return {};
+  }
   if (stride) {
     for (std::size_t v = 0; v < view_count; ++v) {
       const nlohmann::json& view = (*views)[v];
