@@ -386,7 +386,7 @@ TEST_CASE("white furnace: a uniform white environment returns 1 with energy comp
   CHECK(highest_off > 1.1);
 }
 
-TEST_CASE("rotation: a sun toward +X lights +X; turned 90° it lights −Z") {
+TEST_CASE("rotation: a sun toward +X lights +X, turned 90° it lights −Z") {
   const image::ImageF sky = lobe_sky(128, 64, {1.0, 0.0, 0.0});
   const pbr::Environment env(sky, "sun+x", {.size = 16, .samples = 8});
   const glm::dvec3 px(1, 0, 0), nx(-1, 0, 0), nz(0, 0, -1), pz(0, 0, 1);
@@ -419,7 +419,7 @@ TEST_CASE("prefiltering gives the same bits on any thread count, and survives it
   CHECK_THROWS_WITH_AS(pbr::Environment::from_bytes(other, "d.spenv"), doctest::Contains("d.spenv: "), std::invalid_argument);
 }
 
-TEST_CASE("load_environment: cached in memory and on disk; bad files are refused naming the file") {
+TEST_CASE("load_environment: cached in memory and on disk, bad files are refused naming the file") {
   const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "environment-test";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -461,7 +461,7 @@ TEST_CASE("load_environment: cached in memory and on disk; bad files are refused
   CHECK_THROWS_AS(pbr::prepare_environment(l), std::invalid_argument);
 }
 
-TEST_CASE("scene files: /environment loads a map or the studio; bad values name the JSON pointer") {
+TEST_CASE("scene files: /environment loads a map or the studio, bad values name the JSON pointer") {
   const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "environment-scene-test";
   fs::remove_all(dir);
   fs::create_directories(dir);

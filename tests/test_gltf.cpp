@@ -165,7 +165,7 @@ std::string load_error(const fs::path& p, const pbr::GltfOptions& options = {}) 
 
 }  // namespace
 
-TEST_CASE("a hand-written glTF triangle loads; hostile variants fail with the file and JSON pointer") {
+TEST_CASE("a hand-written glTF triangle loads, hostile variants fail with the file and JSON pointer") {
   const fs::path good = write_gltf("good.gltf", triangle_gltf(kGoodAccessors));
   const pbr::GltfScene g = pbr::load_gltf(good);
   REQUIRE(g.objects.size() == 1);

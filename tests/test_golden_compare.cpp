@@ -97,7 +97,7 @@ TEST_CASE("compare: statistics of known 8-bit differences equal their hand-compu
   CHECK(same.describe().find("identical") != std::string::npos);
 }
 
-TEST_CASE("compare: floats are equal when their values or their bits are; a NaN against a number is infinitely far") {
+TEST_CASE("compare: floats are equal when their values or their bits are, a NaN against a number is infinitely far") {
   struct Case {
     float e, a;
     double diff;
@@ -116,7 +116,7 @@ TEST_CASE("compare: floats are equal when their values or their bits are; a NaN 
   }
 }
 
-TEST_CASE("compare: different sizes are a result, not an error; bad pixel data throws") {
+TEST_CASE("compare: different sizes are a result, not an error, bad pixel data throws") {
   const golden::Comparison r = golden::compare(pattern8(4, 3), pattern8(3, 4));
   CHECK_FALSE(r.same_size());
   CHECK_FALSE(r.identical);
@@ -176,7 +176,7 @@ TEST_CASE("diff image: black where equal, the ramp red → yellow → white by d
                        std::invalid_argument);
 }
 
-TEST_CASE("side by side: expected | actual | diff for equal sizes; expected | actual on black for different sizes") {
+TEST_CASE("side by side: expected | actual | diff for equal sizes, expected | actual on black for different sizes") {
   const raster::Image8 e = pattern8(4, 3, 1), a = pattern8(4, 3, 2);
   const raster::Image8 s = golden::side_by_side(e, a);
   REQUIRE(s.width == 12);

@@ -146,7 +146,7 @@ TEST_CASE("golden images: to_srgb8 gives raster::resolve_srgb8's bits, NaN, nega
   CHECK(a.rgba == b.rgba);
 }
 
-TEST_CASE("golden images: to_image copies the colour buffer's floats; to_float maps code c to c / 255") {
+TEST_CASE("golden images: to_image copies the colour buffer's floats, to_float maps code c to c / 255") {
   raster::Target target(3, 2);
   target.color(2, 1) = {0.1f, -2.0f, 7.0f, 0.5f};
   const golden::ImageF f = golden::to_image(target);

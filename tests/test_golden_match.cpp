@@ -44,7 +44,7 @@ raster::Target target_of(const golden::ImageF& f) {
 
 }  // namespace
 
-TEST_CASE("match_golden: the same image passes; any changed pixel fails and writes actual, diff and side by side") {
+TEST_CASE("match_golden: the same image passes, any changed pixel fails and writes actual, diff and side by side") {
   const fs::path dir = scratch("match_exact");
   const golden::Options o = options_in(dir);
   const raster::Image8 im = pattern8(16, 8);
@@ -99,7 +99,7 @@ TEST_CASE("match_golden: a tolerance passes when at most max_pixels pixels diffe
   }
 }
 
-TEST_CASE("match_golden: a missing golden fails with the actual image written; update mode creates it, then it passes") {
+TEST_CASE("match_golden: a missing golden fails with the actual image written, update mode creates it, then it passes") {
   const fs::path dir = scratch("match_missing");
   const raster::Image8 im = pattern8(5, 4);
   const golden::MatchResult missing = golden::match_golden(im, "new/one.png", {}, options_in(dir));
@@ -184,7 +184,7 @@ TEST_CASE("match_golden with floats: .hdr goldens hold the render's RGBE values,
   CHECK(golden::match_golden(g, "r.hdr", {r.comparison.max_diff(), 0}, o).passed);
 }
 
-TEST_CASE("match_render: the colour hash and the PNG must both match; a float bit too small to show still fails") {
+TEST_CASE("match_render: the colour hash and the PNG must both match, a float bit too small to show still fails") {
   const fs::path dir = scratch("match_render");
   const golden::Options o = options_in(dir);
   raster::Target t = target_of(patternF(9, 5));

@@ -79,7 +79,7 @@ TEST_CASE("an .hdr file that ends on its resolution line is an error, not an ima
   check_refused(load_hdr, path, "truncated");
 }
 
-TEST_CASE("an .hdr header line that starts with a NUL byte ends the header, as stb reads it; missing data is an error") {
+TEST_CASE("an .hdr header line that starts with a NUL byte ends the header, as stb reads it, missing data is an error") {
   // fuzz_image's finding (timeout): stb_image reads header lines as C strings, so a line
   // starting with NUL is the empty line that ends the header; the resolution line after it
   // (-Y 16384 +X 1638, no pixel data) made stb decode 26M pixels from past the end, while
@@ -96,7 +96,7 @@ TEST_CASE("an .hdr header line that starts with a NUL byte ends the header, as s
   check_refused(load_hdr, path, "truncated");
 }
 
-TEST_CASE("every prefix of a valid .hdr file is refused; the whole file loads") {
+TEST_CASE("every prefix of a valid .hdr file is refused, the whole file loads") {
   struct Case {
     const char* name;
     std::string file;

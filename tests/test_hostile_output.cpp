@@ -184,7 +184,7 @@ TEST_CASE("several outputs are all-or-nothing: a write that fails replaces none 
   CHECK(names(f.path) == std::vector<std::string>{"big.exr", "keep.png", "late.png"});
 }
 
-TEST_CASE("a name of NAME_MAX bytes is written (its temporary fits too); one byte more is refused before writing") {
+TEST_CASE("a name of NAME_MAX bytes is written (its temporary fits too), one byte more is refused before writing") {
   Folder f;
   const long max = ::pathconf(f.path.c_str(), _PC_NAME_MAX);
   REQUIRE(max > 8);

@@ -126,7 +126,7 @@ TEST_CASE("IBL scenes have the same bits for every thread count, tile size, lane
   }
 }
 
-TEST_CASE("backgrounds: transparent leaves alpha 0 around the objects; an environment background needs a map") {
+TEST_CASE("backgrounds: transparent leaves alpha 0 around the objects, an environment background needs a map") {
   pbr::Scene s = gallery_in(pbr::Environment::studio(), pbr::BackgroundMode::Color);
   s.background = {0.0f, 0.0f, 0.0f, 0.0f};
   raster::Renderer renderer({.threads = 2});

@@ -71,7 +71,7 @@ TEST_CASE("loading from memory gives the file's pixels, and errors start with th
   }
 }
 
-TEST_CASE("load_image8 and load_imagef choose the decoder by the first bytes; a wrong loader names the right one") {
+TEST_CASE("load_image8 and load_imagef choose the decoder by the first bytes, a wrong loader names the right one") {
   const fs::path dir = scratch("image_sniff");
   image::write_png(dir / "png-named.jpg", smooth8(3, 2));
   write_bytes(dir / "jpeg-named.png", jpeg_of(smooth8(3, 2), 3, 90));
@@ -120,7 +120,7 @@ TEST_CASE("PNG, .hdr and .exr headers declaring 20000 pixels wide are refused be
         "wide.exr: data window (0, 0) - (19999, 3) is not 1 to 16384 pixels on each side");
 }
 
-TEST_CASE("Limits: max_side and max_decoded_bytes refuse an image before decoding; one just inside loads") {
+TEST_CASE("Limits: max_side and max_decoded_bytes refuse an image before decoding, one just inside loads") {
   struct Case {
     const char* name;
     std::vector<std::uint8_t> bytes;

@@ -146,7 +146,7 @@ TEST_CASE("JPEG: a baseline file whose coded data is too short for the blocks it
   CHECK(message.find("blocks of a 8000x8000 image") != std::string::npos);
 }
 
-TEST_CASE("JPEG: decoded bytes count stb's component planes; the limit refuses before decoding") {
+TEST_CASE("JPEG: decoded bytes count stb's component planes, the limit refuses before decoding") {
   // 16x16: 1024 bytes of RGBA, and stb_image_write's YCbCr 4:2:0 planes (it writes three
   // components even for grey): 16x16 of Y, 8x8 each of Cb and Cr.
   const std::vector<std::uint8_t> jpeg = jpeg_of(smooth8(16, 16), 1, 90);
@@ -190,7 +190,7 @@ TEST_CASE("JPEG: coded data that ends inside a block loads as a damaged image or
   CHECK(message.find('\n') == std::string::npos);
 }
 
-TEST_CASE("read_image_header: the size of PNG and JPEG files from their headers, without decoding; 0x0 when cut short") {
+TEST_CASE("read_image_header: the size of PNG and JPEG files from their headers, without decoding, 0x0 when cut short") {
   const image::Image8 original = smooth8(33, 9);
   const std::vector<std::uint8_t> jpeg = jpeg_of(original, 3, 90);
   const std::vector<std::uint8_t> png = image::encode_png(original, "h.png");

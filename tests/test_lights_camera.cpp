@@ -210,7 +210,7 @@ TEST_CASE("prepare_light rejects invalid values, naming the field") {
 
 // ---- Cameras --------------------------------------------------------------------------------
 
-TEST_CASE("perspective() equals glm::perspective within 1e-6 relative; look_at() equals glm::lookAt") {
+TEST_CASE("perspective() equals glm::perspective within 1e-6 relative, look_at() equals glm::lookAt") {
   struct P {
     float fovy, aspect, near, far;
   };
@@ -403,7 +403,7 @@ TEST_CASE("dmath exp, exp2 and log agree with libm within 1e-14 relative, subnor
                                                << we2.at << "), log " << wl.rel << " (x = " << wl.at << ")");
 }
 
-TEST_CASE("dmath pow: x^(1/2.4) and x^2.2 on [0, 1] within 1e-14 of libm; elsewhere within its documented |y ln x| bound") {
+TEST_CASE("dmath pow: x^(1/2.4) and x^2.2 on [0, 1] within 1e-14 of libm, elsewhere within its documented |y ln x| bound") {
   Worst w;
   for (int i = 1; i <= 200000; ++i) {
     const double x = i / 200000.0;

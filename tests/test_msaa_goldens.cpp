@@ -212,7 +212,7 @@ TEST_CASE("MSAA resolves, measured on the gallery's highlights: tone mapping eac
   }
 }
 
-TEST_CASE("scene files: render.msaa takes 1, 4 or 8 and render.resolve a resolve name; the memory estimate counts the samples") {
+TEST_CASE("scene files: render.msaa takes 1, 4 or 8 and render.resolve a resolve name, the memory estimate counts the samples") {
   const auto parse = [](const std::string& render) {
     return pbr::parse_scene_file(R"({"objects": [], "render": )" + render + "}", "s.json", ".");
   };

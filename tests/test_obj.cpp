@@ -330,7 +330,7 @@ TEST_CASE("obj: roughness from the Phong exponent follows √(√(2 / (Ns + 2)))
   }
 }
 
-TEST_CASE("obj: a missing MTL file is a warning; the faces load without material") {
+TEST_CASE("obj: a missing MTL file is a warning, the faces load without material") {
   TempDir dir;
   const fs::path path = dir.write("nomtl.obj", "mtllib absent.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl x\nf 1 2 3\n");
   const pbr::ObjModel model = pbr::load_obj(path);

@@ -171,7 +171,7 @@ TEST_CASE("obj textures: map_Ns gives roughness through roughness_from_phong_exp
   CHECK(any_contains(with_pr.warnings, ":3: map_Ns: ignored: Pr or map_Pr gives the roughness"));
 }
 
-TEST_CASE("obj textures: a bump map is the normal map when it is one; a height map is skipped with a warning") {
+TEST_CASE("obj textures: a bump map is the normal map when it is one, a height map is skipped with a warning") {
   const fs::path dir = scratch("obj-bump");
   // A bumpy normal map around (0.5, 0.5, 1), and a grey height map.
   image::write_png(dir / "nmap.png", image_of(8, 8, [](int x, int y) {
@@ -222,7 +222,7 @@ TEST_CASE("obj textures: map_d is the base colour's alpha, with alpha mode mask"
   CHECK(codes(*cut.base_color_texture.texture, 1, 1) == Texel{255, 255, 255, 200});
 }
 
-TEST_CASE("obj textures: a file named by several maps and materials is one texture; textures = false loads none") {
+TEST_CASE("obj textures: a file named by several maps and materials is one texture, textures = false loads none") {
   const fs::path dir = scratch("obj-cache");
   image::write_png(dir / "shared.png", solid(4, 4, 10, 20, 30));
   const fs::path path = obj_with(dir, "newmtl m\nmap_Kd shared.png\nmap_Ke shared.png\nnewmtl n\nmap_Kd shared.png\n");

@@ -202,7 +202,7 @@ TEST_CASE("scene file: every example scene loads without warnings") {
   }
 }
 
-TEST_CASE("scene file: transforms are T·Rz·Ry·Rx·S; matrices are written row by row") {
+TEST_CASE("scene file: transforms are T·Rz·Ry·Rx·S, matrices are written row by row") {
   const pbr::SceneFile f = parse(scene(
       R"("mesh": {"type": "cube"}, "transform": {"translate": [1, 2, 3], "rotate": [0, 90, 0], "scale": [2, 1, 1]}}, )"
       R"({"mesh": {"type": "cube"}, "transform": {"matrix": [[1, 0, 0, 5], [0, 2, 0, 6], [0, 0, 3, 7], [0, 0, 0, 1]]})"));
@@ -213,7 +213,7 @@ TEST_CASE("scene file: transforms are T·Rz·Ry·Rx·S; matrices are written row
   CHECK(glm::vec3(m * glm::vec4(1, 1, 1, 1)) == glm::vec3(6, 8, 10));
 }
 
-TEST_CASE("scene file: an OBJ without a material keeps its MTL materials; with one, its shapes merge") {
+TEST_CASE("scene file: an OBJ without a material keeps its MTL materials, with one, its shapes merge") {
   const pbr::SceneFile own = parse(scene(R"("mesh": {"file": "models/podium.obj"})"));
   REQUIRE(own.scene.objects.size() == 3);  // base, pyramid, gem
   CHECK(own.scene.objects[1].material.metallic == 1.0f);  // brass
@@ -229,7 +229,7 @@ TEST_CASE("scene file: an OBJ without a material keeps its MTL materials; with o
         "t.json: /objects/0/mesh/file: " + (kScenes / "models/missing.obj").string() + ": cannot open: no such file");
 }
 
-TEST_CASE("scene file: lights and cameras take degrees; spot cones become radians") {
+TEST_CASE("scene file: lights and cameras take degrees, spot cones become radians") {
   const pbr::SceneFile f = parse(R"({"camera": {"target": [0, 1, 0], "distance": 4, "yaw": 90, "pitch": 0, "fov": 60},
     "lights": [{"type": "spot", "position": [0, 3, 0], "direction": [0, -1, 0], "inner_cone": 10, "outer_cone": 30}],
     "objects": []})");

@@ -70,7 +70,7 @@ TEST_CASE("a full-screen quad covers every pixel of any target size exactly once
     }
 }
 
-TEST_CASE("begin_frame with ClearValues clears every pixel, also with no draw; without them the target is kept") {
+TEST_CASE("begin_frame with ClearValues clears every pixel, also with no draw, without them the target is kept") {
   raster::Renderer renderer({.threads = 2, .tile_size = 16});
   raster::Target target(37, 21);
   target.clear({9, 9, 9, 9}, 0.125f);
@@ -204,7 +204,7 @@ TEST_CASE("resolve_srgb8 encodes colour through the exact sRGB curve, alpha line
     }
 }
 
-TEST_CASE("write_png writes a complete PNG; an unwritable path throws and leaves no file") {
+TEST_CASE("write_png writes a complete PNG, an unwritable path throws and leaves no file") {
   TempDir dir;
   raster::Target target(13, 7);
   target.clear({0.5f, 0.25f, 1.0f, 1.0f});

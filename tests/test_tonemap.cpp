@@ -199,7 +199,7 @@ TEST_CASE("every operator is monotonic per channel along ramps and stays in [0, 
     }
 }
 
-TEST_CASE("NaN radiance encodes as 0; huge and infinite radiance encode as white for every operator") {
+TEST_CASE("NaN radiance encodes as 0, huge and infinite radiance encode as white for every operator") {
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   raster::Target t(6, 1);
   t.colors()[0] = {nan, 0.5f, nan, 1.0f};
@@ -273,7 +273,7 @@ TEST_CASE("8-bit encoding: gamma 0 is the exact sRGB curve, gamma 2.2 is round(2
   CHECK(pbr::transfer_thresholds(2.2f)[127] == doctest::Approx(std::pow(127.5 / 255.0, 2.2)).epsilon(1e-6));
 }
 
-TEST_CASE("exposure +1 stop doubles the input, -1 halves it; bad exposure or gamma throws") {
+TEST_CASE("exposure +1 stop doubles the input, -1 halves it, bad exposure or gamma throws") {
   std::vector<float> values;
   for (int i = 0; i <= 3000; ++i) values.push_back(i / 1000.0f);  // 0 … 3
   std::vector<float> doubled, halved;
@@ -299,7 +299,7 @@ TEST_CASE("exposure +1 stop doubles the input, -1 halves it; bad exposure or gam
                          std::invalid_argument);
 }
 
-TEST_CASE("write_hdr writes a Radiance file atomically; a missing folder throws and leaves nothing") {
+TEST_CASE("write_hdr writes a Radiance file atomically, a missing folder throws and leaves nothing") {
   const fs::path dir = scratch_dir("write_hdr");
   raster::Target t(5, 3);
   for (std::size_t i = 0; i < t.colors().size(); ++i) t.colors()[i] = {0.1f * i, 2.0f, 1e3f, 1.0f};

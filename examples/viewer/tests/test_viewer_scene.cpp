@@ -151,7 +151,7 @@ TEST_CASE("material labels name the preset with roughness and metallic or the ga
   CHECK(material_label(s) == "gold r 0.05 dielectric");
 }
 
-TEST_CASE("B cycles the environments: none, the studio, the --env maps; the scene is lit by the chosen one") {
+TEST_CASE("B cycles the environments: none, the studio, the --env maps, the scene is lit by the chosen one") {
   viewer::ViewerState s;
   const viewer::Environments envs = viewer::load_environments({}, nullptr);
   REQUIRE(envs.size() == 2);
@@ -165,6 +165,7 @@ TEST_CASE("B cycles the environments: none, the studio, the --env maps; the scen
   const softpbr::pbr::Scene lit = viewer::build_scene(s, meshes, envs);
   CHECK(lit.environment.map == softpbr::pbr::Environment::studio());
   CHECK(lit.background_mode == softpbr::pbr::BackgroundMode::Environment);
+  viewer::apply(s, viewer::KeyUp{viewer::Key::B});  // a second press, not the key held
   viewer::apply(s, viewer::KeyDown{viewer::Key::B});
   CHECK(s.environment == 0);  // back to none
 }
