@@ -113,7 +113,8 @@ TEST_CASE("PNG decoding equals stb_image's for every colour type, depth, tRNS an
   }
   int compared = 0;
   for (const Kind& k : kinds)
-    for (const auto& [w, h] : {std::pair<std::uint32_t, std::uint32_t>{1, 1}, {7, 5}, {33, 17}}) {
+    for (const auto& size : {std::pair<std::uint32_t, std::uint32_t>{1, 1}, {7, 5}, {33, 17}}) {
+      const std::uint32_t w = size.first, h = size.second;  // (Clang 14: no bindings in CAPTURE)
       CAPTURE(k.color_type);
       CAPTURE(k.depth);
       CAPTURE(k.trns);
