@@ -57,28 +57,20 @@ def cli_render(cli, scene, tmp_path, *args, name="scene", png_only=False):
 
 
 def cli_msaa_exr(cli, path, tmp_path, *args):
-    """The command's .exr of a multisampled render, or None while the command cannot write
-    one (its .hdr/.exr output of an MSAA target fails with "image size … and pixel data …
-    disagree")."""
+    """The command's .exr of a multisampled render (the samples' linear box resolve)."""
     exr = tmp_path / "msaa.exr"
-    done = subprocess.run([cli, "render", str(path), "-o", str(exr), "-q", *map(str, args)], capture_output=True, text=True)
-    if done.returncode == 0:
-        return softpbr.load_image(exr)
-    assert "disagree" in done.stderr, done.stderr
-    return None
+    subprocess.run([cli, "render", str(path), "-o", str(exr), "-q", *map(str, args)], check=True)
+    return softpbr.load_image(exr)
 
 
 def assert_msaa_hdr_is_the_box_resolve(cli, scene, tmp_path, hdr):
     """render_hdr of a multisampled `scene` (a dict, exposure 0) is the library's box resolve:
-    the command's .exr bit for bit when it writes one; otherwise its PNG with the linear
-    resolve (raster::resolve_box), no tone map and gamma 1 is, code for code, these floats
-    through the same 255 thresholds ((k + 0.5) / 255, float)."""
+    the command's .exr bit for bit; and its PNG with the linear resolve (raster::resolve_box),
+    no tone map and gamma 1 is, code for code, these floats through the same 255 thresholds
+    ((k + 0.5) / 255, float)."""
     path = tmp_path / "msaa.json"
     path.write_text(json.dumps(scene))
-    exr = cli_msaa_exr(cli, path, tmp_path)
-    if exr is not None:
-        assert_same(hdr, exr)
-        return
+    assert_same(hdr, cli_msaa_exr(cli, path, tmp_path))
     linear = json.loads(json.dumps(scene))
     linear["render"].update({"resolve": "linear", "tonemap": "none", "gamma": 1})
     path.write_text(json.dumps(linear))
@@ -320,10 +312,9 @@ def test_glb_options_are_the_command_options(cli, source_dir, tmp_path):
         png, exr = cli_render(cli, model, tmp_path, "--width", 80, "--height", 48, *args, name="boxes",
                               png_only="--msaa" in args)
         assert_same(softpbr.render(scene(), **keywords), png)
-        if "--msaa" in args:  # the box resolve is checked against the command with dict scenes above
+        if "--msaa" in args:
             exr = cli_msaa_exr(cli, model, tmp_path, "--width", 80, "--height", 48, *args)
-        if exr is not None:
-            assert_same(softpbr.render_hdr(scene(), **keywords), exr)
+        assert_same(softpbr.render_hdr(scene(), **keywords), exr)
     lit = softpbr.Scene.load_gltf(model, width=80, height=48)
     assert lit.environment == softpbr.Environment.studio() and lit.background_mode == "blur"
     rig = softpbr.Scene.load_gltf(model, width=80, height=48, environment=False)
