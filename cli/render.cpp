@@ -439,6 +439,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     else pbr::render(pbr::animate(file, frame), renderer, target);
     // Then three independent jobs on the renderer's threads: the hash (FNV-1a, serial by
     // definition, the longest), the count of non-finite pixels, the PNG encoding.
+    const float scale = exposure_scale(s.output.exposure);
     std::uint64_t hash = 0;
     std::size_t non_finite = 0;
     std::vector<std::uint8_t> png_bytes;
@@ -450,7 +451,6 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
       } else if (job_index == 1 && !a.quiet) {
         // Not silent: a colour beyond float (emissive or lights near 1e30 summed, or scaled
         // by --exposure) is stored as 0 by .hdr and .exr while the PNG shows it white.
-        const float scale = exposure_scale(s.output.exposure);
         for (const glm::vec4& c : target.colors()) {
           const glm::vec3 v = glm::vec3(c) * scale;
           non_finite += !(std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b));
@@ -480,7 +480,6 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
         return *resolved;
       };
       for (std::size_t i = 0; i < paths.size(); ++i) {
-        const float scale = exposure_scale(s.output.exposure);
         if (job.formats[i] == Format::Png) files.add(paths[i], png_bytes);
         else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(linear()), paths[i], scale));
         else files.add(paths[i], image::encode_exr(colour_view(linear()), paths[i], scale));

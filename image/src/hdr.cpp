@@ -3,22 +3,6 @@
 #include <cmath>
 #include <string>
 
-#if defined(__GNUC__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#endif
-// stb_image_write's implementation, static here (its one user), as stb_image's is in
-// stb_decode.cpp.
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb_image_write.h>
-#if defined(__GNUC__)
-#pragma GCC diagnostic pop
-#endif
-
 #include "formats.h"
 #include "hdr_scan.h"
 #include "softpbr/image/load.h"
@@ -63,10 +47,7 @@ std::vector<std::uint8_t> encode_hdr(const ImageViewF& image, std::string_view n
       const float scaled = std::isfinite(v) ? v * scale : 0.0f;
       rgb.push_back(std::isfinite(scaled) && scaled > 0.0f ? scaled : 0.0f);
     }
-  std::vector<std::uint8_t> bytes;
-  if (!stbi_write_hdr_to_func(detail::append_bytes, &bytes, image.width, image.height, 3, rgb.data()))
-    detail::fail(name, "HDR encoding failed");
-  return bytes;
+  return detail::stb_encode_hdr(rgb, image.width, image.height, name);
 }
 
 void write_hdr(const std::filesystem::path& path, const ImageViewF& image, float scale) {

@@ -1,6 +1,6 @@
-// The shared calls into stb_image (see stb_decode.h), and stb_image itself: its
-// implementation (Debian's libstb-dev header) compiled here, with the project's flags and
-// static, so no other copy in the process can take its place. Linking libstb.so instead
+// The shared calls into stb_image and stb_image_write (see stb_decode.h), and both
+// themselves: their implementations (Debian's libstb-dev headers) compiled here, with the
+// project's flags and static, so no other copy in the process can take their place. Linking libstb.so instead
 // left the choice to the dynamic linker: libdraco.so exports the copy of stb_image it
 // bundles, and as it came first in the link line, that copy decoded every image.
 #include "stb_decode.h"
@@ -20,6 +20,9 @@
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb_image.h>
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb_image_write.h>
 #if defined(__GNUC__)
 #pragma GCC diagnostic pop
 #endif
@@ -54,6 +57,12 @@ std::unique_ptr<float[], StbFree> stb_load_rgb_float(std::span<const std::uint8_
       stbi_loadf_from_memory(bytes.data(), stb_size(bytes, name), &width, &height, &channels, 3));
   if (!rgb) fail(name, std::string("cannot decode (") + stbi_failure_reason() + ")");
   return rgb;
+}
+
+std::vector<std::uint8_t> stb_encode_hdr(std::span<const float> rgb, int width, int height, std::string_view name) {
+  std::vector<std::uint8_t> bytes;
+  if (!stbi_write_hdr_to_func(append_bytes, &bytes, width, height, 3, rgb.data())) fail(name, "HDR encoding failed");
+  return bytes;
 }
 
 }  // namespace softpbr::image::detail

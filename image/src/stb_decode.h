@@ -1,12 +1,13 @@
-// Internal to softpbr_image: the calls into stb_image that png.cpp, jpeg.cpp and hdr.cpp
-// share, each run after the file's own checks. stb_decode.cpp is the one file that
-// includes stb_image.h (its implementation is static there).
+// Internal to softpbr_image: the calls into stb_image that jpeg.cpp and hdr.cpp share,
+// each run after the file's own checks, and stb_image_write's RGBE encoder. stb_decode.cpp
+// is the one file that includes stb's headers (their implementations are static there).
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string_view>
+#include <vector>
 
 #include "softpbr/image/image.h"
 
@@ -31,5 +32,8 @@ struct StbFree {
 // decode (why)".
 std::unique_ptr<float[], StbFree> stb_load_rgb_float(std::span<const std::uint8_t> bytes, std::string_view name,
                                                      int& width, int& height);
+
+// `rgb` (width × height × 3 floats, each finite and ≥ 0) as a Radiance RGBE file.
+std::vector<std::uint8_t> stb_encode_hdr(std::span<const float> rgb, int width, int height, std::string_view name);
 
 }  // namespace softpbr::image::detail

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_reader.h"
+
 namespace softpbr::pbr::gltf {
 
 namespace {
@@ -17,12 +19,8 @@ struct Found {
   std::string text;
 };
 
-// A value for "got …": its JSON text, at most about 40 characters.
-std::string got(const Json& v) {
-  std::string s = v.dump(-1, ' ', false, Json::error_handler_t::replace);
-  if (s.size() > 40) s = s.substr(0, 37) + "...";
-  return s;
-}
+// A value for "got …": its JSON text, shortened (large arrays and objects summarised).
+std::string got(const Json& v) { return json_reader::show(v); }
 
 [[noreturn]] void fail(const std::string& pointer, const std::string& message) {
   throw Found{pointer.empty() ? message : pointer + ": " + message};
@@ -268,7 +266,7 @@ void check(const Json& root) {
       object(attributes, kp + "/attributes");
       for (auto it = attributes.begin(); it != attributes.end(); ++it)
         if (!is_integer(it.value()) || it.value().get<double>() < 0)
-          fail(kp + "/attributes/" + it.key(), "must be an accessor index (an integer >= 0), got " + got(it.value()));
+          fail(kp + "/attributes/" + json_reader::escape_token(it.key()), "must be an accessor index (an integer >= 0), got " + got(it.value()));
       integer(prim, kp, "indices", 0);
       integer(prim, kp, "material", 0);
       one_of(prim, kp, "mode", {0, 1, 2, 3, 4, 5, 6});
