@@ -2,7 +2,6 @@
 // naming the file and JSON pointer, in bounded time and memory (no recursion per level).
 #include <doctest/doctest.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -56,16 +55,17 @@ TEST_CASE("scene files nested 10^6 levels deep are refused at the nesting limit,
 // 10^6 lights in a scene file: tests/test_scene_file.cpp (refused by count before any light is
 // read). Through the API: tests/test_hostile_limits.cpp.
 
-TEST_CASE("an object of 200000 distinct keys is checked in linear time: refused by key, not after minutes") {
-  // The duplicate-key pass kept each object's keys in a vector (quadratic: 17 s for 200k).
+TEST_CASE("an object of 200000 distinct keys passes the duplicate-key check and is refused by its first unknown key") {
+  // The duplicate-key pass kept each object's keys in a vector (quadratic: 17 s for 200k);
+  // it is a hash set now. Its cost is measured by bench_scene_file (linear in the number of
+  // keys, Google Benchmark's complexity fit), never by a timed test: a wall-clock bound here
+  // failed on a loaded CI machine under ASan.
   std::string text = "{\"camera\": {";
   for (int i = 0; i < 200000; ++i) text += (i ? ",\"k" : "\"k") + std::to_string(i) + "\": 0";
   text += "}, \"objects\": []}";
-  const auto start = std::chrono::steady_clock::now();
   const std::string error = error_of(text);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(error.rfind("hostile.json: /camera/k0: unknown key \"k0\"", 0) == 0);
-  CHECK(seconds < 5.0);  // about 0.3 s in a Debug build; the quadratic pass took 17 s
+  CHECK(error.find('\n') == std::string::npos);
 }
 
 TEST_CASE("a file of millions of empty objects is refused by the value limit before its DOM is built") {
