@@ -12,6 +12,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/pbr/textured_shading.h"
+#include "scene_kernels.h"
 
 namespace softpbr::pbr {
 
@@ -68,43 +69,7 @@ struct ObjectDraw {
   float distance2 = 0.0f;  // blended objects: from the eye to the centre of their bounds
 };
 
-// The background pass: one triangle over the whole target (clip x, y in {−1, 3}) at the far
-// plane (clip z = w = 1), each vertex carrying the world direction of the camera ray through it.
-// The direction is linear in screen space (w = 1), so the interpolated varying is the
-// ray through each pixel; the shader reads the environment along it.
-struct BackgroundShader {
-  struct Vertex {
-    glm::vec4 clip;
-    glm::vec3 direction;
-  };
-  struct Varyings {
-    glm::vec3 direction;
-  };
-  static constexpr bool kUsesDerivatives = false;
-
-  const PreparedEnvironment* environment = nullptr;
-  float roughness = 0.0f;
-
-  glm::vec4 vertex(const Vertex& in, Varyings& out) const {
-    out.direction = in.direction;
-    return in.clip;
-  }
-  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
-    const raster::Color<float> c = color<float>(f.v.direction.x, f.v.direction.y, f.v.direction.z);
-    return {c.r, c.g, c.b, c.a};
-  }
-  template <class F>
-  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
-    return color<F>(p.v[0], p.v[1], p.v[2]);
-  }
-
- private:
-  template <class F>
-  raster::Color<F> color(F x, F y, F z) const {
-    const EnvVec3<F> c = env_radiance_uniform(*environment, to_environment(*environment, x, y, z), roughness);
-    return {c.x, c.y, c.z, F(1.0f)};
-  }
-};
+using detail::BackgroundShader;
 
 std::array<BackgroundShader::Vertex, 3> background_triangle(const Camera& camera, float aspect) {
   const glm::mat3 to_world = glm::transpose(glm::mat3(camera.view()));  // the view's rotation, inverted

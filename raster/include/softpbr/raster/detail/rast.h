@@ -56,13 +56,32 @@ using PacketFor = PacketBuffer<(W > 0 ? W : 1), kVaryingCount<typename S::Varyin
 namespace softpbr::raster {
 
 namespace detail {
+// The copy of the tile kernel that runs W lanes for a renderer whose instruction set is
+// `isa`: each x86-64 target at the width of its registers — AVX-512 at 16 lanes, AVX2 at 8
+// (and for scalar shaders, W = 0) — and every other width in the baseline copy. Every copy
+// gives the same bits, so this only decides speed; the widths a renderer picks by itself
+// (lanes = 0: 16 with AVX-512, 8 with AVX2) run their target's copy. Compiling only these
+// copies halves a packet shader's kernels (6 of 12 per sample count), and with them the
+// build time of every file that draws (docs/design.md, "SIMD and dispatch").
+template <int W, int kMs, Shader S>
+auto tile_kernel([[maybe_unused]] simd::Isa isa) {
+#if SOFTPBR_SIMD_X86_TARGETS
+  if constexpr (W == 16) {
+    if (isa == simd::Isa::Avx512) return &avx512::raster_tile<W, kMs, S>;
+  } else if constexpr (W == 8 || W == 0) {
+    if (isa != simd::Isa::Baseline) return &avx2::raster_tile<W, kMs, S>;
+  }
+#endif
+  return &baseline::raster_tile<W, kMs, S>;
+}
+
 template <int W, Shader S>
 void dispatch_tile(simd::Isa isa, const S& shader, const DrawGeometry& geometry, std::size_t tile,
                    const TileRect& rect, const TargetPixels& target) {
   switch (target.samples) {
-    case 4: return SOFTPBR_DISPATCH(isa, raster_tile<W, 4, S>)(shader, geometry, tile, rect, target);
-    case 8: return SOFTPBR_DISPATCH(isa, raster_tile<W, 8, S>)(shader, geometry, tile, rect, target);
-    default: return SOFTPBR_DISPATCH(isa, raster_tile<W, 1, S>)(shader, geometry, tile, rect, target);
+    case 4: return tile_kernel<W, 4, S>(isa)(shader, geometry, tile, rect, target);
+    case 8: return tile_kernel<W, 8, S>(isa)(shader, geometry, tile, rect, target);
+    default: return tile_kernel<W, 1, S>(isa)(shader, geometry, tile, rect, target);
   }
 }
 }  // namespace detail
