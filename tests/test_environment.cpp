@@ -437,6 +437,16 @@ TEST_CASE("load_environment: cached in memory and on disk, bad files are refused
     CHECK(c->to_bytes() == a->to_bytes());
   }
   CHECK(cached == 1);
+  // Found in memory, it is still stored in a cache folder it is not in yet (the test's
+  // own first load may also have been such a hit: another test loads the same sky).
+  const auto e = pbr::load_environment(dir / "sky.hdr", o, nullptr, dir / "cache2");
+  CHECK(e.get() == a.get());
+  int cached2 = 0;
+  for (const auto& f : fs::directory_iterator(dir / "cache2")) {
+    ++cached2;
+    CHECK(image::read_file(f.path()) == a->to_bytes());
+  }
+  CHECK(cached2 == 1);
   // Other options: another environment.
   const auto d = pbr::load_environment(dir / "sky.hdr", {.size = 32, .samples = 8});
   CHECK(d.get() != a.get());

@@ -581,25 +581,41 @@ std::shared_ptr<const Environment> load_environment(const std::filesystem::path&
   }
   const std::vector<std::uint8_t> bytes = image::read_file(path, limits);
   const std::uint64_t hash = fnv1a(bytes);
-  // In memory: the last few environments, by content and options.
-  static std::mutex mutex;
-  static std::list<CacheEntry> recent;
-  constexpr std::size_t kKeep = 4;
-  {
-    const std::lock_guard<std::mutex> lock(mutex);
-    for (auto it = recent.begin(); it != recent.end(); ++it)
-      if (it->hash == hash && it->length == bytes.size() && it->options == options) {
-        recent.splice(recent.begin(), recent, it);
-        return recent.front().env;
-      }
-  }
-  std::shared_ptr<const Environment> env;
   std::filesystem::path cached;
   if (!cache_dir.empty()) {
     char key[64];
     std::snprintf(key, sizeof key, "%016llx-%zu-s%d-n%d.spenv", static_cast<unsigned long long>(hash), bytes.size(),
                   options.size, options.samples);
     cached = cache_dir / key;
+  }
+  // The on-disk cache gets every environment loaded with it, including one found in
+  // memory (loaded earlier without a cache folder, or with another one).
+  const auto store = [&](const Environment& env, bool replace) {
+    std::error_code ec;
+    if (cached.empty() || (!replace && std::filesystem::is_regular_file(cached, ec))) return;
+    std::filesystem::create_directories(cache_dir, ec);
+    if (ec) throw std::runtime_error(cache_dir.string() + ": cannot create the environment cache: " + ec.message());
+    image::write_file_atomic(cached, env.to_bytes());
+  };
+  // In memory: the last few environments, by content and options.
+  static std::mutex mutex;
+  static std::list<CacheEntry> recent;
+  constexpr std::size_t kKeep = 4;
+  std::shared_ptr<const Environment> env;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = recent.begin(); it != recent.end(); ++it)
+      if (it->hash == hash && it->length == bytes.size() && it->options == options) {
+        recent.splice(recent.begin(), recent, it);
+        env = recent.front().env;
+        break;
+      }
+  }
+  if (env) {
+    store(*env, false);
+    return env;
+  }
+  if (!cached.empty()) {
     std::error_code ec;
     if (std::filesystem::is_regular_file(cached, ec)) {
       try {
@@ -612,13 +628,7 @@ std::shared_ptr<const Environment> load_environment(const std::filesystem::path&
   if (!env) {
     const image::ImageF im = image::load_imagef(bytes, name, limits);
     env = std::make_shared<const Environment>(image::ImageViewF(im), name, options, pool);
-    if (!cached.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(cache_dir, ec);
-      if (ec) throw std::runtime_error(cache_dir.string() + ": cannot create the environment cache: " + ec.message());
-      const std::vector<std::uint8_t> blob = env->to_bytes();
-      image::write_file_atomic(cached, blob);
-    }
+    store(*env, true);  // replaces a stale file
   }
   const std::lock_guard<std::mutex> lock(mutex);
   recent.push_front({hash, bytes.size(), options, env});
