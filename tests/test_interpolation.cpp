@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <set>
 #include <vector>
@@ -223,6 +224,75 @@ TEST_CASE("derivatives of a screen-linear varying equal its per-pixel gradient e
         CHECK(wrong == 0);
         CHECK(covered > 0);
       }
+}
+
+// Four screen-linear varyings (a, b, c, d); the colour is (ddx.b, ddy.c, ddx.a, ddy.d).
+// kMasked: kDerivativeMask names b and c only. Scalar: fragment() alone; packet: with
+// fragment_packet too.
+template <bool kMasked>
+struct DerivativeMaskShader {
+  using Vertex = std::array<float, 8>;  // clip x, y, z, w, a, b, c, d
+  struct Varyings {
+    float a, b, c, d;
+  };
+  static constexpr std::uint32_t kDerivativeMask =
+      kMasked ? raster::varying_bits(offsetof(Varyings, b), 2 * sizeof(float)) : ~std::uint32_t{0};
+  glm::vec4 vertex(const Vertex& in, Varyings& out) const {
+    out = {in[4], in[5], in[6], in[7]};
+    return {in[0], in[1], in[2], in[3]};
+  }
+  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const { return {f.ddx.b, f.ddy.c, f.ddx.a, f.ddy.d}; }
+};
+template <bool kMasked>
+struct DerivativeMaskPacketShader : DerivativeMaskShader<kMasked> {
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, typename DerivativeMaskShader<kMasked>::Varyings>& p) const {
+    return {p.ddx[1], p.ddy[2], p.ddx[0], p.ddy[3]};
+  }
+};
+
+TEST_CASE("kDerivativeMask: the named varyings get the same derivatives as without it, the others zero, at every width") {
+  static_assert(raster::varying_bits(4, 8) == 0x6u && raster::varying_bits(0, 0) == 0u);
+  static_assert(raster::kDerivativeMask<DerivativeMaskShader<true>> == 0x6u);
+  constexpr int kW = 40, kH = 30;
+  // Triangles with perspective (w per vertex), partly covered quads and one past the edge.
+  const test::Point triangles[][3] = {{{-6, -3}, {47, 4}, {12, 35}}, {{3.2, 4.7}, {9.9, 5.1}, {4.0, 25.3}},
+                                      {{20.5, 2.5}, {38.5, 28.5}, {2.5, 20.5}}};
+  const float ws[3] = {1.0f, 2.0f, 3.5f};
+  std::vector<DerivativeMaskShader<true>::Vertex> verts;
+  for (const auto& tri : triangles)
+    for (int i = 0; i < 3; ++i) {
+      const glm::vec4 c = test::pixel_to_clip(tri[i].x, tri[i].y, kW, kH, ws[i]);
+      const float x = static_cast<float>(tri[i].x), y = static_cast<float>(tri[i].y);
+      verts.push_back({c.x, c.y, c.z, c.w, 0.5f * x - y, 2.0f * y + 0.25f * x, x * 0.125f + 3.0f, -y});
+    }
+  auto render = [&](auto shader, int lanes) {
+    raster::Target t(kW, kH);
+    t.clear({0, 0, 0, 0}, 1.0f);
+    raster::Renderer renderer({.threads = 1, .tile_size = 16, .lanes = lanes});
+    renderer.begin_frame(t);
+    renderer.draw(shader, std::span<const DerivativeMaskShader<true>::Vertex>(verts),
+                  raster::DrawState{.depth_test = raster::DepthTest::Always});
+    renderer.end_frame();
+    return t;
+  };
+  const raster::Target full = render(DerivativeMaskShader<false>{}, 0);
+  int nonzero_full = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) nonzero_full += full.color(x, y).z != 0 && full.color(x, y).w != 0;
+  CHECK(nonzero_full > 100);  // the unmasked shader does see a and d change
+  for (const int lanes : {0, 1, 4, 8, 16}) {
+    const raster::Target masked =
+        lanes == 0 ? render(DerivativeMaskShader<true>{}, 1) : render(DerivativeMaskPacketShader<true>{}, lanes);
+    CAPTURE(lanes);
+    int wrong = 0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        const glm::vec4 f = full.color(x, y), m = masked.color(x, y);
+        wrong += m.x != f.x || m.y != f.y || m.z != 0.0f || m.w != 0.0f;
+      }
+    CHECK(wrong == 0);
+  }
 }
 
 // A flat colour with depth from the clip position.

@@ -91,7 +91,7 @@ TEST_CASE("the mip chain has GL's level sizes, for non-powers of two and 1xN too
 }
 
 TEST_CASE("every mip level keeps the image's mean (odd sizes included)") {
-  for (const std::pair<int, int> size : {std::pair{64, 64}, {37, 21}, {1, 13}, {9, 1}, {3, 3}}) {
+  for (const std::pair<int, int>& size : {std::pair{64, 64}, {37, 21}, {1, 13}, {9, 1}, {3, 3}}) {
     const int w = size.first, h = size.second;  // not a structured binding: CAPTURE's lambda captures them
     CAPTURE(w);
     CAPTURE(h);

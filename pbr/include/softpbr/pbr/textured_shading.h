@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -91,8 +92,10 @@ struct TexturedPbrShader {
     glm::vec4 tangent;
     glm::vec4 color;
   };
-  // Texture lookups need the derivatives of the UVs.
+  // Texture lookups need the derivatives of the UVs (both sets), and only those.
   static constexpr bool kUsesDerivatives = true;
+  static constexpr std::uint32_t kDerivativeMask =
+      raster::varying_bits(offsetof(Varyings, uv), 2 * sizeof(glm::vec2));
 
   glm::mat4 model{1.0f};
   glm::mat3 normal_matrix{1.0f};

@@ -99,6 +99,30 @@ inline constexpr bool kUsesDerivatives<S> = S::kUsesDerivatives;
 template <class V>
 inline constexpr int kVaryingCount = std::is_empty_v<V> ? 0 : static_cast<int>(sizeof(V) / sizeof(float));
 
+// The varying floats [offset, offset + size) of a varyings struct (in bytes, as offsetof and
+// sizeof give them) as a set of derivatives: bit k is float k.
+constexpr std::uint32_t varying_bits(std::size_t offset, std::size_t size) {
+  std::uint32_t bits = 0;
+  for (std::size_t k = offset / sizeof(float); k < (offset + size) / sizeof(float) && k < 32; ++k)
+    bits |= std::uint32_t{1} << k;
+  return bits;
+}
+
+// A shader that reads the derivatives of only some varyings (a texture lookup's UVs) may
+// name them, bit k for varying float k:
+//   static constexpr std::uint32_t kDerivativeMask = raster::varying_bits(offsetof(Varyings, uv), sizeof(glm::vec2));
+// The rasterizer then computes and passes only those; the others read as zero. Without it
+// every varying has its derivatives (none with kUsesDerivatives = false).
+template <class S>
+inline constexpr std::uint32_t kDerivativeMask =
+    kUsesDerivatives<S> ? (kVaryingCount<typename S::Varyings> >= 32
+                               ? ~std::uint32_t{0}
+                               : (std::uint32_t{1} << kVaryingCount<typename S::Varyings>) - 1)
+                        : 0;
+template <class S>
+  requires requires { S::kDerivativeMask; }
+inline constexpr std::uint32_t kDerivativeMask<S> = kUsesDerivatives<S> ? std::uint32_t{S::kDerivativeMask} : 0;
+
 enum class DepthTest : std::uint8_t { Less, LessEqual, Always };
 enum class Cull : std::uint8_t { None, Back, Front };
 enum class FrontFace : std::uint8_t { CounterClockwise, Clockwise };  // as seen on screen

@@ -57,51 +57,75 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
   }
 }
 
-// Shades the buffered lanes with fragment_packet<Vec<W>> (or <float> for W = 1), writes them.
-// Depth was written when the lanes passed the depth test (see raster_triangle); colour is
-// written here in lane order, so a pixel that two buffered triangles cover ends up blended
-// in submission order.
-template <int W, int kMs, class S, int kN>
-void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& state, const TargetPixels& target) {
+// Covered pixels waiting for a packet shader (W lanes; W = 0, the scalar path, keeps one
+// unused): the FragmentPacket the shader reads, filled lane by lane, so a full packet is
+// shaded where it was written, without a copy.
+template <int W, Shader S>
+struct Packet {
+  static constexpr int kW = W > 0 ? W : 1;
+  using F = std::conditional_t<kW == 1, float, simd::Lanes<kW, SOFTPBR_ISA>>;
+  FragmentPacket<F, typename S::Varyings> p;
+  std::size_t index[kW];  // pixel index in the target
+  // MSAA: the samples of each lane's pixel that are covered and passed the depth test (bit
+  // s: sample s), and their depths (alpha-tested draws test and write them when flushing).
+  std::uint8_t sample_mask[kW];
+  float sample_depth[kW][kMaxSamples];
+  int count = 0;
+
+  Packet() {
+    // Derivatives the shader does not read stay zero.
+    for (auto& d : p.ddx) d = F(0.0f);
+    for (auto& d : p.ddy) d = F(0.0f);
+    p.front_facing = true;
+  }
+};
+
+// Lane `lane` of a packet's lane vector, written through its bytes (a float or simd::Lanes).
+template <class F>
+inline void put_lane(F& lanes, int lane, float x) {
+  __builtin_memcpy(reinterpret_cast<char*>(&lanes) + static_cast<std::size_t>(lane) * sizeof(float), &x, sizeof x);
+}
+template <class F>
+inline float get_lane(const F& lanes, int lane) {
+  float x;
+  __builtin_memcpy(&x, reinterpret_cast<const char*>(&lanes) + static_cast<std::size_t>(lane) * sizeof(float), sizeof x);
+  return x;
+}
+// Lanes [lane, lane + 4) at once (lane + 4 ≤ W).
+template <class F>
+inline void put_4_lanes(F& lanes, int lane, const float* x) {
+  __builtin_memcpy(reinterpret_cast<char*>(&lanes) + static_cast<std::size_t>(lane) * sizeof(float), x,
+                   4 * sizeof(float));
+}
+
+// Shades the buffered lanes with fragment_packet<Lanes<W>> (or <float> for W = 1), writes
+// them. Depth was written when the lanes passed the depth test (see raster_triangle);
+// colour is written here in lane order, so a pixel that two buffered triangles cover ends
+// up blended in submission order.
+template <int W, int kMs, class S>
+void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, const TargetPixels& target) {
   glm::vec4* const colors = target.colors;
   float* const depths = target.depths;
-  using V = typename S::Varyings;
-  using F = std::conditional_t<W == 1, float, simd::Lanes<W, SOFTPBR_ISA>>;
+  using F = typename Packet<W, S>::F;
+  constexpr int kN = kVaryingCount<typename S::Varyings>;
+  constexpr std::uint32_t kDerivatives = kDerivativeMask<S>;
   SOFTPBR_DCHECK(b.count >= 0 && b.count <= W);
   if (b.count == 0) return;
+  FragmentPacket<F, typename S::Varyings>& p = b.p;
   if constexpr (W > 1) {
     for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
       for (int k = 0; k < kN; ++k) {
-        b.v[k][lane] = b.v[k][0];
-        if constexpr (kUsesDerivatives<S>) {
-          b.ddx[k][lane] = b.ddx[k][0];
-          b.ddy[k][lane] = b.ddy[k][0];
+        put_lane(p.v[k], lane, get_lane(p.v[k], 0));
+        if (kDerivatives >> k & 1) {
+          put_lane(p.ddx[k], lane, get_lane(p.ddx[k], 0));
+          put_lane(p.ddy[k], lane, get_lane(p.ddy[k], 0));
         }
       }
-      b.pos_x[lane] = b.pos_x[0];
-      b.pos_y[lane] = b.pos_y[0];
-      b.depth[lane] = b.depth[0];
+      put_lane(p.pos_x, lane, get_lane(p.pos_x, 0));
+      put_lane(p.pos_y, lane, get_lane(p.pos_y, 0));
+      put_lane(p.depth, lane, get_lane(p.depth, 0));
     }
   }
-  auto load = [](const float* p) {
-    if constexpr (W == 1) return *p;
-    else return F::load(p);
-  };
-  FragmentPacket<F, V> p;
-  for (int k = 0; k < kN; ++k) {
-    p.v[k] = load(b.v[k]);
-    if constexpr (kUsesDerivatives<S>) {
-      p.ddx[k] = load(b.ddx[k]);
-      p.ddy[k] = load(b.ddy[k]);
-    } else {
-      p.ddx[k] = F(0.0f);
-      p.ddy[k] = F(0.0f);
-    }
-  }
-  p.pos_x = load(b.pos_x);
-  p.pos_y = load(b.pos_y);
-  p.depth = load(b.depth);
-  p.front_facing = b.front_facing;
   const Color<F> c = shader.template fragment_packet<F>(p);
   float out[4][W];
   if constexpr (W == 1) {
@@ -118,8 +142,9 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
     for (int lane = 0; lane < b.count; ++lane) {
       if (!(out[3][lane] >= state.alpha_ref)) continue;
       const std::size_t idx = b.index[lane];
-      if (!depth_passes(state.depth_test, b.depth[lane], depths[idx])) continue;
-      if (state.depth_write) depths[idx] = b.depth[lane];
+      const float z = get_lane(p.depth, lane);
+      if (!depth_passes(state.depth_test, z, depths[idx])) continue;
+      if (state.depth_write) depths[idx] = z;
       colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
     }
   } else if (state.blend == Blend::Replace) {
@@ -139,7 +164,7 @@ void flush_packet(const S& shader, PacketBuffer<W, kN>& b, const DrawState& stat
 // still shade full packets. `packet` carries the lanes waiting from earlier triangles.
 template <int W, int kMs, Shader S>
 void raster_triangle(const S& shader, const DrawGeometry& geometry, const TriangleChunk& chunk,
-                     const Triangle& t, const TileRect& tile, const TargetPixels& target, PacketFor<W, S>& packet) {
+                     const Triangle& t, const TileRect& tile, const TargetPixels& target, Packet<W, S>& packet) {
   using V = typename S::Varyings;
   constexpr int kN = kVaryingCount<V>;
   constexpr std::int64_t kStep = kSubpixelScale;  // one pixel in fixed point
@@ -177,9 +202,9 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   glm::vec4* colors = target.colors;
   float* depths = target.depths;
   if constexpr (W > 0) {
-    if (packet.front_facing != t.front_facing) {
+    if (packet.p.front_facing != t.front_facing) {
       flush_packet<W, kMs>(shader, packet, state, target);
-      packet.front_facing = t.front_facing;
+      packet.p.front_facing = t.front_facing;
     }
   }
 
@@ -291,7 +316,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // Perspective-correct varyings at all four lanes (helper lanes feed derivatives):
       // b1, b2 are the perspective-correct weights of vertices 1 and 2; beyond the
       // horizon (s ≤ 0, helper lanes only) they are 0, i.e. the lane takes v0.
-      constexpr bool kDerivatives = kUsesDerivatives<S>;
+      constexpr std::uint32_t kDerivatives = kDerivativeMask<S>;
       alignas(16) float values[kN > 0 ? kN : 1][4];  // [varying][lane]
       {
         const V4 a0 = w0 * V4(t.inv_w[0]);
@@ -304,10 +329,11 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         const V4 b2 = simd::select(ahead, a2 * rs, V4(0.0f));
         for (int k = 0; k < kN; ++k) (V4(v0[k]) + b1 * V4(d1[k]) + b2 * V4(d2[k])).store(values[k]);
       }
+      // Coarse derivatives of the varyings the shader reads them of (zero for the others).
       float ddx[kN > 0 ? kN : 1], ddy[kN > 0 ? kN : 1];
       for (int k = 0; k < kN; ++k) {
-        ddx[k] = kDerivatives ? values[k][1] - values[k][0] : 0.0f;
-        ddy[k] = kDerivatives ? values[k][2] - values[k][0] : 0.0f;
+        ddx[k] = kDerivatives >> k & 1 ? values[k][1] - values[k][0] : 0.0f;
+        ddy[k] = kDerivatives >> k & 1 ? values[k][2] - values[k][0] : 0.0f;
       }
       if constexpr (W == 0) {
         const V vddx = varyings_from_floats<V>(ddx);
@@ -337,20 +363,55 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           }
         }
       } else {
+        FragmentPacket<typename Packet<W, S>::F, V>& p = packet.p;
+        if constexpr (W >= 4) {
+          if (mask == 0xFu && packet.count + 4 <= W) {
+            // A whole quad into four consecutive lanes: one 4-float store per row.
+            const int lane = packet.count;
+            packet.count += 4;
+            for (int k = 0; k < kN; ++k) {
+              put_4_lanes(p.v[k], lane, values[k]);
+              if (kDerivatives >> k & 1) {
+                const float dx[4] = {ddx[k], ddx[k], ddx[k], ddx[k]};
+                const float dy[4] = {ddy[k], ddy[k], ddy[k], ddy[k]};
+                put_4_lanes(p.ddx[k], lane, dx);
+                put_4_lanes(p.ddy[k], lane, dy);
+              }
+            }
+            float px[4], py[4];
+            for (int j = 0; j < 4; ++j) {
+              px[j] = static_cast<float>(lane_x[j]) + 0.5f;
+              py[j] = static_cast<float>(lane_y[j]) + 0.5f;
+            }
+            put_4_lanes(p.pos_x, lane, px);
+            put_4_lanes(p.pos_y, lane, py);
+            put_4_lanes(p.depth, lane, z);
+            for (int j = 0; j < 4; ++j) {
+              packet.index[lane + j] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+              if constexpr (kMs > 1) {
+                packet.sample_mask[lane + j] = static_cast<std::uint8_t>(lane_samples[j]);
+                if (state.alpha_test)
+                  for (int s = 0; s < kMs; ++s) packet.sample_depth[lane + j][s] = sample_z[s][j];
+              }
+            }
+            if (packet.count == W) flush_packet<W, kMs>(shader, packet, state, target);
+            continue;
+          }
+        }
         for (int j = 0; j < 4; ++j) {
           if (!(mask & (1u << j))) continue;
           SOFTPBR_DCHECK(packet.count < W);
           const int lane = packet.count++;
           for (int k = 0; k < kN; ++k) {
-            packet.v[k][lane] = values[k][j];
-            if constexpr (kDerivatives) {
-              packet.ddx[k][lane] = ddx[k];
-              packet.ddy[k][lane] = ddy[k];
+            put_lane(p.v[k], lane, values[k][j]);
+            if (kDerivatives >> k & 1) {
+              put_lane(p.ddx[k], lane, ddx[k]);
+              put_lane(p.ddy[k], lane, ddy[k]);
             }
           }
-          packet.pos_x[lane] = static_cast<float>(lane_x[j]) + 0.5f;
-          packet.pos_y[lane] = static_cast<float>(lane_y[j]) + 0.5f;
-          packet.depth[lane] = z[j];
+          put_lane(p.pos_x, lane, static_cast<float>(lane_x[j]) + 0.5f);
+          put_lane(p.pos_y, lane, static_cast<float>(lane_y[j]) + 0.5f);
+          put_lane(p.depth, lane, z[j]);
           packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
           if constexpr (kMs > 1) {
             packet.sample_mask[lane] = static_cast<std::uint8_t>(lane_samples[j]);
@@ -369,7 +430,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
 template <int W, int kMs, Shader S>
 SOFTPBR_KERNEL void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  const TargetPixels& target) {
-  PacketFor<W, S> packet;
+  Packet<W, S> packet;
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
       raster_triangle<W, kMs>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);

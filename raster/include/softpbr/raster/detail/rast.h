@@ -23,32 +23,6 @@
 #include "softpbr/simd/dispatch.h"
 #include "softpbr/simd/simd.h"
 
-namespace softpbr::raster::detail {
-
-// Lanes of covered pixels waiting for a packet shader, in structure-of-arrays form.
-template <int W, int kN>
-struct PacketBuffer {
-  static constexpr int kV = kN > 0 ? kN : 1;
-  alignas(64) float v[kV][W];
-  alignas(64) float ddx[kV][W];
-  alignas(64) float ddy[kV][W];
-  alignas(64) float pos_x[W];
-  alignas(64) float pos_y[W];
-  alignas(64) float depth[W];
-  std::size_t index[W];  // pixel index in the target
-  // MSAA: the samples of each lane's pixel that are covered and passed the depth test (bit
-  // s: sample s), and their depths (alpha-tested draws test and write them when flushing).
-  std::uint8_t sample_mask[W];
-  float sample_depth[W][kMaxSamples];
-  int count = 0;
-  bool front_facing = true;  // of every lane (a packet holds one facing)
-};
-
-template <int W, Shader S>
-using PacketFor = PacketBuffer<(W > 0 ? W : 1), kVaryingCount<typename S::Varyings>>;
-
-}  // namespace softpbr::raster::detail
-
 // raster_tile<W, S>() in softpbr::raster::detail::{baseline, avx2, avx512}.
 #define SOFTPBR_TARGET_FILE "softpbr/raster/detail/rast-inl.h"
 #include "softpbr/simd/foreach_target.h"
