@@ -223,21 +223,17 @@ struct TexturedPbrShader {
 
  private:
   // The colour and alpha written for the material's alpha mode.
+  // One result object written in place (see sample_light: no copies of temporaries).
   template <class F>
   static raster::Color<F> output(const TexturedMaterial& m, const Vec3L<F>& c, F alpha) {
-    switch (m.alpha_mode) {
-      case AlphaMode::Mask: {
-        const F keep = simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
-        return {c.x, c.y, c.z, keep};
-      }
-      case AlphaMode::Blend: {
-        const F a = simd::clamp(alpha, F(0.0f), F(1.0f));
-        return {c.x * a, c.y * a, c.z * a, a};
-      }
-      case AlphaMode::Opaque:
-      default:
-        return {c.x, c.y, c.z, F(1.0f)};
+    raster::Color<F> out{c.x, c.y, c.z, F(1.0f)};
+    if (m.alpha_mode == AlphaMode::Mask) {
+      out.a = simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
+    } else if (m.alpha_mode == AlphaMode::Blend) {
+      const F a = simd::clamp(alpha, F(0.0f), F(1.0f));
+      out = {c.x * a, c.y * a, c.z * a, a};
     }
+    return out;
   }
 
   template <class F>

