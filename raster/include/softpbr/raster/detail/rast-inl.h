@@ -108,18 +108,15 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
   float* const depths = target.depths;
   using F = typename Packet<W, S>::F;
   constexpr int kN = kVaryingCount<typename S::Varyings>;
-  constexpr std::uint32_t kDerivatives = kDerivativeMask<S>;
   SOFTPBR_DCHECK(b.count >= 0 && b.count <= W);
   if (b.count == 0) return;
   FragmentPacket<F, typename S::Varyings>& p = b.p;
   if constexpr (W > 1) {
     for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
-      for (int k = 0; k < kN; ++k) {
-        put_lane(p.v[k], lane, get_lane(p.v[k], 0));
-        if (kDerivatives >> k & 1) {
-          put_lane(p.ddx[k], lane, get_lane(p.ddx[k], 0));
-          put_lane(p.ddy[k], lane, get_lane(p.ddy[k], 0));
-        }
+      for (int k = 0; k < kN; ++k) put_lane(p.v[k], lane, get_lane(p.v[k], 0));
+      for (const int k : kDerivativeIndices<S>) {
+        put_lane(p.ddx[k], lane, get_lane(p.ddx[k], 0));
+        put_lane(p.ddy[k], lane, get_lane(p.ddy[k], 0));
       }
       put_lane(p.pos_x, lane, get_lane(p.pos_x, 0));
       put_lane(p.pos_y, lane, get_lane(p.pos_y, 0));
@@ -178,16 +175,18 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   const int y1 = std::min(t.max_y, tile.y1 - 1);
   if (x0 > x1 || y0 > y1) return;
 
-  // Varyings as v0 + λ1·(v1 − v0) + λ2·(v2 − v0), with perspective-correct λ.
-  float v0[kN > 0 ? kN : 1], d1[kN > 0 ? kN : 1], d2[kN > 0 ? kN : 1];
+  // Varyings as v0 + λ1·(v1 − v0) + λ2·(v2 − v0), with perspective-correct λ: each term
+  // broadcast to a quad's four lanes once per triangle, not once per quad.
+  using V4 = simd::Lanes<4, SOFTPBR_ISA>;
+  V4 v0[kN > 0 ? kN : 1], d1[kN > 0 ? kN : 1], d2[kN > 0 ? kN : 1];
   {
     const float* p0 = geometry.varyings(chunk, t.vertex[0]);
     const float* p1 = geometry.varyings(chunk, t.vertex[1]);
     const float* p2 = geometry.varyings(chunk, t.vertex[2]);
     for (int k = 0; k < kN; ++k) {
-      v0[k] = p0[k];
-      d1[k] = p1[k] - p0[k];
-      d2[k] = p2[k] - p0[k];
+      v0[k] = V4(p0[k]);
+      d1[k] = V4(p1[k] - p0[k]);
+      d2[k] = V4(p2[k] - p0[k]);
     }
   }
 
@@ -211,7 +210,6 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   // The edge functions of a quad's four lanes as one vector of 64-bit integers per edge:
   // the lane-0 value plus these steps, kept in registers.
   using I64x4 = simd::native_t<std::int64_t, 4>;
-  using V4 = simd::Lanes<4, SOFTPBR_ISA>;
   const auto lane_step = [&](int i) {
     const std::int64_t a = t.a[i], b = t.b[i];
     return I64x4{0, a * kStep, b * kStep, (a + b) * kStep};
@@ -316,7 +314,6 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // Perspective-correct varyings at all four lanes (helper lanes feed derivatives):
       // b1, b2 are the perspective-correct weights of vertices 1 and 2; beyond the
       // horizon (s ≤ 0, helper lanes only) they are 0, i.e. the lane takes v0.
-      constexpr std::uint32_t kDerivatives = kDerivativeMask<S>;
       alignas(16) float values[kN > 0 ? kN : 1][4];  // [varying][lane]
       {
         const V4 a0 = w0 * V4(t.inv_w[0]);
@@ -327,13 +324,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         const V4 rs = V4(1.0f) / simd::select(ahead, sum, V4(1.0f));
         const V4 b1 = simd::select(ahead, a1 * rs, V4(0.0f));
         const V4 b2 = simd::select(ahead, a2 * rs, V4(0.0f));
-        for (int k = 0; k < kN; ++k) (V4(v0[k]) + b1 * V4(d1[k]) + b2 * V4(d2[k])).store(values[k]);
+        for (int k = 0; k < kN; ++k) (v0[k] + b1 * d1[k] + b2 * d2[k]).store(values[k]);
       }
       // Coarse derivatives of the varyings the shader reads them of (zero for the others).
-      float ddx[kN > 0 ? kN : 1], ddy[kN > 0 ? kN : 1];
-      for (int k = 0; k < kN; ++k) {
-        ddx[k] = kDerivatives >> k & 1 ? values[k][1] - values[k][0] : 0.0f;
-        ddy[k] = kDerivatives >> k & 1 ? values[k][2] - values[k][0] : 0.0f;
+      float ddx[kN > 0 ? kN : 1] = {}, ddy[kN > 0 ? kN : 1] = {};
+      for (const int k : kDerivativeIndices<S>) {
+        ddx[k] = values[k][1] - values[k][0];
+        ddy[k] = values[k][2] - values[k][0];
       }
       if constexpr (W == 0) {
         const V vddx = varyings_from_floats<V>(ddx);
@@ -369,14 +366,12 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
             // A whole quad into four consecutive lanes: one 4-float store per row.
             const int lane = packet.count;
             packet.count += 4;
-            for (int k = 0; k < kN; ++k) {
-              put_4_lanes(p.v[k], lane, values[k]);
-              if (kDerivatives >> k & 1) {
-                const float dx[4] = {ddx[k], ddx[k], ddx[k], ddx[k]};
-                const float dy[4] = {ddy[k], ddy[k], ddy[k], ddy[k]};
-                put_4_lanes(p.ddx[k], lane, dx);
-                put_4_lanes(p.ddy[k], lane, dy);
-              }
+            for (int k = 0; k < kN; ++k) put_4_lanes(p.v[k], lane, values[k]);
+            for (const int k : kDerivativeIndices<S>) {
+              const float dx[4] = {ddx[k], ddx[k], ddx[k], ddx[k]};
+              const float dy[4] = {ddy[k], ddy[k], ddy[k], ddy[k]};
+              put_4_lanes(p.ddx[k], lane, dx);
+              put_4_lanes(p.ddy[k], lane, dy);
             }
             float px[4], py[4];
             for (int j = 0; j < 4; ++j) {
@@ -402,12 +397,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           if (!(mask & (1u << j))) continue;
           SOFTPBR_DCHECK(packet.count < W);
           const int lane = packet.count++;
-          for (int k = 0; k < kN; ++k) {
-            put_lane(p.v[k], lane, values[k][j]);
-            if (kDerivatives >> k & 1) {
-              put_lane(p.ddx[k], lane, ddx[k]);
-              put_lane(p.ddy[k], lane, ddy[k]);
-            }
+          for (int k = 0; k < kN; ++k) put_lane(p.v[k], lane, values[k][j]);
+          for (const int k : kDerivativeIndices<S>) {
+            put_lane(p.ddx[k], lane, ddx[k]);
+            put_lane(p.ddy[k], lane, ddy[k]);
           }
           put_lane(p.pos_x, lane, static_cast<float>(lane_x[j]) + 0.5f);
           put_lane(p.pos_y, lane, static_cast<float>(lane_y[j]) + 0.5f);

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <type_traits>
@@ -22,6 +23,22 @@
 #include "softpbr/raster/target.h"
 #include "softpbr/simd/dispatch.h"
 #include "softpbr/simd/simd.h"
+
+namespace softpbr::raster::detail {
+
+// The varying floats the tile kernel computes derivatives of (kDerivativeMask), in order.
+template <class S>
+inline constexpr auto kDerivativeIndices = [] {
+  constexpr int kN = kVaryingCount<typename S::Varyings>;
+  constexpr std::uint32_t kMask = kDerivativeMask<S> & (kN >= 32 ? ~std::uint32_t{0} : (std::uint32_t{1} << kN) - 1);
+  std::array<int, std::popcount(kMask)> indices{};
+  int i = 0;
+  for (int k = 0; k < kN; ++k)
+    if (kMask >> k & 1) indices[i++] = k;
+  return indices;
+}();
+
+}  // namespace softpbr::raster::detail
 
 // raster_tile<W, S>() in softpbr::raster::detail::{baseline, avx2, avx512}.
 #define SOFTPBR_TARGET_FILE "softpbr/raster/detail/rast-inl.h"
