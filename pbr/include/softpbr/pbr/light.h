@@ -58,7 +58,8 @@ struct LightSampleLanes {
 
 // One result object, written in place on every path: with a return expression per light
 // type GCC built each in a temporary and copied it out in 16-byte halves, and the 32-byte
-// loads of those halves missed store forwarding (17% of the fill scene's time on Zen 3).
+// loads of those halves missed store forwarding (about 17% of the fill
+// kernel's time on Zen 3).
 template <class F>
 inline LightSampleLanes<F> sample_light(const PreparedLight& p, const simd::Vec3<F>& position) {
   using V3 = simd::Vec3<F>;

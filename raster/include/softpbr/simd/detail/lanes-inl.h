@@ -107,8 +107,8 @@ inline LaneMask<N, SOFTPBR_ISA> both(LaneMask<N, SOFTPBR_ISA> a, LaneMask<N, SOF
 }
 
 // Whether any lane is set. With AVX, 4 and 8 lanes: vtestps of the mask's sign bits (one
-// instruction and a branch on its flag; the sum below was seven dependent ones, ~5% of
-// the fill scene's time on Zen 3). Otherwise the mask feeds a blend and the lanes are
+// instruction and a branch on its flag; the sum below was seven dependent ones, about 6%
+// of the fill kernel's time on Zen 3). Otherwise the mask feeds a blend and the lanes are
 // summed as floats (a mask moved into integer registers costs more than the blend).
 template <int N>
 inline bool any(LaneMask<N, SOFTPBR_ISA> m) {
