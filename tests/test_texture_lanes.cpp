@@ -93,3 +93,46 @@ TEST_CASE("the eight-lane texture kernel returns the scalar lookup's bits") {
   CHECK(lookups > 10000);
   CHECK(mismatches == 0);
 }
+
+TEST_CASE("a batch that asks for some channels gets them with the bits of a full lookup") {
+  const raster::Texture t(softpbr::test::random_image8(128, 64, 7), raster::ColorSpace::Srgb);
+  std::mt19937 rng(5);
+  constexpr int kN = 19;  // two groups of eight and a partial one
+  std::vector<float> in[6], full[4], part[4];
+  for (auto& v : in) v.resize(kN);
+  for (int i = 0; i < kN; ++i) {
+    in[0][i] = value(rng, 3.0f);
+    in[1][i] = value(rng, 3.0f);
+    for (int k = 2; k < 6; ++k) in[k][i] = value(rng, 0.02f);
+  }
+  raster::Sampler s;  // repeat, trilinear
+  s.max_anisotropy = 4;
+  auto run = [&](std::vector<float>* out, unsigned channels) {
+    for (int c = 0; c < 4; ++c) out[c].assign(kN, -1.0f);
+    t.sample_batch(s, kN,
+                   {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data(), nullptr,
+                    out[0].data(), out[1].data(), out[2].data(), out[3].data(), channels});
+  };
+  run(full, raster::Texture::kRgba);
+  for (const unsigned channels : {0x7u, 0x6u, 0x1u, 0x5u, 0x8u, 0xFu}) {
+    run(part, channels);
+    CAPTURE(channels);
+    int wrong = 0;
+    for (int c = 0; c < 4; ++c)
+      if (channels >> c & 1)
+        for (int i = 0; i < kN; ++i)
+          wrong += std::bit_cast<std::uint32_t>(part[c][i]) != std::bit_cast<std::uint32_t>(full[c][i]);
+    CHECK(wrong == 0);
+  }
+  // The packet form returns the channels asked for and 0 for the others.
+  using V8 = softpbr::simd::Vec<8>;
+  const raster::Color<V8> c = raster::sample(t, s, V8::load(in[0].data()), V8::load(in[1].data()),
+                                             V8::load(in[2].data()), V8::load(in[3].data()), V8::load(in[4].data()),
+                                             V8::load(in[5].data()), 0x6u);
+  for (int i = 0; i < 8; ++i) {
+    CHECK(c.r[i] == 0.0f);
+    CHECK(std::bit_cast<std::uint32_t>(c.g[i]) == std::bit_cast<std::uint32_t>(full[1][i]));
+    CHECK(std::bit_cast<std::uint32_t>(c.b[i]) == std::bit_cast<std::uint32_t>(full[2][i]));
+    CHECK(c.a[i] == 0.0f);
+  }
+}

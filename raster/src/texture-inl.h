@@ -110,26 +110,32 @@ inline LevelLanes level_lanes(const LaneTexture& t, I8 d) {
 }
 
 // Eight texels (RGBA8, by index into the texel array) decoded: colour through the
-// texture's table, alpha through k/255's. Loaded one by one: on Zen 3 this is faster than
-// AVX2's gathers (one for the texels and four for the tables: 50 against 43 ns a lookup
-// in a micro benchmark, though half the instructions).
+// texture's table, alpha through k/255's; only the channels in kCh (bit c: channel c), the
+// others 0. Loaded one by one: on Zen 3 this is faster than AVX2's gathers (one for the
+// texels and four for the tables: 50 against 43 ns a lookup in a micro benchmark, though
+// half the instructions).
+template <unsigned kCh>
 inline Rgba8 texels(const LaneTexture& t, I8 index) {
   alignas(32) std::int32_t at[8];
   std::memcpy(at, &index, sizeof at);
   alignas(32) float c[4][8];
   for (int i = 0; i < 8; ++i) {
     const std::uint8_t* p = t.texels + static_cast<std::size_t>(at[i]) * 4;
-    c[0][i] = t.rgb[p[0]];
-    c[1][i] = t.rgb[p[1]];
-    c[2][i] = t.rgb[p[2]];
-    c[3][i] = t.alpha[p[3]];
+    if constexpr ((kCh & 1) != 0) c[0][i] = t.rgb[p[0]];
+    if constexpr ((kCh & 2) != 0) c[1][i] = t.rgb[p[1]];
+    if constexpr ((kCh & 4) != 0) c[2][i] = t.rgb[p[2]];
+    if constexpr ((kCh & 8) != 0) c[3][i] = t.alpha[p[3]];
   }
   Rgba8 r;
-  std::memcpy(&r, c, sizeof r);
+  for (int ch = 0; ch < 4; ++ch) {
+    if (kCh >> ch & 1) std::memcpy(&r.c[ch], c[ch], sizeof(F8));
+    else r.c[ch] = F8{};
+  }
   return r;
 }
 
-// Lookup::bilinear_repeat() per lane, each at its own level.
+// Lookup::bilinear_repeat() per lane, each at its own level (the channels in kCh).
+template <unsigned kCh>
 inline Rgba8 bilinear(const LaneTexture& t, const LevelLanes& lv, F8 cu, F8 cv) {
   const F8 x = cu * lv.fw, y = cv * lv.fh;
   const F8 xs = x - 0.5f, ys = y - 0.5f;
@@ -139,11 +145,15 @@ inline Rgba8 bilinear(const LaneTexture& t, const LevelLanes& lv, F8 cu, F8 cv) 
   const I8 ia = x0.i & lv.wmask, ja = y0.i & lv.hmask;
   const I8 ib = (ia + 1) & lv.wmask, jb = (ja + 1) & lv.hmask;
   const I8 row_a = lv.offset + (ja << lv.wshift), row_b = lv.offset + (jb << lv.wshift);
-  const Rgba8 c00 = texels(t, row_a + ia), c10 = texels(t, row_a + ib);
-  const Rgba8 c01 = texels(t, row_b + ia), c11 = texels(t, row_b + ib);
+  const Rgba8 c00 = texels<kCh>(t, row_a + ia), c10 = texels<kCh>(t, row_a + ib);
+  const Rgba8 c01 = texels<kCh>(t, row_b + ia), c11 = texels<kCh>(t, row_b + ib);
   const F8 bx = 1.0f - ax, by = 1.0f - ay;
   Rgba8 out;
   for (int ch = 0; ch < 4; ++ch) {
+    if (!(kCh >> ch & 1)) {
+      out.c[ch] = F8{};
+      continue;
+    }
     const F8 top = c00.c[ch] * bx + c10.c[ch] * ax;
     const F8 bottom = c01.c[ch] * bx + c11.c[ch] * ax;
     out.c[ch] = top * by + bottom * ay;
@@ -153,22 +163,24 @@ inline Rgba8 bilinear(const LaneTexture& t, const LevelLanes& lv, F8 cu, F8 cv) 
 
 // Lookup::trilinear_repeat() per lane: level 0 where λ ≤ 0, the last level where λ ≥ q,
 // else the blend of the two levels around λ.
+template <unsigned kCh>
 inline Rgba8 trilinear(const LaneTexture& t, F8 lod, F8 u, F8 v) {
   const F8 cu = coordinate(u), cv = coordinate(v);
   const I8 positive = lod > 0.0f;
   const I8 between = positive & (lod < static_cast<float>(t.q));
   const FloorL f = floor_of(select(between, lod, splat(0.5f)));
   const I8 d1 = select(between, f.i, select(positive, splat_int(t.q), I8{}));
-  const Rgba8 a = bilinear(t, level_lanes(t, d1), cu, cv);
+  const Rgba8 a = bilinear<kCh>(t, level_lanes(t, d1), cu, cv);
   if (!any(between)) return a;
-  const Rgba8 b = bilinear(t, level_lanes(t, select(between, d1 + 1, d1)), cu, cv);
+  const Rgba8 b = bilinear<kCh>(t, level_lanes(t, select(between, d1 + 1, d1)), cu, cv);
   const F8 w = lod - f.f;  // exact where it is used
   Rgba8 out;
   for (int ch = 0; ch < 4; ++ch) out.c[ch] = select(between, a.c[ch] * (1.0f - w) + b.c[ch] * w, a.c[ch]);
   return out;
 }
 
-// Lookup::sample_fast() per lane (the batch's bias is 0).
+// Lookup::sample_fast() per lane (the batch's bias is 0), the channels in kCh.
+template <unsigned kCh>
 inline Rgba8 sample8(const LaneTexture& t, F8 u, F8 v, F8 dudx, F8 dvdx, F8 dudy, F8 dvdy) {
   // Lookup::footprint().
   dudx = finite_or_zero(dudx);
@@ -193,7 +205,7 @@ inline Rgba8 sample8(const LaneTexture& t, F8 u, F8 v, F8 dudx, F8 dvdx, F8 dudy
   F8 lod = log2_of(select(several, pmax / to_float(probes), pmax));
   // clamp_lod(lod + finite_or_zero(bias)) with bias 0.
   lod = clamp((lod + 0.0f) + t.lod_bias, t.min_lod, t.max_lod);
-  if (!any(several)) return trilinear(t, lod, u, v);
+  if (!any(several)) return trilinear<kCh>(t, lod, u, v);
   // EXT_texture_filter_anisotropic's probes: lanes with one probe read (u, v) as the scalar
   // code does; the others the mean of theirs, summed in order, a probe past a lane's count
   // adding nothing.
@@ -206,7 +218,7 @@ inline Rgba8 sample8(const LaneTexture& t, F8 u, F8 v, F8 dudx, F8 dvdx, F8 dudy
   Rgba8 single{};
   for (int i = 1; i <= most; ++i) {
     const F8 w = static_cast<float>(i) / n1 - 0.5f;
-    const Rgba8 c = trilinear(t, lod, select(several, cu + mu * w, u), select(several, cv + mv * w, v));
+    const Rgba8 c = trilinear<kCh>(t, lod, select(several, cu + mu * w, u), select(several, cv + mv * w, v));
     if (i == 1) single = c;
     const I8 taken = several & (splat_int(i) <= probes);
     for (int ch = 0; ch < 4; ++ch) sum.c[ch] = select(taken, sum.c[ch] + c.c[ch], sum.c[ch]);
@@ -219,8 +231,9 @@ inline Rgba8 sample8(const LaneTexture& t, F8 u, F8 v, F8 dudx, F8 dvdx, F8 dudy
 
 }  // namespace texture_lanes
 
-// Texture::sample_batch() for LaneTexture's textures and samplers.
-SOFTPBR_KERNEL void sample_lanes(const LaneTexture& t, int n, const Texture::Batch& b) {
+// Texture::sample_batch() for LaneTexture's textures and samplers, the channels in kCh.
+template <unsigned kCh>
+void sample_lanes_of(const LaneTexture& t, int n, const Texture::Batch& b) {
   using namespace texture_lanes;
   for (int first = 0; first < n; first += 8) {
     const int m = n - first < 8 ? n - first : 8;
@@ -234,15 +247,27 @@ SOFTPBR_KERNEL void sample_lanes(const LaneTexture& t, int n, const Texture::Bat
         for (int i = 0; i < m; ++i) lanes[k][i] = in[k][i];
       }
     }
-    const Rgba8 c = sample8(t, lanes[0], lanes[1], lanes[2], lanes[3], lanes[4], lanes[5]);
+    const Rgba8 c = sample8<kCh>(t, lanes[0], lanes[1], lanes[2], lanes[3], lanes[4], lanes[5]);
     float* out[4] = {b.r + first, b.g + first, b.b + first, b.a + first};
     for (int ch = 0; ch < 4; ++ch) {
+      if (!(kCh >> ch & 1)) continue;
       if (m == 8) {
         std::memcpy(out[ch], &c.c[ch], sizeof(F8));
       } else {
         for (int i = 0; i < m; ++i) out[ch][i] = c.c[ch][i];
       }
     }
+  }
+}
+
+// The channel sets the textured PBR shader asks for (colour, metallic-roughness's g and b,
+// occlusion's r) have kernels of their own; any other set decodes all four.
+SOFTPBR_KERNEL void sample_lanes(const LaneTexture& t, int n, const Texture::Batch& b) {
+  switch (b.channels & Texture::kRgba) {
+    case 0x7u: return sample_lanes_of<0x7u>(t, n, b);
+    case 0x6u: return sample_lanes_of<0x6u>(t, n, b);
+    case 0x1u: return sample_lanes_of<0x1u>(t, n, b);
+    default: return sample_lanes_of<0xFu>(t, n, b);
   }
 }
 

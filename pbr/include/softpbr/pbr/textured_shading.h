@@ -145,7 +145,8 @@ struct TexturedPbrShader {
     constexpr int kColor = offsetof(Varyings, color) / sizeof(float);
     const TexturedMaterial& m = *material;
 
-    auto lookup = [&](const PreparedSlot& slot) {
+    // `channels`: the ones read below (bit c: r = 0 … a = 3); the lane kernel skips the rest.
+    auto lookup = [&](const PreparedSlot& slot, unsigned channels) {
       const int k = kUv[slot.uv_set];
       F u = p.v[k], v = p.v[k + 1];
       F dudx = p.ddx[k], dvdx = p.ddx[k + 1], dudy = p.ddy[k], dvdy = p.ddy[k + 1];
@@ -156,14 +157,15 @@ struct TexturedPbrShader {
         const F tdudy = F(slot.a) * dudy + F(slot.b) * dvdy, tdvdy = F(slot.d) * dudy + F(slot.e) * dvdy;
         u = tu, v = tv, dudx = tdudx, dvdx = tdvdx, dudy = tdudy, dvdy = tdvdy;
       }
-      return raster::sample(*slot.texture, slot.sampler, u, v, dudx, dvdx, dudy, dvdy);
+      return raster::sample(*slot.texture, slot.sampler, u, v, dudx, dvdx, dudy, dvdy, channels);
     };
 
     // Base colour and alpha.
     Vec3L<F> base = lanes<F>(m.base.albedo) * Vec3L<F>(p.v[kColor], p.v[kColor + 1], p.v[kColor + 2]);
     F alpha = F(m.alpha) * p.v[kColor + 3];
     if (m.base_color.texture != nullptr) {
-      const raster::Color<F> c = lookup(m.base_color);
+      // Alpha only where the alpha mode reads it.
+      const raster::Color<F> c = lookup(m.base_color, m.alpha_mode == AlphaMode::Opaque ? 0x7u : 0xFu);
       base = base * Vec3L<F>(c.r, c.g, c.b);
       alpha = alpha * c.a;
     }
@@ -171,7 +173,7 @@ struct TexturedPbrShader {
     // Metallic and roughness.
     F metallic(m.base.metallic), roughness(m.roughness_factor);
     if (m.metallic_roughness.texture != nullptr) {
-      const raster::Color<F> c = lookup(m.metallic_roughness);
+      const raster::Color<F> c = lookup(m.metallic_roughness, 0x6u);
       roughness = roughness * c.g;
       metallic = metallic * c.b;
     }
@@ -186,12 +188,12 @@ struct TexturedPbrShader {
     ml.roughness = roughness;
     ml.ao = F(m.base.ao);
     if (m.occlusion.texture != nullptr) {
-      const raster::Color<F> c = lookup(m.occlusion);
+      const raster::Color<F> c = lookup(m.occlusion, 0x1u);
       ml.ao = ml.ao * (F(1.0f) + F(m.occlusion_strength) * (c.r - F(1.0f)));
     }
     ml.emissive = lanes<F>(m.base.emissive);
     if (m.emissive.texture != nullptr) {
-      const raster::Color<F> c = lookup(m.emissive);
+      const raster::Color<F> c = lookup(m.emissive, 0x7u);
       ml.emissive = ml.emissive * Vec3L<F>(c.r, c.g, c.b);
     }
 
@@ -204,7 +206,7 @@ struct TexturedPbrShader {
     if (!p.front_facing) n = -n;
     if (m.normal.texture != nullptr) {
       n = normalize_or(n, v);
-      const raster::Color<F> c = lookup(m.normal);
+      const raster::Color<F> c = lookup(m.normal, 0x7u);
       const F scale(m.normal_scale);
       const F x = (c.r * F(2.0f) - F(1.0f)) * scale, y = (c.g * F(2.0f) - F(1.0f)) * scale;
       const F z = c.b * F(2.0f) - F(1.0f);

@@ -152,7 +152,12 @@ class Texture {
     float* g;
     float* b;
     float* a;
+    // The channels the caller reads (bit c: channel c, r = 0 … a = 3): a lookup may skip
+    // decoding and filtering the others and leave their outputs unwritten (the eight-lane
+    // kernel does, for rgb, gb and r; a metallic-roughness map needs two channels of four).
+    unsigned channels = kRgba;
   };
+  static constexpr unsigned kRgba = 0xFu;
   void sample_batch(const Sampler& s, int n, const Batch& batch) const;
   void sample_lod_batch(const Sampler& s, int n, const Batch& batch) const;
 
@@ -181,9 +186,11 @@ const float* unorm8_decode_table();
 float lod_log2(float x);
 
 // The packet form: lane i of the result is texture.sample() (sample_lod()) of lane i's
-// arguments, for F = float or simd lanes of any width.
+// arguments, for F = float or simd lanes of any width. `channels` (Texture::Batch::channels)
+// names the channels the caller reads; with lanes the others may come back as 0.
 template <class F>
-inline Color<F> sample(const Texture& texture, const Sampler& s, F u, F v, F dudx, F dvdx, F dudy, F dvdy) {
+inline Color<F> sample(const Texture& texture, const Sampler& s, F u, F v, F dudx, F dvdx, F dudy, F dvdy,
+                       unsigned channels = Texture::kRgba) {
   if constexpr (std::is_same_v<F, float>) {
     const glm::vec4 c = texture.sample(s, {u, v}, {dudx, dvdx}, {dudy, dvdy});
     return {c.r, c.g, c.b, c.a};
@@ -197,8 +204,9 @@ inline Color<F> sample(const Texture& texture, const Sampler& s, F u, F v, F dud
     dvdx.store(in[3]);
     dudy.store(in[4]);
     dvdy.store(in[5]);
-    texture.sample_batch(s, N, {in[0], in[1], in[2], in[3], in[4], in[5], nullptr, out[0], out[1], out[2], out[3]});
-    return {F::load(out[0]), F::load(out[1]), F::load(out[2]), F::load(out[3])};
+    texture.sample_batch(s, N, {in[0], in[1], in[2], in[3], in[4], in[5], nullptr, out[0], out[1], out[2], out[3], channels});
+    auto load = [&](int c) { return channels >> c & 1 ? F::load(out[c]) : F(0.0f); };
+    return {load(0), load(1), load(2), load(3)};
   }
 }
 
