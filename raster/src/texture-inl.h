@@ -263,11 +263,12 @@ void sample_lanes_of(const LaneTexture& t, int n, const Texture::Batch& b) {
 // The channel sets the textured PBR shader asks for (colour, metallic-roughness's g and b,
 // occlusion's r) have kernels of their own; any other set decodes all four.
 SOFTPBR_KERNEL void sample_lanes(const LaneTexture& t, int n, const Texture::Batch& b) {
+  constexpr unsigned kRgb = Texture::kRgb, kGb = Texture::kGreen | Texture::kBlue, kR = Texture::kRed;
   switch (b.channels & Texture::kRgba) {
-    case 0x7u: return sample_lanes_of<0x7u>(t, n, b);
-    case 0x6u: return sample_lanes_of<0x6u>(t, n, b);
-    case 0x1u: return sample_lanes_of<0x1u>(t, n, b);
-    default: return sample_lanes_of<0xFu>(t, n, b);
+    case kRgb: return sample_lanes_of<kRgb>(t, n, b);
+    case kGb: return sample_lanes_of<kGb>(t, n, b);
+    case kR: return sample_lanes_of<kR>(t, n, b);
+    default: return sample_lanes_of<Texture::kRgba>(t, n, b);
   }
 }
 

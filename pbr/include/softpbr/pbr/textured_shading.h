@@ -145,7 +145,7 @@ struct TexturedPbrShader {
     constexpr int kColor = offsetof(Varyings, color) / sizeof(float);
     const TexturedMaterial& m = *material;
 
-    // `channels`: the ones read below (bit c: r = 0 … a = 3); the lane kernel skips the rest.
+    // `channels`: the ones read below (Texture::kRed …); the lane kernel skips the rest.
     auto lookup = [&](const PreparedSlot& slot, unsigned channels) {
       const int k = kUv[slot.uv_set];
       F u = p.v[k], v = p.v[k + 1];
@@ -165,7 +165,8 @@ struct TexturedPbrShader {
     F alpha = F(m.alpha) * p.v[kColor + 3];
     if (m.base_color.texture != nullptr) {
       // Alpha only where the alpha mode reads it.
-      const raster::Color<F> c = lookup(m.base_color, m.alpha_mode == AlphaMode::Opaque ? 0x7u : 0xFu);
+      const unsigned channels = m.alpha_mode == AlphaMode::Opaque ? raster::Texture::kRgb : raster::Texture::kRgba;
+      const raster::Color<F> c = lookup(m.base_color, channels);
       base = base * Vec3L<F>(c.r, c.g, c.b);
       alpha = alpha * c.a;
     }
@@ -173,7 +174,7 @@ struct TexturedPbrShader {
     // Metallic and roughness.
     F metallic(m.base.metallic), roughness(m.roughness_factor);
     if (m.metallic_roughness.texture != nullptr) {
-      const raster::Color<F> c = lookup(m.metallic_roughness, 0x6u);
+      const raster::Color<F> c = lookup(m.metallic_roughness, raster::Texture::kGreen | raster::Texture::kBlue);
       roughness = roughness * c.g;
       metallic = metallic * c.b;
     }
@@ -188,12 +189,12 @@ struct TexturedPbrShader {
     ml.roughness = roughness;
     ml.ao = F(m.base.ao);
     if (m.occlusion.texture != nullptr) {
-      const raster::Color<F> c = lookup(m.occlusion, 0x1u);
+      const raster::Color<F> c = lookup(m.occlusion, raster::Texture::kRed);
       ml.ao = ml.ao * (F(1.0f) + F(m.occlusion_strength) * (c.r - F(1.0f)));
     }
     ml.emissive = lanes<F>(m.base.emissive);
     if (m.emissive.texture != nullptr) {
-      const raster::Color<F> c = lookup(m.emissive, 0x7u);
+      const raster::Color<F> c = lookup(m.emissive, raster::Texture::kRgb);
       ml.emissive = ml.emissive * Vec3L<F>(c.r, c.g, c.b);
     }
 
@@ -206,7 +207,7 @@ struct TexturedPbrShader {
     if (!p.front_facing) n = -n;
     if (m.normal.texture != nullptr) {
       n = normalize_or(n, v);
-      const raster::Color<F> c = lookup(m.normal, 0x7u);
+      const raster::Color<F> c = lookup(m.normal, raster::Texture::kRgb);
       const F scale(m.normal_scale);
       const F x = (c.r * F(2.0f) - F(1.0f)) * scale, y = (c.g * F(2.0f) - F(1.0f)) * scale;
       const F z = c.b * F(2.0f) - F(1.0f);

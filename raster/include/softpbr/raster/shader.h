@@ -112,13 +112,10 @@ constexpr std::uint32_t varying_bits(std::size_t offset, std::size_t size) {
 // name them, bit k for varying float k:
 //   static constexpr std::uint32_t kDerivativeMask = raster::varying_bits(offsetof(Varyings, uv), sizeof(glm::vec2));
 // The rasterizer then computes and passes only those; the others read as zero. Without it
-// every varying has its derivatives (none with kUsesDerivatives = false).
+// every varying has its derivatives (none with kUsesDerivatives = false); bits past the
+// varyings are ignored.
 template <class S>
-inline constexpr std::uint32_t kDerivativeMask =
-    kUsesDerivatives<S> ? (kVaryingCount<typename S::Varyings> >= 32
-                               ? ~std::uint32_t{0}
-                               : (std::uint32_t{1} << kVaryingCount<typename S::Varyings>) - 1)
-                        : 0;
+inline constexpr std::uint32_t kDerivativeMask = kUsesDerivatives<S> ? ~std::uint32_t{0} : 0;
 template <class S>
   requires requires { S::kDerivativeMask; }
 inline constexpr std::uint32_t kDerivativeMask<S> = kUsesDerivatives<S> ? std::uint32_t{S::kDerivativeMask} : 0;

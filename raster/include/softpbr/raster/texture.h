@@ -157,7 +157,9 @@ class Texture {
     // kernel does, for rgb, gb and r; a metallic-roughness map needs two channels of four).
     unsigned channels = kRgba;
   };
-  static constexpr unsigned kRgba = 0xFu;
+  // Channel sets for Batch::channels and raster::sample.
+  static constexpr unsigned kRed = 1, kGreen = 2, kBlue = 4, kAlpha = 8;
+  static constexpr unsigned kRgb = kRed | kGreen | kBlue, kRgba = kRgb | kAlpha;
   void sample_batch(const Sampler& s, int n, const Batch& batch) const;
   void sample_lod_batch(const Sampler& s, int n, const Batch& batch) const;
 
@@ -204,7 +206,8 @@ inline Color<F> sample(const Texture& texture, const Sampler& s, F u, F v, F dud
     dvdx.store(in[3]);
     dudy.store(in[4]);
     dvdy.store(in[5]);
-    texture.sample_batch(s, N, {in[0], in[1], in[2], in[3], in[4], in[5], nullptr, out[0], out[1], out[2], out[3], channels});
+    texture.sample_batch(s, N,
+                         {in[0], in[1], in[2], in[3], in[4], in[5], nullptr, out[0], out[1], out[2], out[3], channels});
     auto load = [&](int c) { return channels >> c & 1 ? F::load(out[c]) : F(0.0f); };
     return {load(0), load(1), load(2), load(3)};
   }

@@ -88,7 +88,8 @@ inline void put_lane(F& lanes, int lane, float x) {
 template <class F>
 inline float get_lane(const F& lanes, int lane) {
   float x;
-  __builtin_memcpy(&x, reinterpret_cast<const char*>(&lanes) + static_cast<std::size_t>(lane) * sizeof(float), sizeof x);
+  __builtin_memcpy(&x, reinterpret_cast<const char*>(&lanes) + static_cast<std::size_t>(lane) * sizeof(float),
+                   sizeof x);
   return x;
 }
 // Lanes [lane, lane + 4) at once (lane + 4 ≤ W).
@@ -361,6 +362,20 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         }
       } else {
         FragmentPacket<typename Packet<W, S>::F, V>& p = packet.p;
+        float px[4], py[4];  // the lanes' pixel centres
+        for (int j = 0; j < 4; ++j) {
+          px[j] = static_cast<float>(lane_x[j]) + 0.5f;
+          py[j] = static_cast<float>(lane_y[j]) + 0.5f;
+        }
+        // What a lane keeps besides the shader's inputs: its pixel and, with MSAA, samples.
+        const auto keep = [&](int lane, int j) {
+          packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          if constexpr (kMs > 1) {
+            packet.sample_mask[lane] = static_cast<std::uint8_t>(lane_samples[j]);
+            if (state.alpha_test)
+              for (int s = 0; s < kMs; ++s) packet.sample_depth[lane][s] = sample_z[s][j];
+          }
+        };
         if constexpr (W >= 4) {
           if (mask == 0xFu && packet.count + 4 <= W) {
             // A whole quad into four consecutive lanes: one 4-float store per row.
@@ -373,22 +388,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
               put_4_lanes(p.ddx[k], lane, dx);
               put_4_lanes(p.ddy[k], lane, dy);
             }
-            float px[4], py[4];
-            for (int j = 0; j < 4; ++j) {
-              px[j] = static_cast<float>(lane_x[j]) + 0.5f;
-              py[j] = static_cast<float>(lane_y[j]) + 0.5f;
-            }
             put_4_lanes(p.pos_x, lane, px);
             put_4_lanes(p.pos_y, lane, py);
             put_4_lanes(p.depth, lane, z);
-            for (int j = 0; j < 4; ++j) {
-              packet.index[lane + j] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-              if constexpr (kMs > 1) {
-                packet.sample_mask[lane + j] = static_cast<std::uint8_t>(lane_samples[j]);
-                if (state.alpha_test)
-                  for (int s = 0; s < kMs; ++s) packet.sample_depth[lane + j][s] = sample_z[s][j];
-              }
-            }
+            for (int j = 0; j < 4; ++j) keep(lane + j, j);
             if (packet.count == W) flush_packet<W, kMs>(shader, packet, state, target);
             continue;
           }
@@ -402,15 +405,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
             put_lane(p.ddx[k], lane, ddx[k]);
             put_lane(p.ddy[k], lane, ddy[k]);
           }
-          put_lane(p.pos_x, lane, static_cast<float>(lane_x[j]) + 0.5f);
-          put_lane(p.pos_y, lane, static_cast<float>(lane_y[j]) + 0.5f);
+          put_lane(p.pos_x, lane, px[j]);
+          put_lane(p.pos_y, lane, py[j]);
           put_lane(p.depth, lane, z[j]);
-          packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-          if constexpr (kMs > 1) {
-            packet.sample_mask[lane] = static_cast<std::uint8_t>(lane_samples[j]);
-            if (state.alpha_test)
-              for (int s = 0; s < kMs; ++s) packet.sample_depth[lane][s] = sample_z[s][j];
-          }
+          keep(lane, j);
           if (packet.count == W) flush_packet<W, kMs>(shader, packet, state, target);
         }
       }
