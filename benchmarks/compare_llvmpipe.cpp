@@ -1,6 +1,6 @@
 // compare_llvmpipe — softpbr against Mesa's llvmpipe on the same scenes, in the same run.
 //
-//   compare_llvmpipe [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8]
+//   compare_llvmpipe [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8] [--tile-size N]
 //
 // For each thread count N a child process sets LP_NUM_THREADS=N before it creates its GL
 // context (llvmpipe reads it once per process), then for every scene of scenes.h renders
@@ -42,6 +42,7 @@
 #include "softpbr/image/write.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
+#include "softpbr/raster/renderer.h"
 #include "softpbr/raster/target.h"
 
 namespace bench = softpbr::bench;
@@ -56,6 +57,7 @@ struct Options {
   std::string filter;
   std::string images;
   int msaa = 1;
+  int tile_size = 64;
 };
 
 double median(std::vector<double> v) {
@@ -102,7 +104,7 @@ void run_child(const Options& o, unsigned threads) {
   bool said = false;
   for (const bench::BenchScene& s : bench::all_scenes(bench::default_shared_models())) {
     if (!o.filter.empty() && s.name.find(o.filter) == std::string::npos) continue;
-    raster::Renderer renderer({.threads = threads, .tile_size = 64});
+    raster::Renderer renderer({.threads = threads, .tile_size = o.tile_size});
     raster::Target target(s.width, s.height, o.msaa);
     // llvmpipe's GL_MAX_SAMPLES may be below --msaa (4 on Mesa 22): it then runs with 4.
     int gl_samples = o.msaa;
@@ -175,6 +177,9 @@ bool parse(int argc, char** argv, Options& o) {
     } else if (a == "--msaa" && has_value) {
       o.msaa = std::atoi(argv[++i]);
       if (!raster::valid_sample_count(o.msaa)) return false;
+    } else if (a == "--tile-size" && has_value) {
+      o.tile_size = std::atoi(argv[++i]);
+      if (!raster::valid_tile_size(o.tile_size)) return false;
     } else if (a == "--images" && has_value) {
       o.images = argv[++i];
     } else {
@@ -189,7 +194,7 @@ bool parse(int argc, char** argv, Options& o) {
 int main(int argc, char** argv) {
   Options o;
   if (!parse(argc, argv, o)) {
-    std::fprintf(stderr, "usage: %s [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8] [--tile-size N]\n", argv[0]);
     return 2;
   }
   std::printf("softpbr vs llvmpipe: median ms per frame to an RGBA8 image; ratio = softpbr / llvmpipe\n");

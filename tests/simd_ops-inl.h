@@ -35,4 +35,15 @@ SOFTPBR_KERNEL void lane_ops(const float* a_in, const float* b_in, float* out) {
   for (int k = 0; k < kOps; ++k) r[k].store(out + k * N);
 }
 
+// The mask helpers: out[0] = sign_bits(e), out[1] = mask_bits(a < b) for lanes a[0..4),
+// b[0..4), and out[2 + m] = mask_bits(mask_from_bits(m)) for every m in [0, 16).
+SOFTPBR_KERNEL inline void mask_ops(const std::int64_t* e_in, const float* a_in, const float* b_in, unsigned* out) {
+  using V = lanes::Vec<4>;
+  softpbr::simd::native_t<std::int64_t, 4> e;
+  __builtin_memcpy(&e, e_in, sizeof e);
+  out[0] = lanes::sign_bits(e);
+  out[1] = lanes::mask_bits(V::load(a_in) < V::load(b_in));
+  for (unsigned m = 0; m < 16; ++m) out[2 + m] = lanes::mask_bits(lanes::mask_from_bits(m));
+}
+
 }  // namespace simd_test::SOFTPBR_TARGET_NS

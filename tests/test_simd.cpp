@@ -145,3 +145,40 @@ TEST_CASE("simd: dispatch calls the copy of the kernel compiled for the instruct
   CHECK(!simd::supported(Isa::Avx512));
 #endif
 }
+
+namespace simd_test {
+namespace {
+using MaskKernel = void (*)(const std::int64_t*, const float*, const float*, unsigned*);
+MaskKernel mask_kernel(simd::Isa isa) { return SOFTPBR_DISPATCH(isa, mask_ops); }
+}  // namespace
+}  // namespace simd_test
+
+TEST_CASE("simd: sign_bits, mask_bits and mask_from_bits give lane i as bit i on every target") {
+  std::mt19937_64 rng(99);
+  const std::int64_t edge[] = {0, -1, 1, INT64_MIN, INT64_MAX, -(std::int64_t{1} << 40), std::int64_t{1} << 40};
+  const float values[] = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(),
+                          std::numeric_limits<float>::infinity(), 2.5f};
+  int checked = 0;
+  for (int round = 0; round < 500; ++round) {
+    std::int64_t e[4];
+    float a[4], b[4];
+    unsigned want_sign = 0, want_less = 0;
+    for (int i = 0; i < 4; ++i) {
+      e[i] = round % 2 ? edge[rng() % std::size(edge)] : static_cast<std::int64_t>(rng());
+      a[i] = values[rng() % std::size(values)];
+      b[i] = values[rng() % std::size(values)];
+      want_sign |= e[i] < 0 ? 1u << i : 0u;
+      want_less |= a[i] < b[i] ? 1u << i : 0u;
+    }
+    for (simd::Isa isa : simd_test::supported_isas()) {
+      unsigned out[18];
+      simd_test::mask_kernel(isa)(e, a, b, out);
+      CAPTURE(std::string(simd::isa_name(isa)));
+      CHECK(out[0] == want_sign);
+      CHECK(out[1] == want_less);
+      for (unsigned m = 0; m < 16; ++m) CHECK(out[2 + m] == m);
+      ++checked;
+    }
+  }
+  CHECK(checked == 500 * static_cast<int>(simd_test::supported_isas().size()));
+}

@@ -72,6 +72,7 @@ struct NativeVector;
 template <> struct NativeVector<float, 4> { typedef float type __attribute__((vector_size(16))); };
 template <> struct NativeVector<std::int32_t, 4> { typedef std::int32_t type __attribute__((vector_size(16))); };
 template <> struct NativeVector<double, 4> { typedef double type __attribute__((vector_size(32))); };
+template <> struct NativeVector<std::int64_t, 2> { typedef std::int64_t type __attribute__((vector_size(16))); };
 template <> struct NativeVector<std::int64_t, 4> { typedef std::int64_t type __attribute__((vector_size(32))); };
 template <class T, int N>
 using native_t = typename NativeVector<T, N>::type;

@@ -247,17 +247,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // MSAA: covered[s] has bit j when sample s of lane j is inside.
       unsigned covered[kSamples];
       if constexpr (kMs == 1) {
-        const I64x4 negative = (e0 | e1 | e2) >> 63;  // −1 where some edge is < 0
-        mask = ~static_cast<unsigned>((negative[0] & 1) | (negative[1] & 2) | (negative[2] & 4) | (negative[3] & 8)) &
-               in_tile;
+        mask = ~simd::SOFTPBR_TARGET_NS::sign_bits(e0 | e1 | e2) & in_tile;
       } else {
         mask = 0;
         for (int s = 0; s < kMs; ++s) {
-          const I64x4 negative =
-              ((e0 + sample_edge[0][s]) | (e1 + sample_edge[1][s]) | (e2 + sample_edge[2][s])) >> 63;
-          covered[s] =
-              ~static_cast<unsigned>((negative[0] & 1) | (negative[1] & 2) | (negative[2] & 4) | (negative[3] & 8)) &
-              in_tile;
+          covered[s] = ~simd::SOFTPBR_TARGET_NS::sign_bits((e0 + sample_edge[0][s]) | (e1 + sample_edge[1][s]) |
+                                                           (e2 + sample_edge[2][s])) &
+                       in_tile;
           mask |= covered[s];
         }
       }
@@ -274,41 +270,67 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // now, so later triangles test against it even while its colour waits in a packet —
       // unless the draw's alpha test may still discard it.
       alignas(16) float z[4];
-      {
-        const V4 l1 = w1 * V4(t.inv_area);
-        const V4 l2 = w2 * V4(t.inv_area);
-        simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(z);
-      }
+      const V4 zq = simd::clamp(V4(t.z0) + w1 * V4(t.inv_area) * V4(t.dz1) + w2 * V4(t.inv_area) * V4(t.dz2),
+                                V4(0.0f), V4(1.0f));
+      zq.store(z);
+      // A quad wholly inside the tile (every quad but those on an odd image edge) tests
+      // its four depths (a sample's, with MSAA) as one vector: two 2-float rows loaded,
+      // compared, and written back with the passing lanes replaced (the others keep their
+      // own bits; the tile has one writer).
+      const bool whole_quad = in_tile == 0xFu;
+      const std::size_t quad_idx = static_cast<std::size_t>(qy) * width + qx;
+      const auto test_quad = [&](float* plane_depths, V4 zv, unsigned lanes) {
+        alignas(16) float stored[4];
+        __builtin_memcpy(stored, plane_depths + quad_idx, 2 * sizeof(float));
+        __builtin_memcpy(stored + 2, plane_depths + quad_idx + width, 2 * sizeof(float));
+        const V4 old = V4::load(stored);
+        if (depth_test == DepthTest::Less) lanes &= simd::SOFTPBR_TARGET_NS::mask_bits(zv < old);
+        else if (depth_test == DepthTest::LessEqual) lanes &= simd::SOFTPBR_TARGET_NS::mask_bits(zv <= old);
+        if (early_depth_write && lanes != 0) {
+          simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits(lanes), zv, old).store(stored);
+          __builtin_memcpy(plane_depths + quad_idx, stored, 2 * sizeof(float));
+          __builtin_memcpy(plane_depths + quad_idx + width, stored + 2, 2 * sizeof(float));
+        }
+        return lanes;
+      };
       // MSAA: depth per sample from the same plane equation at the sample, tested and
       // written per sample; lane_samples[j] keeps the samples of lane j that passed.
       alignas(16) float sample_z[kSamples][4];
       unsigned lane_samples[4] = {0, 0, 0, 0};
       if constexpr (kMs == 1) {
-        for (int j = 0; j < 4; ++j) {
+        if (whole_quad) mask = test_quad(depths, zq, mask);
+        else for (int j = 0; j < 4; ++j) {
           if (!(mask & (1u << j))) continue;
           const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
           if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
           else if (early_depth_write) depths[idx] = z[j];
         }
       } else {
+        mask = 0;
         for (int s = 0; s < kMs; ++s) {
           if (covered[s] == 0) continue;
           const V4 sw1(__builtin_convertvector(e1 + (sample_edge[1][s] + t.bias[1]), V4::native));
           const V4 sw2(__builtin_convertvector(e2 + (sample_edge[2][s] + t.bias[2]), V4::native));
           const V4 l1 = sw1 * V4(t.inv_area);
           const V4 l2 = sw2 * V4(t.inv_area);
-          simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f)).store(sample_z[s]);
+          const V4 sz = simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f));
+          sz.store(sample_z[s]);
           float* const plane_depths = depths + static_cast<std::size_t>(s) * target.plane;
-          for (unsigned c = covered[s]; c != 0; c &= c - 1) {
-            const int j = std::countr_zero(c);
-            const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
-            if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
-            if (early_depth_write) plane_depths[idx] = sample_z[s][j];
-            lane_samples[j] |= 1u << s;
+          unsigned passed = 0;  // bit j: sample s of lane j passed
+          if (whole_quad) {
+            passed = test_quad(plane_depths, sz, covered[s]);
+          } else {
+            for (unsigned c = covered[s]; c != 0; c &= c - 1) {
+              const int j = std::countr_zero(c);
+              const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+              if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
+              if (early_depth_write) plane_depths[idx] = sample_z[s][j];
+              passed |= 1u << j;
+            }
           }
+          mask |= passed;
+          for (unsigned c = passed; c != 0; c &= c - 1) lane_samples[std::countr_zero(c)] |= 1u << s;
         }
-        mask = 0;
-        for (int j = 0; j < 4; ++j) mask |= lane_samples[j] != 0 ? 1u << j : 0u;
       }
       if (mask == 0) continue;
 

@@ -238,6 +238,36 @@ inline UintLanes<N> gather(const std::uint32_t* table, UintLanes<N> index) {
   return r;
 }
 
+// Bit i set when lane i of four 64-bit integers is negative: their sign bits, as one
+// vmovmskpd with AVX (two movmskpd with SSE2) instead of four extractions to general
+// registers. Integer bits only: the result is the same on every target.
+inline unsigned sign_bits(native_t<std::int64_t, 4> v) {
+#if SOFTPBR_TARGET_AVX
+  return static_cast<unsigned>(_mm256_movemask_pd(reinterpret_cast<__m256d>(v)));
+#elif defined(__SSE2__)
+  const native_t<std::int64_t, 2> lo = __builtin_shufflevector(v, v, 0, 1);
+  const native_t<std::int64_t, 2> hi = __builtin_shufflevector(v, v, 2, 3);
+  return static_cast<unsigned>(_mm_movemask_pd(reinterpret_cast<__m128d>(lo)) |
+                               (_mm_movemask_pd(reinterpret_cast<__m128d>(hi)) << 2));
+#else
+  return static_cast<unsigned>((v[0] < 0) | ((v[1] < 0) << 1) | ((v[2] < 0) << 2) | ((v[3] < 0) << 3));
+#endif
+}
+// Bit i set when lane i of a 4-lane mask is set (movmskps where SSE has it).
+inline unsigned mask_bits(LaneMask<4, SOFTPBR_ISA> m) {
+#if defined(__SSE2__)
+  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m.m)));
+#else
+  return static_cast<unsigned>((m.m[0] & 1) | (m.m[1] & 2) | (m.m[2] & 4) | (m.m[3] & 8));
+#endif
+}
+// The 4-lane mask whose lane i is set when bit i of `bits` is.
+inline LaneMask<4, SOFTPBR_ISA> mask_from_bits(unsigned bits) {
+  using I = typename detail::Native<4>::i;
+  const I lane_bit = {1, 2, 4, 8};
+  return LaneMask<4, SOFTPBR_ISA>(((I{} + static_cast<std::int32_t>(bits)) & lane_bit) != 0);
+}
+
 // mask ? a : b per lane on the bits, for plain vectors of any element type (a mask lane
 // is all ones or all zeros, as vector comparisons give).
 template <class V, class M>
