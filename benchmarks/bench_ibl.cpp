@@ -157,7 +157,7 @@ void draw_frame(raster::Renderer& renderer, raster::Target& target, const pbr::P
   state.depth_write = false;
   renderer.begin_frame(target, raster::ClearValues{s.scene.background, 1.0f});
   renderer.draw(bg, std::span<const V>(tri), state);
-  renderer.end_frame([&](const raster::TileRect& r, bool only_clear) {
+  renderer.end_frame([&](const raster::TileRect& r, bool only_clear, const raster::TargetPixels&) {
     if (only_clear) mapper.encode_uniform(s.scene.background, r.x0, r.y0, r.x1, r.y1, image);
     else mapper.encode(target, r.x0, r.y0, r.x1, r.y1, image);
   });

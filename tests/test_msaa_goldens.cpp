@@ -119,6 +119,18 @@ TEST_CASE("MSAA gallery: the same bits with 1, 2, 3 and 8 threads, tile sizes 8 
       CHECK(raster::hash_depths(target) == depth);
       CHECK(image.rgba == reference_image.rgba);
     }
+    // A frame rasterized in several passes (a geometry budget of 1 byte flushes every
+    // draw): each later pass loads a tile's samples back from the target into the block.
+    for (const int tile : {64, 30, 256}) {
+      CAPTURE(tile);
+      raster::Renderer renderer({.threads = 2, .tile_size = tile, .geometry_budget = 1});
+      raster::Target target(kW, kH, n);
+      raster::Image8 image;
+      pbr::render_rgba8(scene, renderer, target, pbr::gallery_output(), image);
+      CHECK(raster::hash_colors(target) == color);
+      CHECK(raster::hash_depths(target) == depth);
+      CHECK(image.rgba == reference_image.rgba);
+    }
   }
 }
 

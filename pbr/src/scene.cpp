@@ -42,8 +42,9 @@ void render_rgba8(const Scene& scene, raster::Renderer& renderer, raster::Target
   image.width = target.width();
   image.height = target.height();
   image.rgba.resize(static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()) * 4);
-  render_frame(scene, renderer, target, [&](const raster::TileRect& r, bool only_clear) {
+  render_frame(scene, renderer, target, [&](const raster::TileRect& r, bool only_clear, const raster::TargetPixels& px) {
     if (only_clear) mapper.encode_uniform(scene.background, r.x0, r.y0, r.x1, r.y1, image);
+    else if (px.samples > 1) mapper.encode(px, r.x0, r.y0, r.x1, r.y1, image);  // the tile's samples, in cache
     else mapper.encode(target, r.x0, r.y0, r.x1, r.y1, image);
   });
 }

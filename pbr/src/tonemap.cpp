@@ -338,18 +338,23 @@ void resolve_tone_mapped_row(const glm::vec4* colors, std::size_t plane, std::si
 
 void ToneMapper::resolve(const raster::Target& target, int x0, int y0, int x1, int y1, glm::vec4* out,
                          std::size_t out_width) const {
-  if (settings_.resolve == Resolve::Linear || target.samples() == 1)
-    return raster::resolve_box(target, x0, y0, x1, y1, out, out_width);
-  const std::size_t width = static_cast<std::size_t>(target.width());
-  const std::size_t plane = width * static_cast<std::size_t>(target.height());
-  const glm::vec4* colors = target.colors().data();
+  resolve(raster::read_pixels(target), x0, y0, x1, y1, out, out_width);
+}
+
+void ToneMapper::resolve(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, glm::vec4* out,
+                         std::size_t out_width) const {
+  if (settings_.resolve == Resolve::Linear || pixels.samples == 1)
+    return raster::resolve_box(pixels, x0, y0, x1, y1, out, out_width);
+  const std::size_t width = static_cast<std::size_t>(pixels.width);
+  const glm::vec4* colors = pixels.colors;
   const auto run = [&]<ToneMap kOp, int kS>() {
+    // Row indices relative to the pixels' origin (unsigned arithmetic: row + x − origin).
     for (int y = y0; y < y1; ++y)
-      resolve_tone_mapped_row<kOp, kS>(colors, plane, static_cast<std::size_t>(y) * width, x0, x1, scale_,
-                                       out + static_cast<std::size_t>(y - y0) * out_width);
+      resolve_tone_mapped_row<kOp, kS>(colors, pixels.plane, static_cast<std::size_t>(y) * width - pixels.origin, x0,
+                                       x1, scale_, out + static_cast<std::size_t>(y - y0) * out_width);
   };
   const auto with_samples = [&]<ToneMap kOp>() {
-    if (target.samples() == 4) run.template operator()<kOp, 4>();
+    if (pixels.samples == 4) run.template operator()<kOp, 4>();
     else run.template operator()<kOp, 8>();
   };
   switch (settings_.tone_map) {
@@ -362,6 +367,17 @@ void ToneMapper::resolve(const raster::Target& target, int x0, int y0, int x1, i
 
 void ToneMapper::encode_multisampled(const raster::Target& target, int x0, int y0, int x1, int y1,
                                      raster::Image8& image, EncodeKernel kernel) const {
+  encode_multisampled(raster::read_pixels(target), x0, y0, x1, y1, image, kernel);
+}
+
+void ToneMapper::encode(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1,
+                        raster::Image8& image) const {
+  static const EncodeKernel widest = widest_kernel();
+  encode_multisampled(pixels, x0, y0, x1, y1, image, widest);
+}
+
+void ToneMapper::encode_multisampled(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1,
+                                     raster::Image8& image, EncodeKernel kernel) const {
   // Blocks of up to kBlock² pixels resolved into a 1-sample scratch target, encoded into a
   // scratch image, copied into place. The scratch buffers belong to the thread (a frame's
   // tiles run on the pool's threads), so a frame allocates nothing after the first tile.
@@ -373,7 +389,7 @@ void ToneMapper::encode_multisampled(const raster::Target& target, int x0, int y
   for (int by = y0; by < y1; by += kBlock)
     for (int bx = x0; bx < x1; bx += kBlock) {
       const int w = std::min(kBlock, x1 - bx), h = std::min(kBlock, y1 - by);
-      resolve(target, bx, by, bx + w, by + h, scratch, kBlock);
+      resolve(pixels, bx, by, bx + w, by + h, scratch, kBlock);
       encoder.encode(resolved, 0, 0, w, h, piece, kernel);
       for (int y = 0; y < h; ++y)
         std::memcpy(image.rgba.data() + ((static_cast<std::size_t>(by + y) * static_cast<std::size_t>(image.width)) +

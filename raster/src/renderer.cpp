@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "softpbr/check.h"
 
@@ -37,6 +38,41 @@ void clear_tile(const TargetPixels& target, const TileRect& r, const ClearValues
     }
   }
   if (streaming) simd::stream_fence();
+}
+// MSAA: in the pass that clears the frame, a touched tile's samples are rasterized in a
+// block of the thread's own, not in the target's planes (target.h, TargetPixels): the
+// block is cleared in cache and written to the target once, with streaming stores, when
+// the tile is done, so the target's lines are never read for ownership; the tile
+// callback resolves from the block, still in cache. Later passes of a frame (over the
+// geometry budget) draw into the target itself: loading a block would read it anyway.
+// Tiles of more samples than this (a 64-pixel tile at 8×: 32768, 640 KB) are rasterized
+// in the target itself: a larger block would not stay in cache, and each pool thread keeps
+// its block for the next frame.
+constexpr std::size_t kMaxBlockSamples = 64 * 64 * 8;
+struct TileBlock {
+  std::vector<glm::vec4> colors;
+  std::vector<float> depths;
+};
+TargetPixels tile_block(TileBlock& block, const TargetPixels& target, const TileRect& r) {
+  const std::size_t w = static_cast<std::size_t>(r.x1 - r.x0), h = static_cast<std::size_t>(r.y1 - r.y0);
+  const std::size_t n = w * h * static_cast<std::size_t>(target.samples);
+  if (block.colors.size() < n) block.colors.resize(n), block.depths.resize(n);
+  return {block.colors.data(), block.depths.data(), static_cast<int>(w), static_cast<int>(h), target.samples, w * h,
+          static_cast<std::size_t>(r.y0) * w + static_cast<std::size_t>(r.x0)};
+}
+// Writes a tile's block into the target's sample planes with streaming stores.
+void store_tile(const TargetPixels& block, const TileRect& r, const TargetPixels& target) {
+  const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
+  for (int s = 0; s < target.samples; ++s)
+    for (int y = r.y0; y < r.y1; ++y) {
+      const std::size_t at = static_cast<std::size_t>(s) * target.plane +
+                             static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width) +
+                             static_cast<std::size_t>(r.x0);
+      const std::size_t bt = static_cast<std::size_t>(s) * block.plane + static_cast<std::size_t>(y - r.y0) * n;
+      simd::stream_copy(target.colors + at, block.colors + bt, n * sizeof(glm::vec4));
+      simd::stream_copy(target.depths + at, block.depths + bt, n * sizeof(float));
+    }
+  simd::stream_fence();
 }
 int checked_lanes(int lanes, simd::Isa isa) {
   if (lanes == 0) return isa == simd::Isa::Avx512 ? 16 : isa == simd::Isa::Avx2 ? 8 : simd::kNativeWidth;
@@ -139,14 +175,29 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
       const TileRect rect = grid_.rect(tile);
       bool touched = false;
       for (const auto& draw : draws_) touched = touched || draw->geometry.touches(tile);
-      if (clear_now && !(reuse && known_clear_.tiles[tile] != 0 && !touched))
+      const bool in_block = clear_now && touched && pixels.samples > 1 &&
+                            static_cast<std::size_t>(rect.x1 - rect.x0) * static_cast<std::size_t>(rect.y1 - rect.y0) *
+                                    static_cast<std::size_t>(pixels.samples) <=
+                                kMaxBlockSamples;
+      if (clear_now && !in_block && !(reuse && known_clear_.tiles[tile] != 0 && !touched))
         clear_tile(pixels, rect, *clear_, !touched);
-      if (touched) {
+      thread_local TileBlock block;
+      TargetPixels tile_pixels = pixels;
+      if (in_block) {
+        const TargetPixels samples = tile_block(block, pixels, rect);
+        tile_pixels = samples;
+        const std::size_t n = samples.plane * static_cast<std::size_t>(samples.samples);
+        std::fill(samples.colors, samples.colors + n, clear_->color);
+        std::fill(samples.depths, samples.depths + n, clear_->depth);
+        for (const auto& draw : draws_) draw->raster(tile, rect, samples, lanes_, isa_);
+        store_tile(samples, rect, pixels);
+        touched_[tile] = 1;  // one writer per tile
+      } else if (touched) {
         SOFTPBR_DCHECK(tile < touched_.size());
         for (const auto& draw : draws_) draw->raster(tile, rect, pixels, lanes_, isa_);
         touched_[tile] = 1;  // one writer per tile
       }
-      if (after_tile) (*after_tile)(rect, clear_.has_value() && touched_[tile] == 0);
+      if (after_tile) (*after_tile)(rect, clear_.has_value() && touched_[tile] == 0, tile_pixels);
     });
   }
   cleared_ = cleared_ || clear_now;

@@ -58,15 +58,22 @@ void Target::clear_depth(float depth) {
   std::fill(depth_.begin(), depth_.end(), depth);
 }
 
-void resolve_box(const Target& source, int x0, int y0, int x1, int y1, glm::vec4* out, std::size_t out_width) {
-  const std::size_t plane = static_cast<std::size_t>(source.width()) * static_cast<std::size_t>(source.height());
-  const glm::vec4* c = source.colors().data();
-  const int samples = source.samples();
+TargetPixels read_pixels(const Target& target) {
+  const std::span<const glm::vec4> colors = target.colors();
+  const std::span<const float> depths = target.depths();
+  return {const_cast<glm::vec4*>(colors.data()), const_cast<float*>(depths.data()), target.width(), target.height(),
+          target.samples(), static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()), 0};
+}
+
+void resolve_box(const TargetPixels& source, int x0, int y0, int x1, int y1, glm::vec4* out, std::size_t out_width) {
+  const std::size_t plane = source.plane;
+  const glm::vec4* c = source.colors;
+  const int samples = source.samples;
   for (int y = y0; y < y1; ++y) {
     glm::vec4* o = out + static_cast<std::size_t>(y - y0) * out_width;
-    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(source.width());
+    const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(source.width);
     for (int x = x0; x < x1; ++x, ++o) {
-      const glm::vec4* p = c + row + static_cast<std::size_t>(x);
+      const glm::vec4* p = c + (row + static_cast<std::size_t>(x) - source.origin);
       if (samples == 1) {
         *o = *p;
       } else if (samples == 4) {
@@ -78,6 +85,10 @@ void resolve_box(const Target& source, int x0, int y0, int x1, int y1, glm::vec4
       }
     }
   }
+}
+
+void resolve_box(const Target& source, int x0, int y0, int x1, int y1, glm::vec4* out, std::size_t out_width) {
+  resolve_box(read_pixels(source), x0, y0, x1, y1, out, out_width);
 }
 
 Target resolve_box(const Target& source) {

@@ -122,9 +122,18 @@ class ToneMapper {
   // colours (then encoded with the transfer curve alone), for Linear raster::resolve_box.
   void resolve(const raster::Target& target, int x0, int y0, int x1, int y1, glm::vec4* out,
                std::size_t out_width) const;
+  // The same from pixels as the renderer hands a tile callback (raster::TargetPixels:
+  // a whole target, or a multisampled tile's block of samples), only read.
+  void resolve(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, glm::vec4* out,
+               std::size_t out_width) const;
+  // encode() of multisampled pixels [x0, x1) × [y0, y1) given as TargetPixels (what a
+  // Renderer::TileCallback receives): the same bytes as encode() of their target.
+  void encode(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, raster::Image8& image) const;
 
  private:
   void encode_multisampled(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
+                           EncodeKernel kernel) const;
+  void encode_multisampled(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, raster::Image8& image,
                            EncodeKernel kernel) const;
   OutputSettings settings_;
   float scale_;

@@ -152,13 +152,16 @@ class Renderer {
   // Rasterizes the frame's draws into the target and closes the frame.
   void end_frame();
 
-  // The same, calling after_tile(rect, only_clear) for every tile of the frame, on the
-  // thread that drew it, as soon as its last draw is done: to resolve or tone map the tile
-  // while it is in cache. only_clear is true when the frame cleared and no triangle came
-  // near the tile: every pixel holds the clear values. Calls for different tiles may run
-  // at the same time; each tile's pixels belong to its call alone until end_frame()
-  // returns.
-  using TileCallback = std::function<void(const TileRect& rect, bool only_clear)>;
+  // The same, calling after_tile(rect, only_clear, pixels) for every tile of the frame, on
+  // the thread that drew it, as soon as its last draw is done: to resolve or tone map the
+  // tile while it is in cache. only_clear is true when the frame cleared and no triangle
+  // came near the tile: every pixel holds the clear values. `pixels` holds the tile's
+  // pixels as the target does (read them there rather than from the target: a
+  // multisampled tile's samples are rasterized in a block of the thread's own and reach
+  // the target with streaming stores, so the block is still in cache and the target's
+  // copy is not); it is valid during the call only. Calls for different tiles may run at
+  // the same time; each tile's pixels belong to its call alone until end_frame() returns.
+  using TileCallback = std::function<void(const TileRect& rect, bool only_clear, const TargetPixels& pixels)>;
   void end_frame(const TileCallback& after_tile);
 
  private:

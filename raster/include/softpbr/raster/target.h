@@ -59,14 +59,18 @@ struct ClearedTiles {
 }  // namespace detail
 
 // The pixels of a target as the tile kernels write them: the renderer hands them out
-// while a frame owns the target. Sample s of pixel i is colors[s · plane + i].
+// while a frame owns the target. Pixel (x, y) is i = y · width + x − origin, and sample s
+// of pixel i is colors[s · plane + i]. A whole target has origin 0 and plane = width ×
+// height; a multisampled tile's samples held apart while it is rasterized (a block of
+// width × height pixels whose top-left pixel is (x0, y0)) has origin y0 · width + x0.
 struct TargetPixels {
   glm::vec4* colors;
   float* depths;
   int width;
   int height;
   int samples = 1;
-  std::size_t plane = 0;  // width × height
+  std::size_t plane = 0;   // width × height
+  std::size_t origin = 0;  // y0 · width + x0 (0 for a whole target)
 };
 
 class Target {
@@ -144,7 +148,7 @@ struct FrameAccess {
   static void set_cleared_tiles(Target& t, ClearedTiles known) { t.cleared_ = std::move(known); }
   static TargetPixels pixels(Target& t) {
     return {t.color_.data(), t.depth_.data(), t.width_, t.height_, t.samples_,
-            static_cast<std::size_t>(t.width_) * static_cast<std::size_t>(t.height_)};
+            static_cast<std::size_t>(t.width_) * static_cast<std::size_t>(t.height_), 0};
   }
 };
 }  // namespace detail
@@ -160,6 +164,11 @@ using Image8 = image::Image8;
 // `out_width` pixels a row, the rectangle's top-left pixel at out[0]). A 1-sample target
 // is copied.
 void resolve_box(const Target& source, int x0, int y0, int x1, int y1, glm::vec4* out, std::size_t out_width);
+// The same from pixels as the renderer hands them out (TargetPixels: a whole target or a
+// tile's block of samples); only read.
+void resolve_box(const TargetPixels& source, int x0, int y0, int x1, int y1, glm::vec4* out, std::size_t out_width);
+// The pixels of a target, to be read only (a view for the functions above).
+TargetPixels read_pixels(const Target& target);
 // The whole target resolved into a 1-sample target of its size (depth: sample 0's).
 Target resolve_box(const Target& source);
 

@@ -158,6 +158,23 @@ inline void stream_fill4(float* dst, const float pattern[4], std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) std::memcpy(dst + 4 * i, pattern, 4 * sizeof(float));
 #endif
 }
+// Copies `bytes` bytes from src to dst, the 16-byte aligned part of dst with streaming
+// stores where the target has them (the rest with plain stores). The bits are copied.
+inline void stream_copy(void* dst, const void* src, std::size_t bytes) {
+  char* d = static_cast<char*>(dst);
+  const char* s = static_cast<const char*>(src);
+#if defined(__SSE2__)
+  std::size_t head = (16 - (reinterpret_cast<std::uintptr_t>(d) & 15)) & 15;
+  if (head > bytes) head = bytes;
+  std::memcpy(d, s, head);
+  std::size_t i = head;
+  for (; i + 16 <= bytes; i += 16)
+    _mm_stream_ps(reinterpret_cast<float*>(d + i), _mm_loadu_ps(reinterpret_cast<const float*>(s + i)));
+  std::memcpy(d + i, s + i, bytes - i);
+#else
+  std::memcpy(d, s, bytes);
+#endif
+}
 inline void stream_fence() {
 #if defined(__SSE2__)
   _mm_sfence();

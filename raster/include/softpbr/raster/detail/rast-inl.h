@@ -199,6 +199,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   // An alpha-tested draw writes depth after shading (flush_packet), not here.
   const bool early_depth_write = depth_write && !state.alpha_test;
   const int width = target.width;
+  const std::size_t origin = target.origin;  // the index of pixel (0, 0) (TargetPixels)
   glm::vec4* colors = target.colors;
   float* depths = target.depths;
   if constexpr (W > 0) {
@@ -278,7 +279,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // compared, and written back with the passing lanes replaced (the others keep their
       // own bits; the tile has one writer).
       const bool whole_quad = in_tile == 0xFu;
-      const std::size_t quad_idx = static_cast<std::size_t>(qy) * width + qx;
+      const std::size_t quad_idx = static_cast<std::size_t>(qy) * width + qx - origin;
       const auto test_quad = [&](float* plane_depths, V4 zv, unsigned lanes) {
         alignas(16) float stored[4];
         __builtin_memcpy(stored, plane_depths + quad_idx, 2 * sizeof(float));
@@ -301,7 +302,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         if (whole_quad) mask = test_quad(depths, zq, mask);
         else for (int j = 0; j < 4; ++j) {
           if (!(mask & (1u << j))) continue;
-          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
           if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
           else if (early_depth_write) depths[idx] = z[j];
         }
@@ -322,7 +323,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           } else {
             for (unsigned c = covered[s]; c != 0; c &= c - 1) {
               const int j = std::countr_zero(c);
-              const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+              const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
               if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
               if (early_depth_write) plane_depths[idx] = sample_z[s][j];
               passed |= 1u << j;
@@ -369,7 +370,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
                               z[j],
                               t.front_facing};
           const glm::vec4 src = shader.fragment(f);
-          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
           if constexpr (kMs > 1) {
             float zs[kMs];
             for (int s = 0; s < kMs; ++s) zs[s] = sample_z[s][j];
@@ -391,7 +392,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         }
         // What a lane keeps besides the shader's inputs: its pixel and, with MSAA, samples.
         const auto keep = [&](int lane, int j) {
-          packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j];
+          packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
           if constexpr (kMs > 1) {
             packet.sample_mask[lane] = static_cast<std::uint8_t>(lane_samples[j]);
             if (state.alpha_test)
