@@ -182,15 +182,14 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
       if (clear_now && !in_block && !(reuse && known_clear_.tiles[tile] != 0 && !touched))
         clear_tile(pixels, rect, *clear_, !touched);
       thread_local TileBlock block;
-      TargetPixels tile_pixels = pixels;
+      TargetPixels tile_pixels = pixels;  // what the callback reads: the block or the target
       if (in_block) {
-        const TargetPixels samples = tile_block(block, pixels, rect);
-        tile_pixels = samples;
-        const std::size_t n = samples.plane * static_cast<std::size_t>(samples.samples);
-        std::fill(samples.colors, samples.colors + n, clear_->color);
-        std::fill(samples.depths, samples.depths + n, clear_->depth);
-        for (const auto& draw : draws_) draw->raster(tile, rect, samples, lanes_, isa_);
-        store_tile(samples, rect, pixels);
+        tile_pixels = tile_block(block, pixels, rect);
+        const std::size_t n = tile_pixels.plane * static_cast<std::size_t>(tile_pixels.samples);
+        std::fill(tile_pixels.colors, tile_pixels.colors + n, clear_->color);
+        std::fill(tile_pixels.depths, tile_pixels.depths + n, clear_->depth);
+        for (const auto& draw : draws_) draw->raster(tile, rect, tile_pixels, lanes_, isa_);
+        store_tile(tile_pixels, rect, pixels);
         touched_[tile] = 1;  // one writer per tile
       } else if (touched) {
         SOFTPBR_DCHECK(tile < touched_.size());

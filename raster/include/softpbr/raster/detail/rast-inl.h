@@ -238,6 +238,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // Lanes: 0 = (qx, qy), 1 = (qx+1, qy), 2 = (qx, qy+1), 3 = (qx+1, qy+1).
       const int lane_x[4] = {qx, qx + 1, qx, qx + 1};
       const int lane_y[4] = {qy, qy, qy + 1, qy + 1};
+      // Lane j's pixel in the target's arrays (TargetPixels: y · width + x − origin).
+      const auto pixel_index = [&](int j) {
+        return static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
+      };
       const I64x4 e0 = (I64x4{} + (t.a[0] * sx + row0)) + step0;
       const I64x4 e1 = (I64x4{} + (t.a[1] * sx + row1)) + step1;
       const I64x4 e2 = (I64x4{} + (t.a[2] * sx + row2)) + step2;
@@ -279,7 +283,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // compared, and written back with the passing lanes replaced (the others keep their
       // own bits; the tile has one writer).
       const bool whole_quad = in_tile == 0xFu;
-      const std::size_t quad_idx = static_cast<std::size_t>(qy) * width + qx - origin;
+      const std::size_t quad_idx = pixel_index(0);  // lane 0 is (qx, qy)
       const auto test_quad = [&](float* plane_depths, V4 zv, unsigned lanes) {
         alignas(16) float stored[4];
         __builtin_memcpy(stored, plane_depths + quad_idx, 2 * sizeof(float));
@@ -299,12 +303,15 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       alignas(16) float sample_z[kSamples][4];
       unsigned lane_samples[4] = {0, 0, 0, 0};
       if constexpr (kMs == 1) {
-        if (whole_quad) mask = test_quad(depths, zq, mask);
-        else for (int j = 0; j < 4; ++j) {
-          if (!(mask & (1u << j))) continue;
-          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
-          if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
-          else if (early_depth_write) depths[idx] = z[j];
+        if (whole_quad) {
+          mask = test_quad(depths, zq, mask);
+        } else {
+          for (int j = 0; j < 4; ++j) {
+            if (!(mask & (1u << j))) continue;
+            const std::size_t idx = pixel_index(j);
+            if (!depth_passes(depth_test, z[j], depths[idx])) mask &= ~(1u << j);
+            else if (early_depth_write) depths[idx] = z[j];
+          }
         }
       } else {
         mask = 0;
@@ -323,7 +330,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           } else {
             for (unsigned c = covered[s]; c != 0; c &= c - 1) {
               const int j = std::countr_zero(c);
-              const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
+              const std::size_t idx = pixel_index(j);
               if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
               if (early_depth_write) plane_depths[idx] = sample_z[s][j];
               passed |= 1u << j;
@@ -370,7 +377,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
                               z[j],
                               t.front_facing};
           const glm::vec4 src = shader.fragment(f);
-          const std::size_t idx = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
+          const std::size_t idx = pixel_index(j);
           if constexpr (kMs > 1) {
             float zs[kMs];
             for (int s = 0; s < kMs; ++s) zs[s] = sample_z[s][j];
@@ -392,7 +399,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         }
         // What a lane keeps besides the shader's inputs: its pixel and, with MSAA, samples.
         const auto keep = [&](int lane, int j) {
-          packet.index[lane] = static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
+          packet.index[lane] = pixel_index(j);
           if constexpr (kMs > 1) {
             packet.sample_mask[lane] = static_cast<std::uint8_t>(lane_samples[j]);
             if (state.alpha_test)
