@@ -46,4 +46,12 @@ SOFTPBR_KERNEL inline void mask_ops(const std::int64_t* e_in, const float* a_in,
   for (unsigned m = 0; m < 16; ++m) out[2 + m] = lanes::mask_bits(lanes::mask_from_bits(m));
 }
 
+// out[i] = to_float_below_2p51 of the four 64-bit integers in[0..4).
+SOFTPBR_KERNEL inline void to_float_ops(const std::int64_t* in, float* out) {
+  softpbr::simd::native_t<std::int64_t, 4> v;
+  __builtin_memcpy(&v, in, sizeof v);
+  const softpbr::simd::native_t<float, 4> f = lanes::to_float_below_2p51(v);
+  __builtin_memcpy(out, &f, sizeof f);
+}
+
 }  // namespace simd_test::SOFTPBR_TARGET_NS

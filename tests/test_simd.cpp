@@ -153,6 +153,43 @@ MaskKernel mask_kernel(simd::Isa isa) { return SOFTPBR_DISPATCH(isa, mask_ops); 
 }  // namespace
 }  // namespace simd_test
 
+namespace simd_test {
+namespace {
+using ToFloatKernel = void (*)(const std::int64_t*, float*);
+ToFloatKernel to_float_kernel(simd::Isa isa) { return SOFTPBR_DISPATCH(isa, to_float_ops); }
+}  // namespace
+}  // namespace simd_test
+
+TEST_CASE("simd: to_float_below_2p51 rounds 64-bit integers below 2^51 as a direct conversion does") {
+  // Random magnitudes of every bit length up to 50 (the rasterizer's edge values), the
+  // limits ±(2^51 − 1), and halfway cases between floats (ties to even) at several scales.
+  std::mt19937_64 rng(7);
+  std::vector<std::int64_t> values = {0, 1, -1, (std::int64_t{1} << 51) - 1, -((std::int64_t{1} << 51) - 1),
+                                      (std::int64_t{1} << 24) + 1, (std::int64_t{1} << 24) + 3,
+                                      -((std::int64_t{1} << 25) + 2), (std::int64_t{1} << 50) + (std::int64_t{1} << 26)};
+  for (int bits = 1; bits <= 50; ++bits)
+    for (int k = 0; k < 40; ++k) {
+      const std::int64_t mag = static_cast<std::int64_t>(rng() >> (64 - bits));
+      values.push_back(k % 2 ? -mag : mag);
+      // A tie: a float's 24 bits, then a 1 and zeros below it.
+      if (bits > 25) values.push_back(((mag >> (bits - 25)) | 1) << (bits - 25));
+    }
+  int checked = 0;
+  for (std::size_t i = 0; i + 4 <= values.size(); i += 4) {
+    for (simd::Isa isa : simd_test::supported_isas()) {
+      float out[4];
+      simd_test::to_float_kernel(isa)(&values[i], out);
+      CAPTURE(std::string(simd::isa_name(isa)));
+      for (int j = 0; j < 4; ++j) {
+        CAPTURE(values[i + j]);
+        CHECK(std::bit_cast<std::uint32_t>(out[j]) == std::bit_cast<std::uint32_t>(static_cast<float>(values[i + j])));
+        ++checked;
+      }
+    }
+  }
+  CHECK(checked > 2000);
+}
+
 TEST_CASE("simd: sign_bits, mask_bits and mask_from_bits give lane i as bit i on every target") {
   std::mt19937_64 rng(99);
   const std::int64_t edge[] = {0, -1, 1, INT64_MIN, INT64_MAX, -(std::int64_t{1} << 40), std::int64_t{1} << 40};

@@ -218,6 +218,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   };
   // Three named values, not an array, so that they stay in registers.
   const I64x4 step0 = lane_step(0), step1 = lane_step(1), step2 = lane_step(2);
+  const auto to_float = [](I64x4 e) { return simd::SOFTPBR_TARGET_NS::to_float_below_2p51(e); };
   // MSAA: each sample's offset of the three edge functions from their pixel-centre values
   // (sample offsets are 1/16 pixel, 16 fixed-point units).
   constexpr int kSamples = kMs > 1 ? kMs : 1;
@@ -264,12 +265,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       }
       if (mask == 0) continue;
 
-      // Unbiased edge values as floats: the screen-space barycentric weights × 2·area.
+      // Unbiased edge values as floats: the screen-space barycentric weights × 2·area,
+      // each rounded once (to_float_below_2p51: edge values stay below 2^50).
       // From here the four lanes run as one simd::Vec<4>, each lane the same IEEE
       // operations in the same order as one pixel would take alone.
-      const V4 w0(__builtin_convertvector(e0 + static_cast<std::int64_t>(t.bias[0]), V4::native));
-      const V4 w1(__builtin_convertvector(e1 + static_cast<std::int64_t>(t.bias[1]), V4::native));
-      const V4 w2(__builtin_convertvector(e2 + static_cast<std::int64_t>(t.bias[2]), V4::native));
+      const V4 w0(to_float(e0 + static_cast<std::int64_t>(t.bias[0])));
+      const V4 w1(to_float(e1 + static_cast<std::int64_t>(t.bias[1])));
+      const V4 w2(to_float(e2 + static_cast<std::int64_t>(t.bias[2])));
 
       // Early depth test (shaders cannot change depth): a passing pixel's depth is written
       // now, so later triangles test against it even while its colour waits in a packet —
@@ -317,8 +319,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         mask = 0;
         for (int s = 0; s < kMs; ++s) {
           if (covered[s] == 0) continue;
-          const V4 sw1(__builtin_convertvector(e1 + (sample_edge[1][s] + t.bias[1]), V4::native));
-          const V4 sw2(__builtin_convertvector(e2 + (sample_edge[2][s] + t.bias[2]), V4::native));
+          const V4 sw1(to_float(e1 + (sample_edge[1][s] + t.bias[1])));
+          const V4 sw2(to_float(e2 + (sample_edge[2][s] + t.bias[2])));
           const V4 l1 = sw1 * V4(t.inv_area);
           const V4 l2 = sw2 * V4(t.inv_area);
           const V4 sz = simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f));

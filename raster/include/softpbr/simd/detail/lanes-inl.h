@@ -253,6 +253,20 @@ inline unsigned sign_bits(native_t<std::int64_t, 4> v) {
   return static_cast<unsigned>((v[0] < 0) | ((v[1] < 0) << 1) | ((v[2] < 0) << 2) | ((v[3] < 0) << 3));
 #endif
 }
+// Four 64-bit integers below 2^51 in magnitude as floats, each rounded once to nearest:
+// the same bits as converting each integer directly (the rasterizer's edge values stay
+// below 2^50, setup.h). x86 has no vector conversion from int64 before AVX-512DQ, so the
+// direct form is four scalar cvtsi2ss and their shuffles; here each integer is added to
+// the bits of 2^52 + 2^51, whose double then holds 2^52 + 2^51 + v exactly, the constant
+// is subtracted (exact), and one cvtpd2ps rounds the exact v to float.
+inline native_t<float, 4> to_float_below_2p51(native_t<std::int64_t, 4> v) {
+  using D4 = native_t<double, 4>;
+  constexpr std::int64_t kMagicBits = 0x4338000000000000;  // 2^52 + 2^51 as a double
+  const native_t<std::int64_t, 4> biased = v + kMagicBits;
+  D4 d;
+  __builtin_memcpy(&d, &biased, sizeof d);
+  return __builtin_convertvector(d - 6755399441055744.0, native_t<float, 4>);
+}
 // Bit i set when lane i of a 4-lane mask is set (movmskps where SSE has it).
 inline unsigned mask_bits(LaneMask<4, SOFTPBR_ISA> m) {
 #if defined(__SSE2__)
