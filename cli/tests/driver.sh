@@ -501,7 +501,7 @@ info)
         "^  drawn      5 primitives, 10 triangles (the scene's nodes)\$" \
         "^  bounds     min (-1, -1, 0) max (4, 4, 0) size (5, 5, 0)\$" "^  materials  2\$" \
         "^    0   textured *OPAQUE, textures base_color 0\$" "^    1   glass *BLEND, double-sided\$" \
-        "^  textures   1 (1 image, 117.1 KiB encoded)\$" "^    0   albedo *png 640x400, image 0 ($where, 117.1 KiB)\$" \
+        "^  textures   1 (1 image, 98.2 KiB encoded)\$" "^    0   albedo *png 640x400, image 0 ($where, 98.2 KiB)\$" \
         "^  extensions used: KHR_lights_punctual, EXT_made_up; required: none\$" \
         "^  cameras    1\$" "^    0   front *perspective\$" "^  lights     1\$" "^    0   bulb *point\$" \
         "^  animation  0 skins, 0 animations" "^  problems   2\$" \

@@ -9,8 +9,9 @@
 // The specular lobe is f_s = D · G · F / (4 · NoL · NoV) = DV · F. Each term is written once
 // against a lane type F: float for one pixel, simd::Vec<N> for N pixels (the same IEEE
 // operations per lane, simd.h), and, for the textbook terms, double: the shader
-// (shading.h) evaluates DV_GGX_SchlickSmith, F_Schlick and Fd_Lambert in float lanes; the
-// tests check them against D_GGX, G_Smith and F_Schlick in double.
+// (shading.h brdf_times) evaluates D_GGX_denominator_t, DV_GGX_SchlickSmith_t, VoH_from_t,
+// schlick_weight and Fd_Lambert in float lanes; the tests check them (and the n·h forms
+// DV_GGX_SchlickSmith, F_Schlick) against D_GGX, G_Smith and F_Schlick in double.
 #pragma once
 
 #include <glm/vec3.hpp>
@@ -90,6 +91,51 @@ inline F DV_GGX_SchlickSmith(F NoH, F NoL, F NoV, F alpha, F k) {
   const F d = D_GGX_denominator(NoH, a2);
   const F g_v = G_SchlickGGX_denominator(NoV, k), g_l = G_SchlickGGX_denominator(NoL, k);
   return (a2 * NoL) / (F(4.0f * kPi) * d * d * g_v * g_l * simd::max(NoL, F(kMinNoV)));
+}
+
+// The same D · V without forming h — the shader's form. With u = l + v, t = |u|² and
+// s = n·u, for unit n: h = u / √t, n·h = s / √t, and D_GGX_denominator times t is
+//   d t = ((n·h)² (α² − 1) + 1) t = s² α² + (t − s²) = s² α² + |n × u|²
+// by Lagrange's identity (|n|² |u|² = (n·u)² + |n × u|²). A sum of two non-negative terms,
+// each rounded relative to itself: near a highlight's peak, where (n·h)² (α² − 1) + 1
+// cancels to ≈ α² and its float form kept only a few bits there (α² − 1 alone rounds to a
+// multiple of 2⁻²⁴, so the sharpest peak's D was off by up to ~1%), this keeps ~2⁻²²
+// relative. Where h dips below the surface (s < 0) the caller takes n·h = 0, d t = t, as
+// the clamped form did.
+template <class F>
+inline F D_GGX_denominator_t(F s, const simd::Vec3<F>& n_cross_u, F a2) {
+  return s * s * a2 + simd::dot(n_cross_u, n_cross_u);
+}
+
+// D · V from d t (above) and t: with D = α² / (π d²), DV_GGX_SchlickSmith becomes
+//   D · V = α² NoL t² / (4π (d t)² g(NoV) g(NoL) max(NoL, kMinNoV)),
+// one division, and n·h costs no square root or division (h normalized, n·h and v·h were
+// one root and two divisions a light). Requires t ≥ kMinHalfLength2 (the caller raises a
+// smaller t: l ≈ −v, where h is undetermined), d t ≥ α² t (true of the form above) and
+// NoV ≥ kMinNoV; then nothing underflows (d t ≥ 10⁻⁶ α² ≥ 4·10⁻¹²) or overflows.
+inline constexpr float kMinHalfLength2 = 1e-6f;
+template <class F>
+inline F DV_GGX_SchlickSmith_t(F dt, F t, F NoL, F NoV, F alpha, F k) {
+  const F a2 = alpha * alpha;
+  const F g_v = G_SchlickGGX_denominator(NoV, k), g_l = G_SchlickGGX_denominator(NoL, k);
+  return (a2 * NoL * (t * t)) / (F(4.0f * kPi) * dt * dt * g_v * g_l * simd::max(NoL, F(kMinNoV)));
+}
+
+// v·h from t = |l + v|² = 2 (1 + v·l) as above: (1 + v·l) / √t = √t / 2. One square
+// root, no division.
+template <class F>
+inline F VoH_from_t(F t) {
+  return simd::sqrt(t) * F(0.5f);
+}
+
+// m⁵ of Schlick's Fresnel, m = 1 − v·h: F = F0 + (1 − F0) m⁵, and the diffuse weight's
+// 1 − F = (1 − F0)(1 − m⁵), so both come from m⁵ and the per-pixel (1 − F0). Multiplies
+// only, no pow.
+template <class F>
+inline F schlick_weight(F VoH) {
+  const F m = F(1) - VoH;
+  const F m2 = m * m;
+  return m2 * m2 * m;
 }
 
 // Schlick 1994: F = F0 + (1 − F0)(1 − v·h)^5; the fifth power as multiplies, exact and

@@ -3,9 +3,9 @@
 //   Lo = Σ_lights (kD · c/π + D · G · F / (4 (n·l)(n·v))) · Li · (n·l)
 //        + ambient · c · ao + emissive,          kD = (1 − F)(1 − metallic)
 //
-// evaluated with brdf.h's terms: D · G / (4 (n·l)(n·v)) as DV_GGX_SchlickSmith (D_GGX and
-// G_Smith with Schlick-GGX, k = (r+1)²/8, folded into one division), F_Schlick and
-// Fd_Lambert. Nothing here
+// evaluated with brdf.h's terms: D · G / (4 (n·l)(n·v)) as DV_GGX_SchlickSmith_t (D_GGX and
+// G_Smith with Schlick-GGX, k = (r+1)²/8, folded into one division, n·h without forming
+// h), Schlick's Fresnel from schlick_weight, and Fd_Lambert. Nothing here
 // produces NaN or Inf for finite inputs: roughness is raised to kMinRoughness, n·v is
 // clamped to kMinNoV (interpolated normals may face away from the viewer), lights with
 // n·l ≤ 0 are skipped, and zero-length normals fall back to the view direction.
@@ -75,7 +75,7 @@ inline Vec3L<F> normalize_or(const Vec3L<F>& v, const Vec3L<F>& fallback) {
   const F one(1.0f), inf(std::numeric_limits<float>::infinity());
   const F positive = simd::select(len2 > F(0.0f), len2, inf);  // 0, negative and NaN → ∞
   const F len = simd::sqrt(simd::select(positive < inf, positive, one));
-  const Vec3L<F> unit = v / len;
+  const Vec3L<F> unit = v * (one / len);  // one division, not three
   return simd::select(positive < inf, unit, fallback);
 }
 
@@ -102,31 +102,65 @@ inline MaterialLanes<F> lanes(const ShadingMaterial& m) {
           lanes<F>(m.emissive), F(m.roughness), m.roughness};
 }
 
-// The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v.
+// What the BRDF needs of n and v alone, computed once per pixel for all its lights.
+template <class F>
+struct ViewTerms {
+  F n_dot_v;              // n·v as it is (h's fallback, and n·h's numerator)
+  F NoV;                  // n·v clamped to [kMinNoV, 1]
+  Vec3L<F> one_minus_f0;  // 1 − F0: F = F0 + (1 − F0) m⁵
+  // c/π (1 − metallic) max(1 − F0, 0): the diffuse term kD c/π = (1 − F)(1 − metallic) c/π
+  // is this times (1 − m⁵), as 1 − F = (1 − F0)(1 − m⁵) with 1 − m⁵ in [0, 1]. The max
+  // keeps a base colour above 1 (accepted, see prepare_material), whose F exceeds 1, from a
+  // negative diffuse weight.
+  Vec3L<F> diffuse;
+};
+
+template <class F>
+inline ViewTerms<F> view_terms(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F>& v) {
+  ViewTerms<F> vt;
+  vt.n_dot_v = simd::dot(n, v);
+  vt.NoV = simd::clamp(vt.n_dot_v, F(kMinNoV), F(1.0f));
+  vt.one_minus_f0 = Vec3L<F>(F(1.0f)) - m.f0;
+  const F w = m.one_minus_metallic * Fd_Lambert<F>();
+  vt.diffuse = Vec3L<F>(simd::max(vt.one_minus_f0.x, F(0.0f)) * w, simd::max(vt.one_minus_f0.y, F(0.0f)) * w,
+                        simd::max(vt.one_minus_f0.z, F(0.0f)) * w) *
+               m.albedo;
+  return vt;
+}
+
+// The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v, times a
+// weight w (the shader passes n·l; brdf() below 1, whose multiplies are then exact).
+// h = (l + v) / |l + v| is never formed: n·h and v·h come from n·l, n·v and t = |l + v|²
+// (DV_GGX_SchlickSmith_st, VoH_from_t in brdf.h), so a light costs the one division of
+// D · V and the square root of v·h.
+template <class F>
+inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const ViewTerms<F>& vt, const Vec3L<F>& n, const Vec3L<F>& l,
+                           const Vec3L<F>& v, F w) {
+  const F one(1.0f);
+  const F n_dot_l = simd::dot(n, l);
+  const F NoL = simd::clamp(n_dot_l, F(0.0f), one);
+  // u = l + v, t = |u|², s = n·u (h = u / √t). Where u nearly vanishes (t below
+  // kMinHalfLength2: l and v within 0.06° of opposite) h is undetermined; there t is raised
+  // and n·h taken as 0, which keeps the terms finite and shows no highlight.
+  const Vec3L<F> u = l + v;
+  const F t_raw = simd::dot(u, u);
+  const F t = simd::max(t_raw, F(kMinHalfLength2));
+  const F s = simd::dot(n, u);
+  const Vec3L<F> n_cross_u(n.y * u.z - n.z * u.y, n.z * u.x - n.x * u.z, n.x * u.y - n.y * u.x);
+  const F dt = simd::select(simd::both(s > F(0.0f), t_raw >= F(kMinHalfLength2)),
+                            D_GGX_denominator_t(s, n_cross_u, m.alpha * m.alpha), t);
+  const F VoH = simd::min(VoH_from_t(t), one);
+  const F m5 = schlick_weight(VoH);
+  const F specular = DV_GGX_SchlickSmith_t(dt, t, NoL, vt.NoV, m.alpha, m.k) * w;
+  const F diffuse = (one - m5) * w;
+  const Vec3L<F> Fr = m.f0 + vt.one_minus_f0 * m5;
+  return vt.diffuse * diffuse + Fr * specular;
+}
+
+// The BRDF f(l, v) alone.
 template <class F>
 inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
-  // h = (l + v) / |l + v| is only read through n·h and v·h: each is the dot with l + v
-  // divided by its length (more exact than normalizing h first, and two divisions, not
-  // three). When l + v vanishes (l = −v) h falls back to n, as normalize_or would.
-  const Vec3L<F> lv = l + v;
-  const F one(1.0f), inf(std::numeric_limits<float>::infinity());
-  const F lv2 = simd::dot(lv, lv);
-  const F positive = simd::select(lv2 > F(0.0f), lv2, inf);
-  const auto has_h = positive < inf;
-  const F lv_len = simd::sqrt(simd::select(has_h, positive, one));
-  const F NoL = simd::clamp(simd::dot(n, l), F(0.0f), F(1.0f));
-  const F NoV = simd::clamp(simd::dot(n, v), F(kMinNoV), F(1.0f));
-  const F NoH = simd::clamp(simd::select(has_h, simd::dot(n, lv) / lv_len, simd::dot(n, n)), F(0.0f), F(1.0f));
-  const F VoH = simd::clamp(simd::select(has_h, simd::dot(v, lv) / lv_len, simd::dot(v, n)), F(0.0f), F(1.0f));
-  const Vec3L<F> Fr = F_Schlick(m.f0, VoH);
-  const Vec3L<F> specular = Fr * DV_GGX_SchlickSmith(NoH, NoL, NoV, m.alpha, m.k);
-  // Fr exceeds 1 when a base colour above 1 (accepted, see prepare_material) lifts F0 over
-  // 1: the diffuse weight stops at 0 instead of going negative (the same bits for Fr ≤ 1).
-  const Vec3L<F> one_minus_F = Vec3L<F>(F(1.0f)) - Fr;
-  const Vec3L<F> kD = Vec3L<F>(simd::max(one_minus_F.x, F(0.0f)), simd::max(one_minus_F.y, F(0.0f)),
-                               simd::max(one_minus_F.z, F(0.0f))) *
-                      m.one_minus_metallic;
-  return kD * m.albedo * Fd_Lambert<F>() + specular;
+  return brdf_times(m, view_terms(m, n, v), n, l, v, F(1.0f));
 }
 
 // The light of an environment (split sum, Karis 2013) reflected at unit normal n toward
@@ -185,13 +219,14 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> 
                       const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v,
                       const PreparedEnvironment* env = nullptr) {
   const Vec3L<F> n = normalize_or(n_in, v);
+  const ViewTerms<F> vt = view_terms(m, n, v);
   Vec3L<F> lo(F(0.0f));
   for (const PreparedLight& light : lights) {
     const LightSampleLanes<F> s = sample_light(light, position);
     const F NoL = simd::dot(n, s.to_light);
     const auto lit = NoL > F(0.0f);
     if (!simd::any(lit)) continue;
-    lo = simd::select(lit, lo + brdf(m, n, s.to_light, v) * s.radiance * NoL, lo);
+    lo = simd::select(lit, lo + brdf_times(m, vt, n, s.to_light, v, NoL) * s.radiance, lo);
   }
   if (env != nullptr) return ibl(m, *env, n, v) + lo + m.emissive;
   return lanes<F>(ambient) * m.albedo * m.ao + lo + m.emissive;
