@@ -26,7 +26,7 @@ PreparedLight prepare_light(const Light& light) {
           "must be finite and non-negative");
   require(std::isfinite(light.intensity) && light.intensity >= 0, "intensity", "must be finite and >= 0");
   require(std::isfinite(light.range) && light.range >= 0, "range", "must be finite and >= 0 (0 = unlimited)");
-  PreparedLight p{light, {0, -1, 0}, 0.0f, 1.0f};
+  PreparedLight p{light, {0, -1, 0}, 0.0f, 1.0f, light.color * light.intensity};
   if (light.type != LightType::Point) {
     const float len2 = glm::dot(light.direction, light.direction);
     require(len2 > 0.0f, "direction", "must not be zero");

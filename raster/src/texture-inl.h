@@ -21,7 +21,7 @@ namespace texture_lanes {
 typedef float F8 __attribute__((vector_size(32)));
 typedef std::int32_t I8 __attribute__((vector_size(32)));
 
-inline F8 splat(float x) { return F8{} + x; }
+inline F8 splat(float x) { return x - F8{}; }  // a bare broadcast (see Lanes(float))
 inline I8 splat_int(std::int32_t x) { return I8{} + x; }
 // m ? a : b per lane (m all ones or zeros, as comparisons give).
 inline F8 select(I8 m, F8 a, F8 b) { return (F8)((m & (I8)a) | (~m & (I8)b)); }

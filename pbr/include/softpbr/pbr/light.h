@@ -41,6 +41,7 @@ struct PreparedLight {
   glm::vec3 unit_direction;
   float cone_scale;
   float cone_offset;
+  glm::vec3 radiance{0.0f};  // color · intensity, once (not per packet)
 };
 
 // Validates and prepares a light. Throws std::invalid_argument naming the field when a
@@ -64,8 +65,7 @@ template <class F>
 inline LightSampleLanes<F> sample_light(const PreparedLight& p, const simd::Vec3<F>& position) {
   using V3 = simd::Vec3<F>;
   const Light& l = p.light;
-  const glm::vec3 scaled = l.color * l.intensity;
-  const V3 radiance(F(scaled.x), F(scaled.y), F(scaled.z));
+  const V3 radiance(F(p.radiance.x), F(p.radiance.y), F(p.radiance.z));
   LightSampleLanes<F> out;
   if (l.type == LightType::Directional) {
     out.to_light = V3(F(-p.unit_direction.x), F(-p.unit_direction.y), F(-p.unit_direction.z));

@@ -18,7 +18,9 @@ struct Lanes<N, SOFTPBR_ISA> {
   native v;
 
   Lanes() = default;
-  Lanes(float x) : v(native{} + x) {}  // broadcast (implicit: uniforms mix with lanes)
+  // Broadcast (implicit: uniforms mix with lanes). x − (+0) is x for every x, −0 included,
+  // so compilers emit the bare broadcast; {} + x cost an add and made −0 into +0.
+  Lanes(float x) : v(x - native{}) {}
   explicit Lanes(native n) : v(n) {}
 
   static Lanes load(const float* p) {
