@@ -46,6 +46,15 @@ SOFTPBR_KERNEL inline void mask_ops(const std::int64_t* e_in, const float* a_in,
   for (unsigned m = 0; m < 16; ++m) out[2 + m] = lanes::mask_bits(lanes::mask_from_bits(m));
 }
 
+// out[4i + c] = channel c of lane i after store_interleave4 of a, b, −a, a·b (lanes
+// a[0..N), b[0..N)).
+template <int N>
+SOFTPBR_KERNEL void interleave_ops(const float* a_in, const float* b_in, float* out) {
+  using V = lanes::Vec<N>;
+  const V a = V::load(a_in), b = V::load(b_in);
+  softpbr::simd::store_interleave4<N>(a, b, -a, a * b, out);
+}
+
 // out[i] = to_float_below_2p51 of the four 64-bit integers in[0..4).
 SOFTPBR_KERNEL inline void to_float_ops(const std::int64_t* in, float* out) {
   softpbr::simd::native_t<std::int64_t, 4> v;

@@ -155,6 +155,37 @@ MaskKernel mask_kernel(simd::Isa isa) { return SOFTPBR_DISPATCH(isa, mask_ops); 
 
 namespace simd_test {
 namespace {
+template <int N>
+void check_interleave(std::mt19937& rng) {
+  std::uniform_real_distribution<float> uniform(-4.0f, 4.0f);
+  float a[N], b[N], out[4 * N];
+  for (int i = 0; i < N; ++i) a[i] = uniform(rng), b[i] = uniform(rng);
+  for (simd::Isa isa : supported_isas()) {
+    CAPTURE(std::string(simd::isa_name(isa)));
+    CAPTURE(N);
+    SOFTPBR_DISPATCH(isa, interleave_ops<N>)(a, b, out);
+    int wrong = 0;
+    for (int i = 0; i < N; ++i) {
+      const float want[4] = {a[i], b[i], -a[i], a[i] * b[i]};
+      for (int c = 0; c < 4; ++c) wrong += std::bit_cast<std::uint32_t>(out[4 * i + c]) != std::bit_cast<std::uint32_t>(want[c]);
+    }
+    CHECK(wrong == 0);
+  }
+}
+}  // namespace
+}  // namespace simd_test
+
+TEST_CASE("simd: store_interleave4 writes lane i's four values as record i at 4, 8 and 16 lanes on every target") {
+  std::mt19937 rng(4);
+  for (int round = 0; round < 20; ++round) {
+    simd_test::check_interleave<4>(rng);
+    simd_test::check_interleave<8>(rng);
+    simd_test::check_interleave<16>(rng);
+  }
+}
+
+namespace simd_test {
+namespace {
 using ToFloatKernel = void (*)(const std::int64_t*, float*);
 ToFloatKernel to_float_kernel(simd::Isa isa) { return SOFTPBR_DISPATCH(isa, to_float_ops); }
 }  // namespace

@@ -125,33 +125,37 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
     }
   }
   const Color<F> c = shader.template fragment_packet<F>(p);
-  float out[4][W];
+  // Lane i's colour as out[4i .. 4i + 3], RGBA: a whole pixel per 16-byte copy.
+  alignas(64) float out[4 * W];
   if constexpr (W == 1) {
-    out[0][0] = c.r, out[1][0] = c.g, out[2][0] = c.b, out[3][0] = c.a;
+    out[0] = c.r, out[1] = c.g, out[2] = c.b, out[3] = c.a;
   } else {
-    c.r.store(out[0]), c.g.store(out[1]), c.b.store(out[2]), c.a.store(out[3]);
+    simd::store_interleave4<W>(c.r, c.g, c.b, c.a, out);
   }
+  const auto color = [&](int lane) {
+    glm::vec4 v;
+    __builtin_memcpy(&v, out + 4 * lane, sizeof v);
+    return v;
+  };
   if constexpr (kMs > 1) {
     for (int lane = 0; lane < b.count; ++lane)
-      write_samples<kMs>(state, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, b.sample_mask[lane],
-                         b.sample_depth[lane], b.index[lane], target);
+      write_samples<kMs>(state, color(lane), b.sample_mask[lane], b.sample_depth[lane], b.index[lane], target);
   } else if (state.alpha_test) {  // the blend mode decided once per packet: replacing does not read the target
     // Lanes in submission order, each tested against the depths the lanes before it wrote.
     for (int lane = 0; lane < b.count; ++lane) {
-      if (!(out[3][lane] >= state.alpha_ref)) continue;
+      if (!(out[4 * lane + 3] >= state.alpha_ref)) continue;
       const std::size_t idx = b.index[lane];
       const float z = get_lane(p.depth, lane);
       if (!depth_passes(state.depth_test, z, depths[idx])) continue;
       if (state.depth_write) depths[idx] = z;
-      colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
+      colors[idx] = blend(state.blend, color(lane), colors[idx]);
     }
   } else if (state.blend == Blend::Replace) {
-    for (int lane = 0; lane < b.count; ++lane)
-      colors[b.index[lane]] = glm::vec4(out[0][lane], out[1][lane], out[2][lane], out[3][lane]);
+    for (int lane = 0; lane < b.count; ++lane) colors[b.index[lane]] = color(lane);
   } else {
     for (int lane = 0; lane < b.count; ++lane) {
       const std::size_t idx = b.index[lane];
-      colors[idx] = blend(state.blend, {out[0][lane], out[1][lane], out[2][lane], out[3][lane]}, colors[idx]);
+      colors[idx] = blend(state.blend, color(lane), colors[idx]);
     }
   }
   b.count = 0;

@@ -209,6 +209,47 @@ inline void load_deinterleave4(const float* p, Lanes<N, SOFTPBR_ISA>& x, Lanes<N
   }
 }
 
+// The inverse of load_deinterleave4: p[4i + 0..3] = x[i], y[i], z[i], w[i] for lane i —
+// N pixels' RGBA as N records of four floats. A 4×4 transpose per four lanes by shuffles
+// (unpcklps/unpckhps/shufps, and vperm2f128 to order 8 lanes' halves), so a packet's
+// colours leave as whole 16-byte pixels instead of one float at a time.
+template <int N>
+inline void store_interleave4(Lanes<N, SOFTPBR_ISA> x, Lanes<N, SOFTPBR_ISA> y, Lanes<N, SOFTPBR_ISA> z,
+                              Lanes<N, SOFTPBR_ISA> w, float* p) {
+  if constexpr (N == 4) {
+    const auto t0 = __builtin_shufflevector(x.v, y.v, 0, 4, 1, 5), t1 = __builtin_shufflevector(x.v, y.v, 2, 6, 3, 7);
+    const auto t2 = __builtin_shufflevector(z.v, w.v, 0, 4, 1, 5), t3 = __builtin_shufflevector(z.v, w.v, 2, 6, 3, 7);
+    const decltype(t0) o[4] = {__builtin_shufflevector(t0, t2, 0, 1, 4, 5), __builtin_shufflevector(t0, t2, 2, 3, 6, 7),
+                               __builtin_shufflevector(t1, t3, 0, 1, 4, 5), __builtin_shufflevector(t1, t3, 2, 3, 6, 7)};
+    __builtin_memcpy(p, o, sizeof o);
+  } else if constexpr (N == 8) {
+    // Within each 128-bit half, as for 4 lanes; then pixels i and i + 4 share a vector.
+    const auto t0 = __builtin_shufflevector(x.v, y.v, 0, 8, 1, 9, 4, 12, 5, 13);
+    const auto t1 = __builtin_shufflevector(x.v, y.v, 2, 10, 3, 11, 6, 14, 7, 15);
+    const auto t2 = __builtin_shufflevector(z.v, w.v, 0, 8, 1, 9, 4, 12, 5, 13);
+    const auto t3 = __builtin_shufflevector(z.v, w.v, 2, 10, 3, 11, 6, 14, 7, 15);
+    const auto u0 = __builtin_shufflevector(t0, t2, 0, 1, 8, 9, 4, 5, 12, 13);    // pixels 0, 4
+    const auto u1 = __builtin_shufflevector(t0, t2, 2, 3, 10, 11, 6, 7, 14, 15);  // 1, 5
+    const auto u2 = __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13);    // 2, 6
+    const auto u3 = __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15);  // 3, 7
+    const decltype(u0) o[4] = {__builtin_shufflevector(u0, u1, 0, 1, 2, 3, 8, 9, 10, 11),
+                               __builtin_shufflevector(u2, u3, 0, 1, 2, 3, 8, 9, 10, 11),
+                               __builtin_shufflevector(u0, u1, 4, 5, 6, 7, 12, 13, 14, 15),
+                               __builtin_shufflevector(u2, u3, 4, 5, 6, 7, 12, 13, 14, 15)};
+    __builtin_memcpy(p, o, sizeof o);
+  } else {
+    using H = Lanes<8, SOFTPBR_ISA>;
+    const auto lo = [](const Lanes<N, SOFTPBR_ISA>& a) {
+      return H(__builtin_shufflevector(a.v, a.v, 0, 1, 2, 3, 4, 5, 6, 7));
+    };
+    const auto hi = [](const Lanes<N, SOFTPBR_ISA>& a) {
+      return H(__builtin_shufflevector(a.v, a.v, 8, 9, 10, 11, 12, 13, 14, 15));
+    };
+    store_interleave4<8>(lo(x), lo(y), lo(z), lo(w), p);
+    store_interleave4<8>(hi(x), hi(y), hi(z), hi(w), p + 32);
+  }
+}
+
 // The bits of each lane (a reinterpretation, not a conversion).
 template <int N>
 inline UintLanes<N> bits_of(Lanes<N, SOFTPBR_ISA> x) {
