@@ -263,16 +263,16 @@ TEST_CASE("DV_GGX_SchlickSmith, the folded term the shader runs, is D_GGX G_Smit
 }
 
 TEST_CASE("DV_GGX_SchlickSmith_t, the h-free form the shader runs, matches the textbook D G / (4 n.l n.v) in double "
-          "to 1e-5 at the sharpest peak, where the (n.h)^2 (a^2 - 1) + 1 form is off by up to ~1%, and lanes give the "
+          "to 1e-5 at the sharpest peak, where the (n.h)^2 (a^2 - 1) + 1 form is off by percents, and lanes give the "
           "float bits") {
   // Normals at and near the half vector of random l, v: within a few lobe widths (α) of
   // the peak, where the textbook denominator cancels. Both float forms get the same float
-  // unit vectors; the reference is the textbook form in double from those vectors.
+  // unit vectors; the reference is the textbook form in double from their directions.
   std::mt19937 rng(20261203);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const float roughnesses[] = {pbr::kMinRoughness, 0.07f, 0.1f, 0.2f, 0.5f, 1.0f};
   double worst_t = 0, worst_peak_t = 0, worst_peak_old = 0;
-  std::vector<float> ss, ts, nols, novs, alphas, ks, dts, got;
+  std::vector<float> ts, nols, novs, alphas, ks, dts, got;
   for (float r : roughnesses) {
     const float alpha = r * r, k = pbr::k_direct(r);
     for (int i = 0; i < 4000; ++i) {
@@ -313,7 +313,7 @@ TEST_CASE("DV_GGX_SchlickSmith_t, the h-free form the shader runs, matches the t
       CAPTURE(r);
       CAPTURE(i);
       CHECK(rel <= tolerance);
-      ss.push_back(sf), ts.push_back(tf), nols.push_back(nol), novs.push_back(nov), alphas.push_back(alpha);
+      ts.push_back(tf), nols.push_back(nol), novs.push_back(nov), alphas.push_back(alpha);
       ks.push_back(k), dts.push_back(dt), got.push_back(dv);
     }
   }

@@ -105,7 +105,6 @@ inline MaterialLanes<F> lanes(const ShadingMaterial& m) {
 // What the BRDF needs of n and v alone, computed once per pixel for all its lights.
 template <class F>
 struct ViewTerms {
-  F n_dot_v;              // n·v as it is (h's fallback, and n·h's numerator)
   F NoV;                  // n·v clamped to [kMinNoV, 1]
   Vec3L<F> one_minus_f0;  // 1 − F0: F = F0 + (1 − F0) m⁵
   // c/π (1 − metallic) max(1 − F0, 0): the diffuse term kD c/π = (1 − F)(1 − metallic) c/π
@@ -118,8 +117,7 @@ struct ViewTerms {
 template <class F>
 inline ViewTerms<F> view_terms(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F>& v) {
   ViewTerms<F> vt;
-  vt.n_dot_v = simd::dot(n, v);
-  vt.NoV = simd::clamp(vt.n_dot_v, F(kMinNoV), F(1.0f));
+  vt.NoV = simd::clamp(simd::dot(n, v), F(kMinNoV), F(1.0f));
   vt.one_minus_f0 = Vec3L<F>(F(1.0f)) - m.f0;
   const F w = m.one_minus_metallic * Fd_Lambert<F>();
   vt.diffuse = Vec3L<F>(simd::max(vt.one_minus_f0.x, F(0.0f)) * w, simd::max(vt.one_minus_f0.y, F(0.0f)) * w,
@@ -130,9 +128,9 @@ inline ViewTerms<F> view_terms(const MaterialLanes<F>& m, const Vec3L<F>& n, con
 
 // The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v, times a
 // weight w (the shader passes n·l; brdf() below 1, whose multiplies are then exact).
-// h = (l + v) / |l + v| is never formed: n·h and v·h come from n·l, n·v and t = |l + v|²
-// (DV_GGX_SchlickSmith_st, VoH_from_t in brdf.h), so a light costs the one division of
-// D · V and the square root of v·h.
+// h = (l + v) / |l + v| is never formed: n·h and v·h come from n·(l + v), |n × (l + v)|²
+// and t = |l + v|² (D_GGX_denominator_t, DV_GGX_SchlickSmith_t, VoH_from_t in brdf.h), so
+// a light costs the one division of D · V and the square root of v·h.
 template <class F>
 inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const ViewTerms<F>& vt, const Vec3L<F>& n, const Vec3L<F>& l,
                            const Vec3L<F>& v, F w) {
