@@ -70,16 +70,17 @@ std::vector<int> render_counts(raster::Renderer& renderer, int width, int height
 }
 
 // The same for triangles given in pixel coordinates, three points each.
-inline std::vector<int> render_pixel_triangles(raster::Renderer& renderer, int width, int height,
-                                               std::span<const Point> points,
-                                               raster::DrawState state = counting_state()) {
+template <class S = CountShader>
+std::vector<int> render_pixel_triangles(raster::Renderer& renderer, int width, int height,
+                                        std::span<const Point> points,
+                                        raster::DrawState state = counting_state()) {
   std::vector<glm::vec4> positions;
   std::vector<std::uint32_t> indices;
   for (const Point& p : points) {
     indices.push_back(static_cast<std::uint32_t>(positions.size()));
     positions.push_back(pixel_to_clip(p.x, p.y, width, height));
   }
-  return render_counts(renderer, width, height, positions, indices, state);
+  return render_counts<S>(renderer, width, height, positions, indices, state);
 }
 
 // Reference coverage, independent of setup.cpp: is the centre of pixel (px, py) covered by

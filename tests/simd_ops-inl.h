@@ -55,6 +55,13 @@ SOFTPBR_KERNEL void interleave_ops(const float* a_in, const float* b_in, float* 
   softpbr::simd::store_interleave4<N>(a, b, -a, a * b, out);
 }
 
+// out = first_lanes<N>(n) ? a : b, lane by lane.
+template <int N>
+SOFTPBR_KERNEL void first_lanes_ops(int n, const float* a_in, const float* b_in, float* out) {
+  using V = lanes::Vec<N>;
+  softpbr::simd::select(lanes::first_lanes<N>(n), V::load(a_in), V::load(b_in)).store(out);
+}
+
 // out[i] = to_float_below_2p51 of the four 64-bit integers in[0..4).
 SOFTPBR_KERNEL inline void to_float_ops(const std::int64_t* in, float* out) {
   softpbr::simd::native_t<std::int64_t, 4> v;

@@ -1,6 +1,7 @@
 // Coverage: watertight meshes (no pixel twice, none missed) across tile sizes and
 // windings, the top-left fill rule pixel by pixel, and zero-area triangles.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -335,6 +336,56 @@ TEST_CASE("random triangles cover exactly the pixel centres the reference top-le
   }
   CHECK(mismatched == 0);
   CHECK(drawn > 1500 * 20);  // the triangles are not trivially empty
+}
+
+TEST_CASE("wide triangles in big tiles (rows walked only where the triangle may be) cover exactly the reference") {
+  // raster_triangle narrows each row of quads to where every edge can be ≥ 0 once a
+  // triangle spans a few quads of a tile; thin slivers, nearly horizontal and nearly
+  // vertical edges, and vertices far outside the target (the guard band) probe its margin.
+  std::mt19937 rng(4242);
+  constexpr int kW = 150, kH = 110;
+  std::uniform_real_distribution<double> in_x(-4.0, kW + 4.0), in_y(-4.0, kH + 4.0);
+  std::uniform_real_distribution<double> far(-3000.0, 3000.0), near(-0.6, 0.6), unit(0.0, 1.0);
+  std::vector<Point> pts;
+  for (int i = 0; i < 240; ++i) {
+    const Point a{in_x(rng), in_y(rng)};
+    Point b{in_x(rng), in_y(rng)};
+    Point c{in_x(rng), in_y(rng)};
+    switch (i % 4) {
+      case 0: break;  // anywhere
+      case 1: {       // a sliver: c near the segment ab
+        const double f = unit(rng);
+        c = {a.x + f * (b.x - a.x) + near(rng), a.y + f * (b.y - a.y) + near(rng)};
+        break;
+      }
+      case 2:  // nearly horizontal (or vertical) long edges
+        if (i % 8 == 2) b = {a.x + far(rng), a.y + near(rng)};
+        else b = {a.x + near(rng), a.y + far(rng)};
+        break;
+      case 3:  // two vertices far outside the target
+        b = {far(rng), far(rng)};
+        c = {far(rng), far(rng)};
+        break;
+    }
+    pts.insert(pts.end(), {a, b, c});
+  }
+  // On the 1/256 grid, so that the float clip coordinates snap back to the reference's.
+  for (Point& p : pts) p = {std::round(p.x * 256.0) / 256.0, std::round(p.y * 256.0) / 256.0};
+  const std::vector<int> expected = test::reference_counts(kW, kH, pts);
+  int drawn = 0;
+  for (const int c : expected) drawn += c;
+  REQUIRE(drawn > 240 * 200);  // most triangles span many quads
+  for (const int tile : {16, 64}) {
+    CAPTURE(tile);
+    raster::Renderer renderer({.threads = 2, .tile_size = tile});
+    const auto mismatched = [&](const std::vector<int>& counts) {
+      int n = 0;
+      for (std::size_t p = 0; p < counts.size(); ++p) n += counts[p] != expected[p];
+      return n;
+    };
+    CHECK(mismatched(test::render_pixel_triangles(renderer, kW, kH, pts)) == 0);
+    CHECK(mismatched(test::render_pixel_triangles<test::CountPacketShader>(renderer, kW, kH, pts)) == 0);
+  }
 }
 
 TEST_CASE("zero-area triangles draw nothing") {

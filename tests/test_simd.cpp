@@ -175,6 +175,33 @@ void check_interleave(std::mt19937& rng) {
 }  // namespace
 }  // namespace simd_test
 
+namespace simd_test {
+namespace {
+template <int N>
+void check_first_lanes() {
+  float a[N], b[N], out[N];
+  for (int i = 0; i < N; ++i) a[i] = static_cast<float>(i + 1), b[i] = -static_cast<float>(i + 1);
+  for (simd::Isa isa : supported_isas()) {
+    CAPTURE(std::string(simd::isa_name(isa)));
+    CAPTURE(N);
+    for (int n = 0; n <= N; ++n) {
+      CAPTURE(n);
+      SOFTPBR_DISPATCH(isa, first_lanes_ops<N>)(n, a, b, out);
+      int wrong = 0;
+      for (int i = 0; i < N; ++i) wrong += out[i] != (i < n ? a[i] : b[i]);
+      CHECK(wrong == 0);
+    }
+  }
+}
+}  // namespace
+}  // namespace simd_test
+
+TEST_CASE("simd: first_lanes(n) selects the first n lanes, at 4, 8 and 16 lanes on every target") {
+  simd_test::check_first_lanes<4>();
+  simd_test::check_first_lanes<8>();
+  simd_test::check_first_lanes<16>();
+}
+
 TEST_CASE("simd: store_interleave4 writes lane i's four values as record i at 4, 8 and 16 lanes on every target") {
   std::mt19937 rng(4);
   for (int round = 0; round < 20; ++round) {

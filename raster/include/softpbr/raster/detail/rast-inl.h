@@ -64,7 +64,15 @@ template <int W, Shader S>
 struct Packet {
   static constexpr int kW = W > 0 ? W : 1;
   using F = std::conditional_t<kW == 1, float, simd::Lanes<kW, SOFTPBR_ISA>>;
+  static constexpr int kN = kVaryingCount<typename S::Varyings>;
   FragmentPacket<F, typename S::Varyings> p;
+  // Varyings are interpolated kW lanes at a time, not per quad: a lane keeps its
+  // perspective-correct weights of vertices 1 and 2 (b1, b2), and the lanes
+  // [run_start, count) all come from one triangle, whose v0, v1 − v0 and v2 − v0 are kept
+  // here until the run ends (finish_run: at the next triangle or when the packet is shaded).
+  F b1, b2;
+  F v0[kN > 0 ? kN : 1], d1[kN > 0 ? kN : 1], d2[kN > 0 ? kN : 1];  // broadcast once per triangle
+  int run_start = 0;
   std::size_t index[kW];  // pixel index in the target
   // MSAA: the samples of each lane's pixel that are covered and passed the depth test (bit
   // s: sample s), and their depths (alpha-tested draws test and write them when flushing).
@@ -99,6 +107,26 @@ inline void put_4_lanes(F& lanes, int lane, const float* x) {
                    4 * sizeof(float));
 }
 
+// Interpolates the varyings of the run's lanes [b.run_start, end) from their weights,
+// v0 + b1·(v1 − v0) + b2·(v2 − v0): the operations raster_triangle would do per quad, in
+// the same order, on the packet's width. Lanes below run_start keep their values; lanes
+// from end on may change (they are written later, or are padding).
+template <int W, class S>
+inline void finish_run(Packet<W, S>& b, int end) {
+  constexpr int kN = Packet<W, S>::kN;
+  if (end <= b.run_start) return;
+  if constexpr (W <= 1) {
+    for (int k = 0; k < kN; ++k) b.p.v[k] = b.v0[k] + b.b1 * b.d1[k] + b.b2 * b.d2[k];
+  } else if (b.run_start == 0) {
+    for (int k = 0; k < kN; ++k) b.p.v[k] = b.v0[k] + b.b1 * b.d1[k] + b.b2 * b.d2[k];
+  } else {
+    const auto earlier = simd::SOFTPBR_TARGET_NS::first_lanes<W>(b.run_start);
+    for (int k = 0; k < kN; ++k)
+      b.p.v[k] = simd::select(earlier, b.p.v[k], b.v0[k] + b.b1 * b.d1[k] + b.b2 * b.d2[k]);
+  }
+  b.run_start = end;
+}
+
 // Shades the buffered lanes with fragment_packet<Lanes<W>> (or <float> for W = 1), writes
 // them. Depth was written when the lanes passed the depth test (see raster_triangle);
 // colour is written here in lane order, so a pixel that two buffered triangles cover ends
@@ -108,13 +136,13 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
   glm::vec4* const colors = target.colors;
   float* const depths = target.depths;
   using F = typename Packet<W, S>::F;
-  constexpr int kN = kVaryingCount<typename S::Varyings>;
   SOFTPBR_DCHECK(b.count >= 0 && b.count <= W);
   if (b.count == 0) return;
   FragmentPacket<F, typename S::Varyings>& p = b.p;
   if constexpr (W > 1) {
     for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
-      for (int k = 0; k < kN; ++k) put_lane(p.v[k], lane, get_lane(p.v[k], 0));
+      put_lane(b.b1, lane, get_lane(b.b1, 0));
+      put_lane(b.b2, lane, get_lane(b.b2, 0));
       for (const int k : kDerivativeIndices<S>) {
         put_lane(p.ddx[k], lane, get_lane(p.ddx[k], 0));
         put_lane(p.ddy[k], lane, get_lane(p.ddy[k], 0));
@@ -124,6 +152,7 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
       put_lane(p.depth, lane, get_lane(p.depth, 0));
     }
   }
+  finish_run(b, W);  // the padding too: lane 0's weights on the last triangle, finite
   const Color<F> c = shader.template fragment_packet<F>(p);
   // Lane i's colour as out[4i .. 4i + 3], RGBA: a whole pixel per 16-byte copy.
   alignas(64) float out[4 * W];
@@ -159,6 +188,57 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
     }
   }
   b.count = 0;
+  b.run_start = 0;
+}
+
+// Walking a row of quads only where the triangle may be. Edge i is
+// e(x, y) = a·x + b·y + c in fixed point; over the two pixel squares of a quad row
+// ([X, X + 2 px] × [Y, Y + 2 px], which hold every pixel centre and MSAA sample of the
+// quads) it is largest at a corner. With r = max over the row's two y of b·y + c, a quad
+// at X can hold a point with e ≥ 0 only if a·X + r ≥ −2 px·a (a > 0) or a·X + r ≥ 0
+// (a < 0). The crossing −r/a is found in double through a reciprocal of a, and the bound
+// widened by a pixel each way: the error of two roundings on |r/a| < 2^51 is far below a
+// pixel, so no quad with a covered sample is skipped, and the exact per-lane test still
+// decides every pixel. The walk visits the same covered quads in the same order: the
+// same bits, fewer empty quads.
+inline constexpr int kMinClippedSpan = 8;  // pixels between a triangle's first and last quad
+
+struct RowSpanEdges {
+  double inv_a[3];  // 1 / a (0 when a = 0)
+};
+
+inline RowSpanEdges row_span_edges(const Triangle& t) {
+  RowSpanEdges r{};
+  for (int i = 0; i < 3; ++i) r.inv_a[i] = t.a[i] != 0 ? 1.0 / static_cast<double>(t.a[i]) : 0.0;
+  return r;
+}
+
+// Narrows [qx_first, qx_last] (even quad x, inclusive) to the quads of row qy that may
+// hold a covered sample; false when none may.
+inline bool span_of_row(const Triangle& t, const RowSpanEdges& edges, int qy, int& qx_first, int& qx_last) {
+  constexpr std::int64_t kStep = kSubpixelScale;
+  const std::int64_t y_top = std::int64_t{qy} * kStep, y_bottom = y_top + 2 * kStep;
+  // Pixel bounds, kept within a few pixels of the walk so that the conversions stay small.
+  double lo = qx_first - 4, hi = qx_last + 4;
+  for (int i = 0; i < 3; ++i) {
+    const std::int64_t a = t.a[i], b = t.b[i];
+    const std::int64_t r = b * (b > 0 ? y_bottom : y_top) + t.c[i];
+    if (a == 0) {
+      if (r < 0) return false;
+      continue;
+    }
+    // The edge crosses zero at x = −r/a (fixed point), in pixels:
+    const double cross = -static_cast<double>(r) * edges.inv_a[i] * (1.0 / kStep);
+    if (a > 0) lo = std::max(lo, cross - 3.0);  // X ≥ cross − 2 px, less a pixel of margin
+    else hi = std::min(hi, cross + 1.0);        // X ≤ cross, plus a pixel of margin
+  }
+  if (!(lo <= hi)) return false;
+  const int first = std::max(qx_first, static_cast<int>(std::floor(lo)) & ~1);
+  const int last = std::min(qx_last, static_cast<int>(std::floor(hi)));
+  if (first > last) return false;
+  qx_first = first;
+  qx_last = last;
+  return true;
 }
 
 // W = 0: the shader's scalar fragment(); W ≥ 1: packets of W lanes through fragment_packet.
@@ -181,7 +261,9 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   if (x0 > x1 || y0 > y1) return;
 
   // Varyings as v0 + λ1·(v1 − v0) + λ2·(v2 − v0), with perspective-correct λ: each term
-  // broadcast to a quad's four lanes once per triangle, not once per quad.
+  // broadcast to a quad's four lanes once per triangle, not once per quad (for the scalar
+  // path, and for the varyings whose derivatives a packet shader reads; packets take the
+  // rest from finish_run).
   using V4 = simd::Lanes<4, SOFTPBR_ISA>;
   V4 v0[kN > 0 ? kN : 1], d1[kN > 0 ? kN : 1], d2[kN > 0 ? kN : 1];
   {
@@ -211,6 +293,16 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       flush_packet<W, kMs>(shader, packet, state, target);
       packet.p.front_facing = t.front_facing;
     }
+    // The lanes of earlier triangles are interpolated; this one's run begins.
+    finish_run(packet, packet.count);
+    const float* p0 = geometry.varyings(chunk, t.vertex[0]);
+    const float* p1 = geometry.varyings(chunk, t.vertex[1]);
+    const float* p2 = geometry.varyings(chunk, t.vertex[2]);
+    for (int k = 0; k < kN; ++k) {
+      packet.v0[k] = typename Packet<W, S>::F(p0[k]);
+      packet.d1[k] = typename Packet<W, S>::F(p1[k] - p0[k]);
+      packet.d2[k] = typename Packet<W, S>::F(p2[k] - p0[k]);
+    }
   }
 
   // The edge functions of a quad's four lanes as one vector of 64-bit integers per edge:
@@ -233,12 +325,19 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       for (int s = 0; s < kMs; ++s)
         sample_edge[i][s] = std::int64_t{t.a[i]} * (offsets[s].x * 16) + std::int64_t{t.b[i]} * (offsets[s].y * 16);
   }
+  // A row of quads is walked only over the quads where every edge function can be ≥ 0
+  // (span_of_row): the others would find no sample inside. Worth its three divisions per
+  // triangle when the triangle spans a few quads across the tile.
+  const bool clip_rows = x1 - x0 >= kMinClippedSpan;
+  const RowSpanEdges span_edges = clip_rows ? row_span_edges(t) : RowSpanEdges{};
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
     // Lanes 2 and 3 (the quad's lower row) exist only inside the tile.
     const unsigned rows = qy + 1 < tile.y1 ? 0xFu : 0x3u;
     const std::int64_t row0 = t.b[0] * sy + t.c[0], row1 = t.b[1] * sy + t.c[1], row2 = t.b[2] * sy + t.c[2];
-    for (int qx = x0; qx <= x1; qx += 2) {
+    int qx_first = x0, qx_last = x1;
+    if (clip_rows && !span_of_row(t, span_edges, qy, qx_first, qx_last)) continue;
+    for (int qx = qx_first; qx <= qx_last; qx += 2) {
       const std::int64_t sx = qx * kStep + kHalf;
       // Lanes: 0 = (qx, qy), 1 = (qx+1, qy), 2 = (qx, qy+1), 3 = (qx+1, qy+1).
       const int lane_x[4] = {qx, qx + 1, qx, qx + 1};
@@ -351,7 +450,11 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // Perspective-correct varyings at all four lanes (helper lanes feed derivatives):
       // b1, b2 are the perspective-correct weights of vertices 1 and 2; beyond the
       // horizon (s ≤ 0, helper lanes only) they are 0, i.e. the lane takes v0.
+      // The scalar path (W = 0) interpolates every varying here; packets interpolate at
+      // their width from the weights (finish_run), and here only the varyings whose
+      // derivatives the shader reads.
       alignas(16) float values[kN > 0 ? kN : 1][4];  // [varying][lane]
+      alignas(16) float weight1[4], weight2[4];
       {
         const V4 a0 = w0 * V4(t.inv_w[0]);
         const V4 a1 = w1 * V4(t.inv_w[1]);
@@ -361,7 +464,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         const V4 rs = V4(1.0f) / simd::select(ahead, sum, V4(1.0f));
         const V4 b1 = simd::select(ahead, a1 * rs, V4(0.0f));
         const V4 b2 = simd::select(ahead, a2 * rs, V4(0.0f));
-        for (int k = 0; k < kN; ++k) (v0[k] + b1 * d1[k] + b2 * d2[k]).store(values[k]);
+        if constexpr (W == 0) {
+          for (int k = 0; k < kN; ++k) (v0[k] + b1 * d1[k] + b2 * d2[k]).store(values[k]);
+        } else {
+          b1.store(weight1);
+          b2.store(weight2);
+          for (const int k : kDerivativeIndices<S>) (v0[k] + b1 * d1[k] + b2 * d2[k]).store(values[k]);
+        }
       }
       // Coarse derivatives of the varyings the shader reads them of (zero for the others).
       float ddx[kN > 0 ? kN : 1] = {}, ddy[kN > 0 ? kN : 1] = {};
@@ -417,7 +526,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
             // A whole quad into four consecutive lanes: one 4-float store per row.
             const int lane = packet.count;
             packet.count += 4;
-            for (int k = 0; k < kN; ++k) put_4_lanes(p.v[k], lane, values[k]);
+            put_4_lanes(packet.b1, lane, weight1);
+            put_4_lanes(packet.b2, lane, weight2);
             for (const int k : kDerivativeIndices<S>) {
               const float dx[4] = {ddx[k], ddx[k], ddx[k], ddx[k]};
               const float dy[4] = {ddy[k], ddy[k], ddy[k], ddy[k]};
@@ -436,7 +546,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           if (!(mask & (1u << j))) continue;
           SOFTPBR_DCHECK(packet.count < W);
           const int lane = packet.count++;
-          for (int k = 0; k < kN; ++k) put_lane(p.v[k], lane, values[k][j]);
+          put_lane(packet.b1, lane, weight1[j]);
+          put_lane(packet.b2, lane, weight2[j]);
           for (const int k : kDerivativeIndices<S>) {
             put_lane(p.ddx[k], lane, ddx[k]);
             put_lane(p.ddy[k], lane, ddy[k]);

@@ -325,6 +325,15 @@ inline LaneMask<4, SOFTPBR_ISA> mask_from_bits(unsigned bits) {
   return LaneMask<4, SOFTPBR_ISA>(((I{} + static_cast<std::int32_t>(bits)) & lane_bit) != 0);
 }
 
+// The mask of lanes [0, n) of N (n in [0, N]).
+template <int N>
+inline LaneMask<N, SOFTPBR_ISA> first_lanes(int n) {
+  using I = typename detail::Native<N>::i;
+  I iota{};
+  for (int i = 0; i < N; ++i) iota[i] = i;
+  return LaneMask<N, SOFTPBR_ISA>(iota < (I{} + n));
+}
+
 // mask ? a : b per lane on the bits, for plain vectors of any element type (a mask lane
 // is all ones or all zeros, as vector comparisons give).
 template <class V, class M>
