@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <memory>
 #include <vector>
 
@@ -37,9 +38,16 @@ std::size_t covered_pixels(const raster::Target& target) {
   return static_cast<std::size_t>(std::count_if(d.begin(), d.end(), [](float z) { return z < 1.0f; }));
 }
 
+// RendererOptions::lanes from SOFTPBR_BENCH_LANES (1, 4, 8 or 16; unset: 0, the widest
+// this CPU runs natively), to compare packet widths on one machine.
+int bench_lanes() {
+  const char* env = std::getenv("SOFTPBR_BENCH_LANES");
+  return env != nullptr ? std::atoi(env) : 0;
+}
+
 void run_scene(benchmark::State& state, const bench::BenchScene* s) {
   const unsigned threads = static_cast<unsigned>(state.range(0));
-  raster::Renderer renderer({.threads = threads, .tile_size = 64});
+  raster::Renderer renderer({.threads = threads, .tile_size = 64, .lanes = bench_lanes()});
   bench::reset_heap_peak();
   const std::size_t before = bench::heap_in_use();
   raster::Target target(s->width, s->height);
