@@ -5,9 +5,10 @@
 // One thread owns a tile at a time; inside it the triangles of a draw run in submission
 // order. Each triangle is walked in 2×2 quads aligned to even pixel coordinates (tiles
 // have even sizes, so a quad never straddles two tiles). Every value a pixel gets — edge
-// functions, depth, varyings, derivatives — is computed from the triangle's plane
-// equations at that pixel alone, never accumulated along a span, so it cannot depend on
-// where a tile or span starts.
+// functions, depth, varyings, derivatives — is the value of the triangle's plane
+// equations at that pixel alone, so it cannot depend on where a tile or span starts: the
+// floating-point ones are computed there, never accumulated along a span; only the exact
+// 64-bit edge functions are stepped from quad to quad (integer sums, the same values).
 //
 // kMs is the target's samples a pixel (1, 4, 8). With MSAA a pixel is covered when one of
 // its samples is (the same edge functions at the sample positions); depth is tested and
@@ -314,6 +315,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   };
   // Three named values, not an array, so that they stay in registers.
   const I64x4 step0 = lane_step(0), step1 = lane_step(1), step2 = lane_step(2);
+  // From one quad to the next along a row: two pixels.
+  const I64x4 quad_step0 = I64x4{} + std::int64_t{t.a[0]} * (2 * kStep);
+  const I64x4 quad_step1 = I64x4{} + std::int64_t{t.a[1]} * (2 * kStep);
+  const I64x4 quad_step2 = I64x4{} + std::int64_t{t.a[2]} * (2 * kStep);
   const auto to_float = [](I64x4 e) { return simd::SOFTPBR_TARGET_NS::to_float_below_2p51(e); };
   // MSAA: each sample's offset of the three edge functions from their pixel-centre values
   // (sample offsets are 1/16 pixel, 16 fixed-point units).
@@ -337,8 +342,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
     const std::int64_t row0 = t.b[0] * sy + t.c[0], row1 = t.b[1] * sy + t.c[1], row2 = t.b[2] * sy + t.c[2];
     int qx_first = x0, qx_last = x1;
     if (clip_rows && !span_of_row(t, span_edges, qy, qx_first, qx_last)) continue;
-    for (int qx = qx_first; qx <= qx_last; qx += 2) {
-      const std::int64_t sx = qx * kStep + kHalf;
+    // The edge values of the row's first quad, then stepped a quad at a time: integer
+    // additions, exact, so each quad gets the values its own plane equation gives.
+    const std::int64_t sx_first = qx_first * kStep + kHalf;
+    I64x4 e0 = (I64x4{} + (t.a[0] * sx_first + row0)) + step0;
+    I64x4 e1 = (I64x4{} + (t.a[1] * sx_first + row1)) + step1;
+    I64x4 e2 = (I64x4{} + (t.a[2] * sx_first + row2)) + step2;
+    for (int qx = qx_first; qx <= qx_last; qx += 2, e0 += quad_step0, e1 += quad_step1, e2 += quad_step2) {
       // Lanes: 0 = (qx, qy), 1 = (qx+1, qy), 2 = (qx, qy+1), 3 = (qx+1, qy+1).
       const int lane_x[4] = {qx, qx + 1, qx, qx + 1};
       const int lane_y[4] = {qy, qy, qy + 1, qy + 1};
@@ -346,9 +356,6 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       const auto pixel_index = [&](int j) {
         return static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
       };
-      const I64x4 e0 = (I64x4{} + (t.a[0] * sx + row0)) + step0;
-      const I64x4 e1 = (I64x4{} + (t.a[1] * sx + row1)) + step1;
-      const I64x4 e2 = (I64x4{} + (t.a[2] * sx + row2)) + step2;
       // A lane is inside when all three edge values are non-negative: the sign bit of
       // their OR is clear.
       const unsigned in_tile = rows & (qx + 1 < tile.x1 ? 0xFu : 0x5u);
