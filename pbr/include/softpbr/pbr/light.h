@@ -54,7 +54,11 @@ PreparedLight prepare_light(const Light& light);
 template <class F>
 struct LightSampleLanes {
   simd::Vec3<F> to_light;  // unit
-  simd::Vec3<F> radiance;
+  // The radiance arriving is PreparedLight::radiance (colour × intensity, uniform) times
+  // this: distance, range window and cone; 1 for a directional light. The shader folds it
+  // into n·l. (The uniform part is not copied in here: GCC moved such a member through
+  // the stack in 8-byte pieces every light.)
+  F falloff;
 };
 
 // One result object, written in place on every path: with a return expression per light
@@ -65,11 +69,10 @@ template <class F>
 inline LightSampleLanes<F> sample_light(const PreparedLight& p, const simd::Vec3<F>& position) {
   using V3 = simd::Vec3<F>;
   const Light& l = p.light;
-  const V3 radiance(F(p.radiance.x), F(p.radiance.y), F(p.radiance.z));
   LightSampleLanes<F> out;
   if (l.type == LightType::Directional) {
     out.to_light = V3(F(-p.unit_direction.x), F(-p.unit_direction.y), F(-p.unit_direction.z));
-    out.radiance = radiance;
+    out.falloff = F(1.0f);
     return out;
   }
   const V3 d = V3(F(l.position.x), F(l.position.y), F(l.position.z)) - position;
@@ -89,14 +92,14 @@ inline LightSampleLanes<F> sample_light(const PreparedLight& p, const simd::Vec3
     const F a = simd::clamp(cd * F(p.cone_scale) + F(p.cone_offset), F(0.0f), F(1.0f));
     falloff *= a * a;
   }
-  out.radiance = radiance * falloff;
+  out.falloff = falloff;
   return out;
 }
 
 // The same for one point, with glm vectors.
 inline LightSample sample_light(const PreparedLight& p, const glm::vec3& position) {
   const LightSampleLanes<float> s = sample_light(p, simd::Vec3<float>(position.x, position.y, position.z));
-  return {{s.to_light.x, s.to_light.y, s.to_light.z}, {s.radiance.x, s.radiance.y, s.radiance.z}};
+  return {{s.to_light.x, s.to_light.y, s.to_light.z}, p.radiance * s.falloff};
 }
 
 }  // namespace softpbr::pbr

@@ -105,6 +105,7 @@ inline MaterialLanes<F> lanes(const ShadingMaterial& m) {
 // What the BRDF needs of n and v alone, computed once per pixel for all its lights.
 template <class F>
 struct ViewTerms {
+  F n_dot_v;              // n·v (s = n·(l + v) is taken as n·l + n·v)
   F NoV;                  // n·v clamped to [kMinNoV, 1]
   Vec3L<F> one_minus_f0;  // 1 − F0: F = F0 + (1 − F0) m⁵
   // c/π (1 − metallic) max(1 − F0, 0): the diffuse term kD c/π = (1 − F)(1 − metallic) c/π
@@ -117,7 +118,8 @@ struct ViewTerms {
 template <class F>
 inline ViewTerms<F> view_terms(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F>& v) {
   ViewTerms<F> vt;
-  vt.NoV = simd::clamp(simd::dot(n, v), F(kMinNoV), F(1.0f));
+  vt.n_dot_v = simd::dot(n, v);
+  vt.NoV = simd::clamp(vt.n_dot_v, F(kMinNoV), F(1.0f));
   vt.one_minus_f0 = Vec3L<F>(F(1.0f)) - m.f0;
   const F w = m.one_minus_metallic * Fd_Lambert<F>();
   vt.diffuse = Vec3L<F>(simd::max(vt.one_minus_f0.x, F(0.0f)) * w, simd::max(vt.one_minus_f0.y, F(0.0f)) * w,
@@ -137,16 +139,17 @@ inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const ViewTerms<F>& vt, co
   const F one(1.0f);
   const F n_dot_l = simd::dot(n, l);
   const F NoL = simd::clamp(n_dot_l, F(0.0f), one);
-  // u = l + v, t = |u|², s = n·u (h = u / √t). Where u nearly vanishes (t below
-  // kMinHalfLength2: l and v within 0.06° of opposite) h is undetermined; there t is raised
-  // and n·h taken as 0, which keeps the terms finite and shows no highlight.
+  // u = l + v, t = |u|², s = n·u = n·l + n·v (h = u / √t), and u's part across n,
+  // u − s n. Where u nearly vanishes (t below kMinHalfLength2: l and v within 0.06° of
+  // opposite) h is undetermined; there t is raised and n·h taken as 0, which keeps the
+  // terms finite and shows no highlight.
   const Vec3L<F> u = l + v;
   const F t_raw = simd::dot(u, u);
   const F t = simd::max(t_raw, F(kMinHalfLength2));
-  const F s = simd::dot(n, u);
-  const Vec3L<F> n_cross_u(n.y * u.z - n.z * u.y, n.z * u.x - n.x * u.z, n.x * u.y - n.y * u.x);
+  const F s = n_dot_l + vt.n_dot_v;
+  const Vec3L<F> u_across = u - n * s;
   const F dt = simd::select(simd::both(s > F(0.0f), t_raw >= F(kMinHalfLength2)),
-                            D_GGX_denominator_t(s, n_cross_u, m.alpha * m.alpha), t);
+                            D_GGX_denominator_t(s, u_across, m.alpha * m.alpha), t);
   const F VoH = simd::min(VoH_from_t(t), one);
   const F m5 = schlick_weight(VoH);
   const F specular = DV_GGX_SchlickSmith_t(dt, t, NoL, vt.NoV, m.alpha, m.k) * w;
@@ -224,7 +227,9 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> 
     const F NoL = simd::dot(n, s.to_light);
     const auto lit = NoL > F(0.0f);
     if (!simd::any(lit)) continue;
-    lo = simd::select(lit, lo + brdf_times(m, vt, n, s.to_light, v, NoL) * s.radiance, lo);
+    // f · NoL · falloff, times the light's unattenuated radiance (uniform).
+    const Vec3L<F> f = brdf_times(m, vt, n, s.to_light, v, NoL * s.falloff);
+    lo = simd::select(lit, lo + f * lanes<F>(light.radiance), lo);
   }
   if (env != nullptr) return ibl(m, *env, n, v) + lo + m.emissive;
   return lanes<F>(ambient) * m.albedo * m.ao + lo + m.emissive;
