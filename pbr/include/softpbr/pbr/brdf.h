@@ -100,8 +100,9 @@ inline F DV_GGX_SchlickSmith(F NoH, F NoL, F NoV, F alpha, F k) {
 // each rounded relative to itself: near a highlight's peak, where (n·h)² (α² − 1) + 1
 // cancels to ≈ α² and its float form kept only a few bits there (α² − 1 alone rounds to a
 // multiple of 2⁻²⁴, and a float n·h's rounding is squared into it: at roughness 0.045 the
-// peak's D·V was up to 11% off, tests/test_brdf.cpp), this keeps ~2⁻²² relative. Where h dips below the surface (s < 0) the caller takes n·h = 0, d t = t, as
-// the clamped form did. `u_across` is u's part across n, of squared length |n × u|²: the
+// peak's D·V was up to 11% off, tests/test_brdf.cpp), this keeps ~2⁻²² relative. Where h
+// dips below the surface (s < 0) the caller takes n·h = 0, d t = t, as the clamped form
+// did. `u_across` is u's part across n, of squared length |n × u|²: the
 // shader passes u − s n (three multiplies and subtractions, where n × u takes six and
 // three); at a peak (u along n) both are differences of nearly equal numbers with errors
 // of a few ulps of |u|, far below s² α².

@@ -130,9 +130,9 @@ inline ViewTerms<F> view_terms(const MaterialLanes<F>& m, const Vec3L<F>& n, con
 
 // The BRDF f(l, v) = kD · c/π + D · G · F / (4 (n·l)(n·v)) for unit n, l, v, times a
 // weight w (the shader passes n·l; brdf() below 1, whose multiplies are then exact).
-// h = (l + v) / |l + v| is never formed: n·h and v·h come from n·(l + v), |n × (l + v)|²
-// and t = |l + v|² (D_GGX_denominator_t, DV_GGX_SchlickSmith_t, VoH_from_t in brdf.h), so
-// a light costs the one division of D · V and the square root of v·h.
+// h = (l + v) / |l + v| is never formed: n·h and v·h come from s = n·(l + v), the part of
+// l + v across n and t = |l + v|² (D_GGX_denominator_t, DV_GGX_SchlickSmith_t, VoH_from_t
+// in brdf.h), so a light costs the one division of D · V and the square root of v·h.
 template <class F>
 inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const ViewTerms<F>& vt, const Vec3L<F>& n, const Vec3L<F>& l,
                            const Vec3L<F>& v, F w) {

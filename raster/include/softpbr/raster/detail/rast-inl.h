@@ -116,15 +116,16 @@ template <int W, class S>
 inline void finish_run(Packet<W, S>& b, int end) {
   constexpr int kN = Packet<W, S>::kN;
   if (end <= b.run_start) return;
-  if constexpr (W <= 1) {
-    for (int k = 0; k < kN; ++k) b.p.v[k] = b.v0[k] + b.b1 * b.d1[k] + b.b2 * b.d2[k];
-  } else if (b.run_start == 0) {
-    for (int k = 0; k < kN; ++k) b.p.v[k] = b.v0[k] + b.b1 * b.d1[k] + b.b2 * b.d2[k];
-  } else {
-    const auto earlier = simd::SOFTPBR_TARGET_NS::first_lanes<W>(b.run_start);
-    for (int k = 0; k < kN; ++k)
-      b.p.v[k] = simd::select(earlier, b.p.v[k], b.v0[k] + b.b1 * b.d1[k] + b.b2 * b.d2[k]);
+  const auto value = [&](int k) { return b.v0[k] + b.b1 * b.d1[k] + b.b2 * b.d2[k]; };
+  if constexpr (W > 1) {
+    if (b.run_start > 0) {
+      const auto earlier = simd::SOFTPBR_TARGET_NS::first_lanes<W>(b.run_start);
+      for (int k = 0; k < kN; ++k) b.p.v[k] = simd::select(earlier, b.p.v[k], value(k));
+      b.run_start = end;
+      return;
+    }
   }
+  for (int k = 0; k < kN; ++k) b.p.v[k] = value(k);
   b.run_start = end;
 }
 
@@ -265,17 +266,15 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   // broadcast to a quad's four lanes once per triangle, not once per quad (for the scalar
   // path, and for the varyings whose derivatives a packet shader reads; packets take the
   // rest from finish_run).
+  const float* p0 = geometry.varyings(chunk, t.vertex[0]);
+  const float* p1 = geometry.varyings(chunk, t.vertex[1]);
+  const float* p2 = geometry.varyings(chunk, t.vertex[2]);
   using V4 = simd::Lanes<4, SOFTPBR_ISA>;
   V4 v0[kN > 0 ? kN : 1], d1[kN > 0 ? kN : 1], d2[kN > 0 ? kN : 1];
-  {
-    const float* p0 = geometry.varyings(chunk, t.vertex[0]);
-    const float* p1 = geometry.varyings(chunk, t.vertex[1]);
-    const float* p2 = geometry.varyings(chunk, t.vertex[2]);
-    for (int k = 0; k < kN; ++k) {
-      v0[k] = V4(p0[k]);
-      d1[k] = V4(p1[k] - p0[k]);
-      d2[k] = V4(p2[k] - p0[k]);
-    }
+  for (int k = 0; k < kN; ++k) {
+    v0[k] = V4(p0[k]);
+    d1[k] = V4(p1[k] - p0[k]);
+    d2[k] = V4(p2[k] - p0[k]);
   }
 
   const DrawState& state = geometry.state;
@@ -296,9 +295,6 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
     }
     // The lanes of earlier triangles are interpolated; this one's run begins.
     finish_run(packet, packet.count);
-    const float* p0 = geometry.varyings(chunk, t.vertex[0]);
-    const float* p1 = geometry.varyings(chunk, t.vertex[1]);
-    const float* p2 = geometry.varyings(chunk, t.vertex[2]);
     for (int k = 0; k < kN; ++k) {
       packet.v0[k] = typename Packet<W, S>::F(p0[k]);
       packet.d1[k] = typename Packet<W, S>::F(p1[k] - p0[k]);
