@@ -4,6 +4,7 @@
 // fill across triangles against the scalar shader where triangles of one draw overlap.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -151,4 +152,79 @@ TEST_CASE("packets filled across overlapping triangles of one draw give the scal
         CHECK(draw(OverlapPacketShader{}, r) == reference);
       }
   }
+}
+
+namespace {
+
+// A packet shader with per-draw uniforms (raster/shader.h, packet_uniforms): counts how
+// often the renderer builds them and colours by them, so a renderer that skipped them, or
+// built them per packet, fails below.
+struct UniformsShader {
+  using Vertex = glm::vec4;  // clip-space position
+  struct Varyings {
+    float x;
+  };
+  glm::vec2 tint{0.25f, 0.75f};
+  std::atomic<int>* builds = nullptr;
+
+  template <class F>
+  struct Uniforms {
+    F r, g;
+  };
+  template <class F>
+  Uniforms<F> packet_uniforms() const {
+    builds->fetch_add(1, std::memory_order_relaxed);
+    return {F(tint.x), F(tint.y * 2.0f)};
+  }
+  glm::vec4 vertex(const Vertex& in, Varyings& out) const {
+    out.x = in.x;
+    return in;
+  }
+  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const { return {tint.x * f.v.x, tint.y * 2.0f, 0.0f, 1.0f}; }
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p, const Uniforms<F>& u) const {
+    return {u.r * p.v[0], u.g, F(0.0f), F(1.0f)};
+  }
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    return fragment_packet(p, packet_uniforms<F>());
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a packet shader's uniforms are built once per draw and tile and shade every packet of it") {
+  static_assert(raster::PacketUniformsFor<UniformsShader, float>);
+  static_assert(raster::PacketUniformsFor<UniformsShader, softpbr::simd::Vec<4>>);
+  const std::vector<glm::vec4> quad{{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1},
+                                    {-1, -1, 0, 1}, {1, 1, 0, 1},  {-1, 1, 0, 1}};
+  constexpr int kWidth = 128, kHeight = 96, kTile = 32;
+  constexpr int kTiles = (kWidth / kTile) * (kHeight / kTile);
+  const auto render = [&](raster::Renderer& r, int draws, std::atomic<int>& builds) {
+    raster::Target t(kWidth, kHeight);
+    r.begin_frame(t, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+    UniformsShader s;
+    s.builds = &builds;
+    for (int d = 0; d < draws; ++d)
+      r.draw(s, std::span<const glm::vec4>(quad), raster::DrawState{.depth_test = raster::DepthTest::Always});
+    r.end_frame();
+    return t;
+  };
+  std::atomic<int> scalar_builds{0};
+  raster::Renderer scalar({.threads = 1, .tile_size = kTile, .lanes = 1});
+  const raster::Target reference = render(scalar, 1, scalar_builds);
+  // The colour is the uniforms' (g = 2 · 0.75) and r = 0.25 x at every pixel.
+  CHECK(reference.colors()[0].g == 1.5f);
+  CHECK(reference.colors()[kWidth * kHeight - 1].r == doctest::Approx(0.25 * (2.0 * (kWidth - 0.5) / kWidth - 1.0)));
+  for (const int lanes : {1, 4, 8, 16})
+    for (const unsigned threads : {1u, 2u}) {
+      CAPTURE(lanes);
+      CAPTURE(threads);
+      std::atomic<int> builds{0};
+      raster::Renderer r({.threads = threads, .tile_size = kTile, .lanes = lanes});
+      const raster::Target t = render(r, 3, builds);
+      CHECK(raster::hash_colors(t) == raster::hash_colors(reference));
+      // Once per draw and tile: 3 × 12, against 3 × 128 · 96 / lanes packets.
+      CHECK(builds.load() == 3 * kTiles);
+    }
 }

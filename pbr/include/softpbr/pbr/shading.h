@@ -102,29 +102,43 @@ inline MaterialLanes<F> lanes(const ShadingMaterial& m) {
           lanes<F>(m.emissive), F(m.roughness), m.roughness};
 }
 
-// What the BRDF needs of n and v alone, computed once per pixel for all its lights.
+// What the BRDF derives from the material alone: the same for every pixel of an
+// untextured draw (PbrShader builds it once per draw and tile, packet_uniforms).
 template <class F>
-struct ViewTerms {
-  F n_dot_v;              // n·v (s = n·(l + v) is taken as n·l + n·v)
-  F NoV;                  // n·v clamped to [kMinNoV, 1]
+struct MaterialTerms {
   Vec3L<F> one_minus_f0;  // 1 − F0: F = F0 + (1 − F0) m⁵
   // c/π (1 − metallic) max(1 − F0, 0): the diffuse term kD c/π = (1 − F)(1 − metallic) c/π
   // is this times (1 − m⁵), as 1 − F = (1 − F0)(1 − m⁵) with 1 − m⁵ in [0, 1]. The max
   // keeps a base colour above 1 (accepted, see prepare_material), whose F exceeds 1, from a
   // negative diffuse weight.
   Vec3L<F> diffuse;
+  F alpha2;  // α² (α = roughness²), D's
 };
 
 template <class F>
-inline ViewTerms<F> view_terms(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F>& v) {
+inline MaterialTerms<F> material_terms(const MaterialLanes<F>& m) {
+  MaterialTerms<F> mt;
+  mt.one_minus_f0 = Vec3L<F>(F(1.0f)) - m.f0;
+  const F w = m.one_minus_metallic * Fd_Lambert<F>();
+  mt.diffuse = Vec3L<F>(simd::max(mt.one_minus_f0.x, F(0.0f)) * w, simd::max(mt.one_minus_f0.y, F(0.0f)) * w,
+                        simd::max(mt.one_minus_f0.z, F(0.0f)) * w) *
+               m.albedo;
+  mt.alpha2 = m.alpha * m.alpha;
+  return mt;
+}
+
+// What the BRDF needs of n and v alone, computed once per pixel for all its lights.
+template <class F>
+struct ViewTerms {
+  F n_dot_v;  // n·v (s = n·(l + v) is taken as n·l + n·v)
+  F NoV;      // n·v clamped to [kMinNoV, 1]
+};
+
+template <class F>
+inline ViewTerms<F> view_terms(const Vec3L<F>& n, const Vec3L<F>& v) {
   ViewTerms<F> vt;
   vt.n_dot_v = simd::dot(n, v);
   vt.NoV = simd::clamp(vt.n_dot_v, F(kMinNoV), F(1.0f));
-  vt.one_minus_f0 = Vec3L<F>(F(1.0f)) - m.f0;
-  const F w = m.one_minus_metallic * Fd_Lambert<F>();
-  vt.diffuse = Vec3L<F>(simd::max(vt.one_minus_f0.x, F(0.0f)) * w, simd::max(vt.one_minus_f0.y, F(0.0f)) * w,
-                        simd::max(vt.one_minus_f0.z, F(0.0f)) * w) *
-               m.albedo;
   return vt;
 }
 
@@ -134,8 +148,8 @@ inline ViewTerms<F> view_terms(const MaterialLanes<F>& m, const Vec3L<F>& n, con
 // l + v across n and t = |l + v|² (D_GGX_denominator_t, DV_GGX_SchlickSmith_t, VoH_from_t
 // in brdf.h), so a light costs the one division of D · V and the square root of v·h.
 template <class F>
-inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const ViewTerms<F>& vt, const Vec3L<F>& n, const Vec3L<F>& l,
-                           const Vec3L<F>& v, F w) {
+inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, const ViewTerms<F>& vt,
+                           const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v, F w) {
   const F one(1.0f);
   const F n_dot_l = simd::dot(n, l);
   const F NoL = simd::clamp(n_dot_l, F(0.0f), one);
@@ -149,19 +163,19 @@ inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const ViewTerms<F>& vt, co
   const F s = n_dot_l + vt.n_dot_v;
   const Vec3L<F> u_across = u - n * s;
   const F dt = simd::select(simd::both(s > F(0.0f), t_raw >= F(kMinHalfLength2)),
-                            D_GGX_denominator_t(s, u_across, m.alpha * m.alpha), t);
+                            D_GGX_denominator_t(s, u_across, mt.alpha2), t);
   const F VoH = simd::min(VoH_from_t(t), one);
   const F m5 = schlick_weight(VoH);
   const F specular = DV_GGX_SchlickSmith_t(dt, t, NoL, vt.NoV, m.alpha, m.k) * w;
   const F diffuse = (one - m5) * w;
-  const Vec3L<F> Fr = m.f0 + vt.one_minus_f0 * m5;
-  return vt.diffuse * diffuse + Fr * specular;
+  const Vec3L<F> Fr = m.f0 + mt.one_minus_f0 * m5;
+  return mt.diffuse * diffuse + Fr * specular;
 }
 
 // The BRDF f(l, v) alone.
 template <class F>
 inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v) {
-  return brdf_times(m, view_terms(m, n, v), n, l, v, F(1.0f));
+  return brdf_times(m, material_terms(m), view_terms(n, v), n, l, v, F(1.0f));
 }
 
 // The light of an environment (split sum, Karis 2013) reflected at unit normal n toward
@@ -214,13 +228,14 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
 // Outgoing radiance at `position` with normal n (need not be unit) and unit direction to
 // the eye v: the reflectance equation over all lights, plus emission, plus the
 // environment's light (ibl) when `env` is given and the constant ambient otherwise. Lights
-// with n·l ≤ 0 add nothing.
+// with n·l ≤ 0 add nothing. This form takes the material's per-draw parts ready:
+// mt = material_terms(m) and ambient_ao = ambient · c · ao (read without an environment).
 template <class F>
-inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
-                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v,
-                      const PreparedEnvironment* env = nullptr) {
+inline Vec3L<F> shade(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, const Vec3L<F>& ambient_ao,
+                      std::span<const PreparedLight> lights, const Vec3L<F>& position, const Vec3L<F>& n_in,
+                      const Vec3L<F>& v, const PreparedEnvironment* env = nullptr) {
   const Vec3L<F> n = normalize_or(n_in, v);
-  const ViewTerms<F> vt = view_terms(m, n, v);
+  const ViewTerms<F> vt = view_terms(n, v);
   Vec3L<F> lo(F(0.0f));
   for (const PreparedLight& light : lights) {
     const LightSampleLanes<F> s = sample_light(light, position);
@@ -228,11 +243,24 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> 
     const auto lit = NoL > F(0.0f);
     if (!simd::any(lit)) continue;
     // f · NoL · falloff, times the light's unattenuated radiance (uniform).
-    const Vec3L<F> f = brdf_times(m, vt, n, s.to_light, v, NoL * s.falloff);
+    const Vec3L<F> f = brdf_times(m, mt, vt, n, s.to_light, v, NoL * s.falloff);
     lo = simd::select(lit, lo + f * lanes<F>(light.radiance), lo);
   }
   if (env != nullptr) return ibl(m, *env, n, v) + lo + m.emissive;
-  return lanes<F>(ambient) * m.albedo * m.ao + lo + m.emissive;
+  return ambient_ao + lo + m.emissive;
+}
+
+// ambient · c · ao, the constant ambient's light.
+template <class F>
+inline Vec3L<F> ambient_light(const MaterialLanes<F>& m, const glm::vec3& ambient) {
+  return lanes<F>(ambient) * m.albedo * m.ao;
+}
+
+template <class F>
+inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
+                      const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v,
+                      const PreparedEnvironment* env = nullptr) {
+  return shade(m, material_terms(m), ambient_light(m, ambient), lights, position, n_in, v, env);
 }
 
 template <class F>
@@ -305,17 +333,42 @@ struct PbrShader {
     return glm::vec4(color, 1.0f);
   }
 
+  // What every packet of a draw reads, in lanes: built once per draw and tile by the
+  // renderer (raster/shader.h, packet_uniforms), not re-derived per packet.
+  template <class F>
+  struct PacketUniforms {
+    MaterialLanes<F> material;
+    MaterialTerms<F> terms;
+    Vec3L<F> ambient_ao;  // ambient · c · ao
+    Vec3L<F> eye;
+    Vec3L<F> view_direction;
+  };
+  template <class F>
+  PacketUniforms<F> packet_uniforms() const {
+    PacketUniforms<F> u;
+    u.material = lanes<F>(material);
+    u.terms = material_terms(u.material);
+    u.ambient_ao = ambient_light(u.material, ambient);
+    u.eye = lanes<F>(eye);
+    u.view_direction = lanes<F>(view_direction);
+    return u;
+  }
+
   // Lanes of pixels: the same code per lane.
   template <class F>
-  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p, const PacketUniforms<F>& u) const {
     constexpr int kPosition = offsetof(Varyings, world_position) / sizeof(float);
     constexpr int kNormal = offsetof(Varyings, normal) / sizeof(float);
     const Vec3L<F> position(p.v[kPosition], p.v[kPosition + 1], p.v[kPosition + 2]);
     const Vec3L<F> normal(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
-    const Vec3L<F> v = orthographic ? lanes<F>(view_direction)
-                                    : normalize_or(lanes<F>(eye) - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
-    const Vec3L<F> c = shade(material, *lights, ambient, position, normal, v, environment);
+    const Vec3L<F> v =
+        orthographic ? u.view_direction : normalize_or(u.eye - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
+    const Vec3L<F> c = shade(u.material, u.terms, u.ambient_ao, *lights, position, normal, v, environment);
     return {c.x, c.y, c.z, F(1.0f)};
+  }
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    return fragment_packet(p, packet_uniforms<F>());
   }
 };
 

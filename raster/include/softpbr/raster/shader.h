@@ -84,6 +84,19 @@ concept PacketShaderFor = requires(const S& s, const FragmentPacket<F, typename 
   { s.template fragment_packet<F>(p) } -> std::same_as<Color<F>>;
 };
 
+// Per-draw uniforms in lanes. A packet shader may also provide
+//   template <class F> U<F> packet_uniforms() const;   // any copyable type, from its members
+//   template <class F> Color<F> fragment_packet(const FragmentPacket<F, Varyings>& p,
+//                                               const U<F>& u) const;
+// The renderer then builds the uniforms once per draw and tile, not once per packet, and
+// calls the two-argument form: what a shader derives from its members alone (a material's
+// terms, a broadcast eye position) is not re-derived for every N pixels. The one-argument
+// form stays required and must give the same bits — fragment_packet(p, packet_uniforms<F>()).
+template <class S, class F>
+concept PacketUniformsFor = requires(const S& s, const FragmentPacket<F, typename S::Varyings>& p) {
+  { s.template fragment_packet<F>(p, s.template packet_uniforms<F>()) } -> std::same_as<Color<F>>;
+};
+
 // A shader that reads no derivatives (Fragment::ddx/ddy, FragmentPacket::ddx/ddy) may say
 //   static constexpr bool kUsesDerivatives = false;
 // The rasterizer then interpolates only the covered pixels of a quad, not the helper

@@ -61,11 +61,23 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
 // Covered pixels waiting for a packet shader (W lanes; W = 0, the scalar path, keeps one
 // unused): the FragmentPacket the shader reads, filled lane by lane, so a full packet is
 // shaded where it was written, without a copy.
+struct NoPacketUniforms {};
+
+// The shader's per-draw uniforms for packets of F (shader.h, PacketUniformsFor), if it has
+// them and packets are shaded (W > 0).
+template <int W, class F, class S>
+inline auto packet_uniforms_of(const S& shader) {
+  if constexpr (W > 0 && PacketUniformsFor<S, F>) return shader.template packet_uniforms<F>();
+  else return NoPacketUniforms{};
+}
+
 template <int W, Shader S>
 struct Packet {
   static constexpr int kW = W > 0 ? W : 1;
   using F = std::conditional_t<kW == 1, float, simd::Lanes<kW, SOFTPBR_ISA>>;
   static constexpr int kN = kVaryingCount<typename S::Varyings>;
+  // Built once per draw and tile; flush_packet hands them to every packet.
+  const decltype(packet_uniforms_of<W, F>(std::declval<const S&>())) uniforms;
   FragmentPacket<F, typename S::Varyings> p;
   // Varyings are interpolated kW lanes at a time, not per quad: a lane keeps its
   // perspective-correct weights of vertices 1 and 2 (b1, b2), and the lanes
@@ -81,7 +93,7 @@ struct Packet {
   float sample_depth[kW][kMaxSamples];
   int count = 0;
 
-  Packet() {
+  explicit Packet(const S& shader) : uniforms(packet_uniforms_of<W, F>(shader)) {
     // Derivatives the shader does not read stay zero.
     for (auto& d : p.ddx) d = F(0.0f);
     for (auto& d : p.ddy) d = F(0.0f);
@@ -155,7 +167,10 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
     }
   }
   finish_run(b, W);  // the padding too: lane 0's weights on the last triangle, finite
-  const Color<F> c = shader.template fragment_packet<F>(p);
+  const Color<F> c = [&] {
+    if constexpr (PacketUniformsFor<S, F>) return shader.template fragment_packet<F>(p, b.uniforms);
+    else return shader.template fragment_packet<F>(p);
+  }();
   // Lane i's colour as out[4i .. 4i + 3], RGBA: a whole pixel per 16-byte copy.
   alignas(64) float out[4 * W];
   if constexpr (W == 1) {
@@ -571,7 +586,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
 template <int W, int kMs, Shader S>
 SOFTPBR_KERNEL void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
                  const TargetPixels& target) {
-  Packet<W, S> packet;
+  Packet<W, S> packet(shader);
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
       raster_triangle<W, kMs>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
