@@ -237,14 +237,26 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, con
   const Vec3L<F> n = normalize_or(n_in, v);
   const ViewTerms<F> vt = view_terms(n, v);
   Vec3L<F> lo(F(0.0f));
-  for (const PreparedLight& light : lights) {
-    const LightSampleLanes<F> s = sample_light(light, position);
-    const F NoL = simd::dot(n, s.to_light);
-    const auto lit = NoL > F(0.0f);
-    if (!simd::any(lit)) continue;
-    // f · NoL · falloff, times the light's unattenuated radiance (uniform).
-    const Vec3L<F> f = brdf_times(m, mt, vt, n, s.to_light, v, NoL * s.falloff);
-    lo = simd::select(lit, lo + f * lanes<F>(light.radiance), lo);
+  // The lights are sampled first, a batch of them, then shaded. A light's dependency chain
+  // is long (its distance, that square root and its reciprocal, then n·l, |l + v| and its
+  // square root, the D · V division), and a core overlaps two lights only as far as its
+  // reorder window reaches. Split in two loops, the sampling of every light overlaps and
+  // each shading chain starts from a direction already computed: 0.95x the fill scene's
+  // time for 6% more instructions (docs/design.md). The same operations either way.
+  constexpr std::size_t kBatch = 8;
+  LightSampleLanes<F> samples[kBatch];
+  for (std::size_t first = 0; first < lights.size(); first += kBatch) {
+    const std::size_t count = std::min(kBatch, lights.size() - first);
+    for (std::size_t i = 0; i < count; ++i) samples[i] = sample_light(lights[first + i], position);
+    for (std::size_t i = 0; i < count; ++i) {
+      const LightSampleLanes<F>& s = samples[i];
+      const F NoL = simd::dot(n, s.to_light);
+      const auto lit = NoL > F(0.0f);
+      if (!simd::any(lit)) continue;
+      // f · NoL · falloff, times the light's unattenuated radiance (uniform).
+      const Vec3L<F> f = brdf_times(m, mt, vt, n, s.to_light, v, NoL * s.falloff);
+      lo = simd::select(lit, lo + f * lanes<F>(lights[first + i].radiance), lo);
+    }
   }
   if (env != nullptr) return ibl(m, *env, n, v) + lo + m.emissive;
   return ambient_ao + lo + m.emissive;
