@@ -254,7 +254,9 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, con
       const auto lit = NoL > F(0.0f);
       if (!simd::any(lit)) continue;
       // f · NoL · falloff, times the light's unattenuated radiance (uniform).
-      const Vec3L<F> f = brdf_times(m, mt, vt, n, s.to_light, v, NoL * s.falloff);
+      // The material's lanes are read in the loop, not copied before it (simd::in_memory).
+      const Vec3L<F> f =
+          brdf_times(*simd::in_memory(&m), *simd::in_memory(&mt), vt, n, s.to_light, v, NoL * s.falloff);
       lo = simd::select(lit, lo + f * lanes<F>(lights[first + i].radiance), lo);
     }
   }

@@ -191,6 +191,20 @@ inline void spin_pause() {
 #endif
 }
 
+// The same pointer, which the compiler may no longer assume it knows: reads through it
+// inside a loop are not hoisted out of it. For loop-invariant lanes kept in memory (a
+// shader's per-draw uniforms): hoisted, each would want a register, and with more live
+// lanes than registers GCC copies each from its home to a spill slot before the loop —
+// two moves per value and loop — where a read inside the loop folds into the arithmetic as
+// a memory operand. No effect on any value.
+template <class T>
+inline const T* in_memory(const T* p) {
+#if defined(__GNUC__)
+  __asm__("" : "+r"(p));
+#endif
+  return p;
+}
+
 // Three-vectors of lanes (or of floats) for shading code.
 template <class F>
 struct Vec3 {
