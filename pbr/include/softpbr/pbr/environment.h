@@ -215,7 +215,9 @@ inline void env_octahedral(const EnvVec3<F>& d, int size, F& u, F& v) {
 // A bilinear, clamp-to-edge lookup of a single-level float texture (the environment's
 // levels and the DFG table), RGB: per lane, x = clamp(u·W − ½, 0, W − 1) and likewise y,
 // the four texels around it weighted (1 − fx, fx) then (1 − fy, fy) — the same float
-// operations for each lane at every width. Non-finite coordinates read texel 0.
+// operations for each lane at every width. Non-finite coordinates read texel 0. In lane
+// form the weights and the blend are lane operations; only the texel addresses are
+// per lane, each texel one 16-byte load (simd::load_deinterleave4 of the records).
 template <class F>
 inline EnvVec3<F> env_bilinear(const raster::Texture& t, F u, F v) {
   constexpr int N = simd::LaneCount<F>::value;
@@ -223,18 +225,10 @@ inline EnvVec3<F> env_bilinear(const raster::Texture& t, F u, F v) {
   const float fw = static_cast<float>(w), fh = static_cast<float>(h);
   const F x = simd::clamp(u * F(fw) - F(0.5f), F(0.0f), F(fw - 1.0f));
   const F y = simd::clamp(v * F(fh) - F(0.5f), F(0.0f), F(fh - 1.0f));
-  alignas(64) float xs[N], ys[N], out[3][N];
-  if constexpr (N == 1) {
-    xs[0] = x;
-    ys[0] = y;
-  } else {
-    x.store(xs);
-    y.store(ys);
-  }
   const float* texels = t.texels_f().data();
   const auto row = static_cast<std::size_t>(w) * 4;
-  for (int i = 0; i < N; ++i) {
-    const float xi = xs[i] >= 0.0f ? xs[i] : 0.0f, yi = ys[i] >= 0.0f ? ys[i] : 0.0f;  // NaN → 0
+  if constexpr (N == 1) {
+    const float xi = x >= 0.0f ? x : 0.0f, yi = y >= 0.0f ? y : 0.0f;  // NaN → 0
     const int x0 = static_cast<int>(xi), y0 = static_cast<int>(yi);
     const float fx = xi - static_cast<float>(x0), fy = yi - static_cast<float>(y0);
     const int x1 = x0 + 1 < w ? x0 + 1 : x0, y1 = y0 + 1 < h ? y0 + 1 : y0;
@@ -244,14 +238,44 @@ inline EnvVec3<F> env_bilinear(const raster::Texture& t, F u, F v) {
     const float* c10 = r0 + 4 * x1;
     const float* c01 = r1 + 4 * x0;
     const float* c11 = r1 + 4 * x1;
+    float out[3];
     for (int c = 0; c < 3; ++c) {
       const float top = c00[c] * (1.0f - fx) + c10[c] * fx;
       const float bottom = c01[c] * (1.0f - fx) + c11[c] * fx;
-      out[c][i] = top * (1.0f - fy) + bottom * fy;
+      out[c] = top * (1.0f - fy) + bottom * fy;
     }
+    return {out[0], out[1], out[2]};
+  } else {
+    const F zero(0.0f), one(1.0f);
+    const F xi = simd::select(x >= zero, x, zero), yi = simd::select(y >= zero, y, zero);  // NaN → 0
+    const simd::UintLanes<N> x0 = simd::truncate_to_uint(xi), y0 = simd::truncate_to_uint(yi);
+    const F fx = xi - F::from_uint(x0), fy = yi - F::from_uint(y0);
+    alignas(64) std::uint32_t xs[N], ys[N];
+    __builtin_memcpy(xs, &x0, sizeof xs);
+    __builtin_memcpy(ys, &y0, sizeof ys);
+    const float* corner[4][N];  // (x0, y0), (x1, y0), (x0, y1), (x1, y1)
+    for (int i = 0; i < N; ++i) {
+      const std::size_t a = xs[i], b = ys[i];
+      const std::size_t a1 = a + 1 < static_cast<std::size_t>(w) ? a + 1 : a;
+      const std::size_t b1 = b + 1 < static_cast<std::size_t>(h) ? b + 1 : b;
+      const float* r0 = texels + b * row;
+      const float* r1 = texels + b1 * row;
+      corner[0][i] = r0 + 4 * a;
+      corner[1][i] = r0 + 4 * a1;
+      corner[2][i] = r1 + 4 * a;
+      corner[3][i] = r1 + 4 * a1;
+    }
+    F c[4][4];
+    for (int k = 0; k < 4; ++k) simd::load_deinterleave4<N>(corner[k], c[k][0], c[k][1], c[k][2], c[k][3]);
+    const F gx = one - fx, gy = one - fy;
+    F out[3];
+    for (int ch = 0; ch < 3; ++ch) {
+      const F top = c[0][ch] * gx + c[1][ch] * fx;
+      const F bottom = c[2][ch] * gx + c[3][ch] * fx;
+      out[ch] = top * gy + bottom * fy;
+    }
+    return {out[0], out[1], out[2]};
   }
-  if constexpr (N == 1) return {out[0][0], out[1][0], out[2][0]};
-  else return {F::load(out[0]), F::load(out[1]), F::load(out[2])};
 }
 
 // The prefiltered radiance along d (environment frame) at perceptual roughness in [0, 1],

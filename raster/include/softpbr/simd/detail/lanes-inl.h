@@ -23,6 +23,10 @@ struct Lanes<N, SOFTPBR_ISA> {
   Lanes(float x) : v(x - native{}) {}
   explicit Lanes(native n) : v(n) {}
 
+  // Each lane of u as a float, exactly (the lanes must be below 2^24): float(u).
+  static Lanes from_uint(UintLanes<N> u) {
+    return Lanes(__builtin_convertvector((typename detail::Native<N>::i)u, native));
+  }
   static Lanes load(const float* p) {
     Lanes r;
     __builtin_memcpy(&r.v, p, sizeof(native));
@@ -181,13 +185,12 @@ inline Lanes<N, SOFTPBR_ISA> sqrt(Lanes<N, SOFTPBR_ISA> x) {
 // vectors: x[i] = p[4i], y[i] = p[4i + 1], … — a transpose in registers (lanes filled one
 // float at a time and read back as a vector stall on store forwarding). Bits are moved,
 // not computed on.
+namespace detail {
+// load_deinterleave4's transpose of q (N records of four floats, four records a vector).
 template <int N>
-inline void load_deinterleave4(const float* p, Lanes<N, SOFTPBR_ISA>& x, Lanes<N, SOFTPBR_ISA>& y,
-                               Lanes<N, SOFTPBR_ISA>& z, Lanes<N, SOFTPBR_ISA>& w) {
+inline void deinterleave4(const typename Native<16>::f* q, Lanes<N, SOFTPBR_ISA>& x, Lanes<N, SOFTPBR_ISA>& y,
+                          Lanes<N, SOFTPBR_ISA>& z, Lanes<N, SOFTPBR_ISA>& w) {
   using L = Lanes<N, SOFTPBR_ISA>;
-  using V16 = typename detail::Native<16>::f;
-  V16 q[N / 4];
-  __builtin_memcpy(q, p, sizeof q);
   if constexpr (N == 4) {
     x = L(__builtin_shufflevector(q[0], q[0], 0, 4, 8, 12));
     y = L(__builtin_shufflevector(q[0], q[0], 1, 5, 9, 13));
@@ -201,12 +204,39 @@ inline void load_deinterleave4(const float* p, Lanes<N, SOFTPBR_ISA>& x, Lanes<N
   } else {
     using H = Lanes<8, SOFTPBR_ISA>;
     H lo[4], hi[4];
-    load_deinterleave4<8>(p, lo[0], lo[1], lo[2], lo[3]);
-    load_deinterleave4<8>(p + 32, hi[0], hi[1], hi[2], hi[3]);
+    deinterleave4<8>(q, lo[0], lo[1], lo[2], lo[3]);
+    deinterleave4<8>(q + 2, hi[0], hi[1], hi[2], hi[3]);
     L* out[4] = {&x, &y, &z, &w};
     for (int c = 0; c < 4; ++c)
       *out[c] = L(__builtin_shufflevector(lo[c].v, hi[c].v, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
   }
+}
+}  // namespace detail
+
+template <int N>
+inline void load_deinterleave4(const float* p, Lanes<N, SOFTPBR_ISA>& x, Lanes<N, SOFTPBR_ISA>& y,
+                               Lanes<N, SOFTPBR_ISA>& z, Lanes<N, SOFTPBR_ISA>& w) {
+  typename detail::Native<16>::f q[N / 4];
+  __builtin_memcpy(q, p, sizeof q);
+  detail::deinterleave4<N>(q, x, y, z, w);
+}
+
+// The same from N records anywhere: record i (four floats at records[i]) into lane i — a
+// texel of four floats per lane (bilinear lookups of float textures). Each record is one
+// 16-byte load; the lanes are formed by the same transpose.
+template <int N>
+inline void load_deinterleave4(const float* const* records, Lanes<N, SOFTPBR_ISA>& x, Lanes<N, SOFTPBR_ISA>& y,
+                               Lanes<N, SOFTPBR_ISA>& z, Lanes<N, SOFTPBR_ISA>& w) {
+  using V4 = typename detail::Native<4>::f;
+  typename detail::Native<16>::f q[N / 4];
+  for (int k = 0; k < N / 4; ++k) {
+    V4 r[4];
+    for (int i = 0; i < 4; ++i) __builtin_memcpy(&r[i], records[4 * k + i], sizeof(V4));
+    const auto ab = __builtin_shufflevector(r[0], r[1], 0, 1, 2, 3, 4, 5, 6, 7);
+    const auto cd = __builtin_shufflevector(r[2], r[3], 0, 1, 2, 3, 4, 5, 6, 7);
+    q[k] = __builtin_shufflevector(ab, cd, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  }
+  detail::deinterleave4<N>(q, x, y, z, w);
 }
 
 // The inverse of load_deinterleave4: p[4i + 0..3] = x[i], y[i], z[i], w[i] for lane i —
