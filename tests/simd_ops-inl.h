@@ -62,6 +62,19 @@ SOFTPBR_KERNEL void first_lanes_ops(int n, const float* a_in, const float* b_in,
   softpbr::simd::select(lanes::first_lanes<N>(n), V::load(a_in), V::load(b_in)).store(out);
 }
 
+// Lane i of out's four vectors (out[c·N + i]) from the record at records[i], by
+// load_deinterleave4 from pointers; then out[4N + i] = from_uint(u[i]).
+template <int N>
+SOFTPBR_KERNEL void record_ops(const float* const* records, const std::uint32_t* u, float* out) {
+  using V = lanes::Vec<N>;
+  V c[4];
+  softpbr::simd::load_deinterleave4<N>(records, c[0], c[1], c[2], c[3]);
+  for (int k = 0; k < 4; ++k) c[k].store(out + k * N);
+  softpbr::simd::UintLanes<N> lanes_u;
+  __builtin_memcpy(&lanes_u, u, sizeof lanes_u);
+  V::from_uint(lanes_u).store(out + 4 * N);
+}
+
 // out[i] = to_float_below_2p51 of the four 64-bit integers in[0..4).
 SOFTPBR_KERNEL inline void to_float_ops(const std::int64_t* in, float* out) {
   softpbr::simd::native_t<std::int64_t, 4> v;

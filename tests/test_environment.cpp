@@ -2,9 +2,11 @@
 // irradiance against brute-force integration, the prefiltered lobe against a Monte-Carlo
 // reference, the split-sum table, the white furnace, rotation, the caches, bad files, and
 // the same bits for every thread count.
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -19,6 +21,10 @@
 #include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/shading.h"
+#include "softpbr/simd/dispatch.h"
+
+#define SOFTPBR_TARGET_FILE "env_lanes-inl.h"
+#include "softpbr/simd/foreach_target.h"
 
 namespace pbr = softpbr::pbr;
 namespace image = softpbr::image;
@@ -111,6 +117,60 @@ double max_component(const glm::dvec3& v) { return std::max({std::fabs(v.x), std
 fs::path shared_envmaps() { return fs::path(SOFTPBR_SOURCE_DIR) / ".." / "shared" / "envmaps"; }
 
 }  // namespace
+
+namespace env_test {
+template <int N>
+void check_bilinear_lanes(const raster::Texture& t, const std::vector<float>& coords, std::mt19937& rng) {
+  namespace simd = softpbr::simd;
+  std::uniform_int_distribution<std::size_t> pick(0, coords.size() - 1);
+  int compared = 0, wrong = 0;
+  for (int round = 0; round < 200; ++round) {
+    float u[N], v[N], want[3 * N];
+    for (int i = 0; i < N; ++i) {
+      u[i] = coords[pick(rng)];
+      v[i] = coords[pick(rng)];
+      const pbr::EnvVec3<float> c = pbr::env_bilinear(t, u[i], v[i]);
+      want[i] = c.x;
+      want[N + i] = c.y;
+      want[2 * N + i] = c.z;
+    }
+    for (simd::Isa isa : {simd::Isa::Baseline, simd::Isa::Avx2, simd::Isa::Avx512}) {
+      if (!simd::supported(isa)) continue;
+      float got[3 * N];
+      SOFTPBR_DISPATCH(isa, bilinear_ops<N>)(t, u, v, got);
+      for (int k = 0; k < 3 * N; ++k) {
+        ++compared;
+        wrong += std::bit_cast<std::uint32_t>(got[k]) != std::bit_cast<std::uint32_t>(want[k]);
+      }
+    }
+  }
+  CAPTURE(N);
+  CHECK(compared > 0);
+  CHECK(wrong == 0);
+}
+}  // namespace env_test
+
+TEST_CASE("env_bilinear in lanes gives each lane the scalar lookup's bits, at 4, 8 and 16 lanes on every target") {
+  // A 7×5 float texture of distinct values; coordinates inside, on texel centres and edges,
+  // outside on both sides, and non-finite (which read texel 0).
+  image::ImageF im{7, 5, std::vector<float>(7 * 5 * 4)};
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> value(0.0f, 100.0f);
+  for (float& x : im.rgba) x = value(rng);
+  const raster::Texture t(im, raster::TextureOptions{.mipmaps = false});
+  std::vector<float> coords = {0.0f, 1.0f, -0.0f, 0.5f, 1.0f / 14.0f, 13.0f / 14.0f, 0.1f, 0.9f, -0.25f, 1.75f,
+                               -1e30f, 1e30f, std::numeric_limits<float>::infinity(),
+                               -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()};
+  std::uniform_real_distribution<float> inside(-0.2f, 1.2f);
+  for (int i = 0; i < 100; ++i) coords.push_back(inside(rng));
+  env_test::check_bilinear_lanes<4>(t, coords, rng);
+  env_test::check_bilinear_lanes<8>(t, coords, rng);
+  env_test::check_bilinear_lanes<16>(t, coords, rng);
+  // A lane reads its own texels: the lookup of texel (3, 2)'s centre is that texel.
+  const pbr::EnvVec3<float> c = pbr::env_bilinear(t, 3.5f / 7.0f, 2.5f / 5.0f);
+  CHECK(c.x == im.rgba[(2 * 7 + 3) * 4 + 0]);
+  CHECK(c.z == im.rgba[(2 * 7 + 3) * 4 + 2]);
+}
 
 TEST_CASE("octahedral coordinates: decode inverts encode, and the border continues across each edge") {
   for (const glm::dvec3& d : test_directions()) {
