@@ -96,6 +96,34 @@ Renderer::Renderer(RendererOptions options)
 
 Renderer::~Renderer() = default;
 
+namespace {
+// The tiles in the order a frame hands them to the pool: the grid's rows cut into one band
+// per thread, and the bands' tiles (each band's in row-major order) taken in turn. Tiles
+// handed out one after the other are drawn at the same time by different threads. Side by
+// side, in row-major order, they contended for memory at their common edge (each tile row
+// of the target ends where the neighbour's begins; aligning the target to cache lines did
+// not help, so the hardware prefetchers running past the edge are the likely rest):
+// fill8x_1080p on two threads of a Zen 5 ran only 1.3x faster than on one, and not at all
+// faster with 16-pixel tiles. In bands: 0.66x the two-thread time (1.7x over one thread),
+// the textured fill 0.84x, the IBL gallery 0.90x. Which thread draws a tile does not change
+// its pixels (one writer per tile), so the order changes no bit.
+std::vector<std::uint32_t> tile_order(const TileGrid& grid, unsigned threads) {
+  const std::size_t count = grid.count();
+  std::vector<std::uint32_t> order;
+  order.reserve(count);
+  const unsigned bands = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(grid.rows)));
+  std::vector<std::size_t> next(bands), end(bands);
+  for (unsigned b = 0; b < bands; ++b) {
+    next[b] = static_cast<std::size_t>(grid.rows) * b / bands * static_cast<std::size_t>(grid.columns);
+    end[b] = static_cast<std::size_t>(grid.rows) * (b + 1) / bands * static_cast<std::size_t>(grid.columns);
+  }
+  while (order.size() < count)
+    for (unsigned b = 0; b < bands; ++b)
+      if (next[b] < end[b]) order.push_back(static_cast<std::uint32_t>(next[b]++));
+  return order;
+}
+}  // namespace
+
 void Renderer::begin_frame(Target& target) {
   if (target_) throw std::logic_error("Renderer::begin_frame: a frame is already open");
   target_ = &target;
@@ -107,6 +135,7 @@ void Renderer::begin_frame(Target& target) {
   cleared_ = false;
   cancelled_.store(false, std::memory_order_relaxed);
   touched_.assign(grid_.count(), 0);
+  tile_order_ = tile_order(grid_, pool_.size());
   // The frame may write any pixel: the target knows nothing until end_frame() says again.
   known_clear_ = detail::FrameAccess::take_cleared_tiles(target);
   if (known_clear_.tile_size != tile_size_ || known_clear_.tiles.size() != grid_.count()) known_clear_.tiles.clear();
@@ -167,7 +196,8 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
                      same_bits(known_clear_.color, known_clear_.depth, clear_->color, clear_->depth);
   const TargetPixels pixels = detail::FrameAccess::pixels(target);
   if (!draws_.empty() || clear_now || after_tile) {
-    pool_.parallel_for(grid_.count(), [&](std::size_t tile) {
+    pool_.parallel_for(grid_.count(), [&](std::size_t i) {
+      const std::size_t tile = tile_order_[i];
       if (cancel_ && (cancelled_.load(std::memory_order_relaxed) || cancel_())) {
         cancelled_.store(true, std::memory_order_relaxed);
         return;

@@ -203,6 +203,10 @@ class Renderer {
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
   bool cleared_ = false;                // the frame's clear is done (by an earlier pass)
   std::vector<std::uint8_t> touched_;   // per tile: a triangle was rasterized into it
+  // The order the pool's threads take the tiles in: tiles taken one after the other
+  // (so drawn at the same time by different threads) lie in different bands of tile rows,
+  // not side by side (see tile_order() in renderer.cpp).
+  std::vector<std::uint32_t> tile_order_;
   // The target's cleared tiles as the frame found them (detail::ClearedTiles), taken out
   // of the target while the frame runs and given back, updated, by end_frame().
   detail::ClearedTiles known_clear_;
