@@ -248,11 +248,8 @@ inline EnvVec3<F> env_bilinear(const raster::Texture& t, F u, F v) {
   } else {
     const F zero(0.0f), one(1.0f);
     const F xi = simd::select(x >= zero, x, zero), yi = simd::select(y >= zero, y, zero);  // NaN → 0
-    const simd::UintLanes<N> x0 = simd::truncate_to_uint(xi), y0 = simd::truncate_to_uint(yi);
-    const F fx = xi - F::from_uint(x0), fy = yi - F::from_uint(y0);
     alignas(64) std::uint32_t xs[N], ys[N];
-    __builtin_memcpy(xs, &x0, sizeof xs);
-    __builtin_memcpy(ys, &y0, sizeof ys);
+    const F fx = simd::split_whole(xi, xs), fy = simd::split_whole(yi, ys);
     const float* corner[4][N];  // (x0, y0), (x1, y0), (x0, y1), (x1, y1)
     for (int i = 0; i < N; ++i) {
       const std::size_t a = xs[i], b = ys[i];

@@ -285,6 +285,19 @@ template <int N>
 inline UintLanes<N> bits_of(Lanes<N, SOFTPBR_ISA> x) {
   return (UintLanes<N>)x.v;
 }
+// Each lane's truncation toward zero stored to whole[0..N), and x minus it returned (the
+// lanes must be in [0, 2^24)): the floor and fraction of a texel coordinate, as
+// static_cast<int>(x) and x − float(that) give them. Only lane types cross the call, so a
+// template compiled outside the target regions may use it (Clang refuses plain vectors
+// there: their ABI depends on the target).
+template <int N>
+inline Lanes<N, SOFTPBR_ISA> split_whole(Lanes<N, SOFTPBR_ISA> x, std::uint32_t* whole) {
+  using L = Lanes<N, SOFTPBR_ISA>;
+  const auto i = __builtin_convertvector(x.v, typename detail::Native<N>::i);
+  __builtin_memcpy(whole, &i, sizeof i);
+  return L(x.v - __builtin_convertvector(i, typename L::native));
+}
+
 // Each lane truncated toward zero to an integer (the lanes must be in [0, 2^31)).
 template <int N>
 inline UintLanes<N> truncate_to_uint(Lanes<N, SOFTPBR_ISA> x) {
