@@ -63,16 +63,15 @@ SOFTPBR_KERNEL void first_lanes_ops(int n, const float* a_in, const float* b_in,
 }
 
 // Lane i of out's four vectors (out[c·N + i]) from the record at records[i], by
-// load_deinterleave4 from pointers; then out[4N + i] = from_uint(u[i]).
+// load_deinterleave4 from pointers; then out[4N + i] = the fraction split_whole(x) returns
+// for x[i], and whole[i] its whole part.
 template <int N>
-SOFTPBR_KERNEL void record_ops(const float* const* records, const std::uint32_t* u, float* out) {
+SOFTPBR_KERNEL void record_ops(const float* const* records, const float* x, std::uint32_t* whole, float* out) {
   using V = lanes::Vec<N>;
   V c[4];
   softpbr::simd::load_deinterleave4<N>(records, c[0], c[1], c[2], c[3]);
   for (int k = 0; k < 4; ++k) c[k].store(out + k * N);
-  softpbr::simd::UintLanes<N> lanes_u;
-  __builtin_memcpy(&lanes_u, u, sizeof lanes_u);
-  V::from_uint(lanes_u).store(out + 4 * N);
+  softpbr::simd::split_whole(V::load(x), whole).store(out + 4 * N);
 }
 
 // out[i] = to_float_below_2p51 of the four 64-bit integers in[0..4).

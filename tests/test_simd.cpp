@@ -205,30 +205,34 @@ TEST_CASE("simd: first_lanes(n) selects the first n lanes, at 4, 8 and 16 lanes 
 namespace simd_test {
 namespace {
 // Records scattered over an array, in a shuffled order, read into lanes by pointer; and
-// integers below 2^24 converted exactly.
+// texel coordinates in [0, 2^24) split into whole and fraction as a static_cast does.
 template <int N>
 void check_records(std::mt19937& rng) {
   std::uniform_real_distribution<float> uniform(-4.0f, 4.0f);
   std::vector<float> pool(4 * 64);
-  for (float& x : pool) x = uniform(rng);
+  for (float& v : pool) v = uniform(rng);
   std::uniform_int_distribution<int> which(0, 63);
+  std::uniform_real_distribution<float> coordinate(0.0f, 16777215.0f);
   const float* records[N];
-  std::uint32_t u[N];
+  float x[N];
   for (int i = 0; i < N; ++i) {
     records[i] = pool.data() + 4 * which(rng);
-    u[i] = static_cast<std::uint32_t>(rng() % (1u << 24));
+    x[i] = i % 2 == 0 ? coordinate(rng) : uniform(rng) * uniform(rng) + 16.0f;
   }
-  u[0] = 0;
-  u[N - 1] = (1u << 24) - 1;
+  x[0] = 0.0f;
+  x[N - 1] = 16777215.0f;
   for (simd::Isa isa : supported_isas()) {
     CAPTURE(std::string(simd::isa_name(isa)));
     CAPTURE(N);
     float out[5 * N];
-    SOFTPBR_DISPATCH(isa, record_ops<N>)(records, u, out);
+    std::uint32_t whole[N];
+    SOFTPBR_DISPATCH(isa, record_ops<N>)(records, x, whole, out);
     int wrong = 0;
     for (int i = 0; i < N; ++i) {
       for (int c = 0; c < 4; ++c) wrong += std::bit_cast<std::uint32_t>(out[c * N + i]) != std::bit_cast<std::uint32_t>(records[i][c]);
-      wrong += out[4 * N + i] != static_cast<float>(u[i]);
+      const int w = static_cast<int>(x[i]);
+      wrong += whole[i] != static_cast<std::uint32_t>(w);
+      wrong += std::bit_cast<std::uint32_t>(out[4 * N + i]) != std::bit_cast<std::uint32_t>(x[i] - static_cast<float>(w));
     }
     CHECK(wrong == 0);
   }
@@ -236,7 +240,7 @@ void check_records(std::mt19937& rng) {
 }  // namespace
 }  // namespace simd_test
 
-TEST_CASE("simd: load_deinterleave4 from record pointers and Lanes::from_uint, at 4, 8 and 16 lanes on every target") {
+TEST_CASE("simd: load_deinterleave4 from record pointers and split_whole, at 4, 8 and 16 lanes on every target") {
   std::mt19937 rng(9);
   for (int round = 0; round < 20; ++round) {
     simd_test::check_records<4>(rng);

@@ -66,8 +66,8 @@ def raise_interrupted(signum, frame):
 
 
 def test_ctrl_c_stops_a_long_render_and_is_raised_by_it():
-    # ~5 s in full on one 2 GHz Zen 3 core (1024 x 1024 with 256 lights took 0.3 s, as long as
-    # the timer): the render must still be running when SIGINT arrives.
+    # ~5 s in full on one Zen 5 core with AVX-512 (1024 x 1024 with 256 lights took 0.3 s, as
+    # long as the timer): the render must still be running when SIGINT arrives.
     scene = softpbr.Scene.from_dict(slow_scene(width=4096, height=4096, lights=256))
     previous = signal.signal(signal.SIGINT, raise_interrupted)
     timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))

@@ -23,10 +23,6 @@ struct Lanes<N, SOFTPBR_ISA> {
   Lanes(float x) : v(x - native{}) {}
   explicit Lanes(native n) : v(n) {}
 
-  // Each lane of u as a float, exactly (the lanes must be below 2^24): float(u).
-  static Lanes from_uint(UintLanes<N> u) {
-    return Lanes(__builtin_convertvector((typename detail::Native<N>::i)u, native));
-  }
   static Lanes load(const float* p) {
     Lanes r;
     __builtin_memcpy(&r.v, p, sizeof(native));
