@@ -34,6 +34,7 @@
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -81,7 +82,7 @@ struct Difference {
   double differing;  // fraction of RGB channels
   double mean;       // mean |difference| over the RGB channels, in 8-bit steps
 };
-Difference compare(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+Difference compare(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b) {
   double sum = 0.0, abs_sum = 0.0;
   std::size_t n = 0, differing = 0;
   int max = 0;

@@ -409,7 +409,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
   raster::Renderer& renderer = job.renderer ? *job.renderer : *own_renderer;
   if (!job.target || job.target->width() != s.width || job.target->height() != s.height || job.target->samples() != s.msaa) {
     job.target.reset();  // the old one's memory first
-    job.target.emplace(s.width, s.height, s.msaa);
+    job.target.emplace(s.width, s.height, s.msaa, &renderer.pool());
   }
   raster::Target& target = *job.target;
   std::size_t done = 0, skipped = 0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -12,6 +13,7 @@
 
 #include "image_helpers.h"
 #include "softpbr/image/load.h"
+#include "softpbr/image/memory.h"
 #include "softpbr/image/write.h"
 
 namespace image = softpbr::image;
@@ -263,4 +265,43 @@ TEST_CASE("a failed write throws naming the path, leaves no temporary file and l
   CHECK_THROWS_AS(image::write_png(dir / "old.png", image::Image8{}), std::invalid_argument);
   for (const char* f : {"old.hdr", "old.exr", "old.png"}) CHECK(read_bytes(dir / f) == bytes_of("old"));
   CHECK(files_in(dir) == 5);
+}
+
+TEST_CASE("pixel buffers of 4 MiB and more are value-initialized, copy and move as vectors, and on Linux map 2 MiB-aligned") {
+  const std::size_t big = image::kHugePageBufferBytes / sizeof(float) + 3;  // just over the threshold
+  for (const std::size_t n : {std::size_t{7}, std::size_t{1} << 16, big}) {
+    CAPTURE(n);
+    image::PixelVector<float> zero(n);
+    CHECK(std::all_of(zero.begin(), zero.end(), [](float x) { return x == 0.0f; }));
+    image::PixelVector<float> v(n, 0.5f);
+    v[n - 1] = 2.0f;
+    const image::PixelVector<float> copy = v;
+    CHECK(copy == v);
+    const float* buffer = v.data();
+    image::PixelVector<float> moved = std::move(v);
+    CHECK(moved.data() == buffer);  // the allocators compare equal: the buffer changes hands
+    CHECK(moved == copy);
+    moved.resize(n + 5);  // grows into a new buffer (or the same), keeping the values
+    CHECK(std::equal(copy.begin(), copy.end(), moved.begin()));
+    CHECK(moved[n + 4] == 0.0f);
+  }
+#if defined(__linux__) && !defined(__SANITIZE_ADDRESS__)
+#if !defined(__has_feature)
+#define SOFTPBR_TEST_NO_ASAN 1
+#elif !__has_feature(address_sanitizer)
+#define SOFTPBR_TEST_NO_ASAN 1
+#endif
+#endif
+#if defined(SOFTPBR_TEST_NO_ASAN)
+  const image::PixelVector<std::uint8_t> mapped(image::kHugePageBufferBytes);
+  CHECK(reinterpret_cast<std::uintptr_t>(mapped.data()) % (std::uintptr_t{2} << 20) == 0);
+#endif
+  // Image8 from a std::vector copies it; from a PixelVector takes it.
+  const std::vector<std::uint8_t> pixels(16, 7);
+  const image::Image8 a{2, 2, pixels};
+  CHECK(std::equal(pixels.begin(), pixels.end(), a.rgba.begin(), a.rgba.end()));
+  image::PixelVector<std::uint8_t> own(16, 9);
+  const std::uint8_t* data = own.data();
+  const image::Image8 b{2, 2, std::move(own)};
+  CHECK(b.rgba.data() == data);
 }

@@ -4,6 +4,7 @@
 // still load as they did.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
@@ -127,7 +128,7 @@ TEST_CASE("PNG decoding equals stb_image's for every colour type, depth, tRNS an
       const std::vector<std::uint8_t> theirs = stb_rgba(png, sw, sh);
       REQUIRE(ours.width == sw);
       REQUIRE(ours.height == sh);
-      CHECK(ours.rgba == theirs);
+      CHECK(std::ranges::equal(ours.rgba, theirs));
       ++compared;
     }
   CHECK(compared == 52 * 3);  // 26 kinds, each plain and Adam7-interlaced, at three sizes
@@ -146,6 +147,6 @@ TEST_CASE("a PNG with a wrong chunk CRC or zlib checksum loads, as it did with s
   std::vector<std::uint8_t> bad_crc = png, bad_adler = png;
   bad_crc[at + 8 + length] ^= 0x5a;
   bad_adler[at + 8 + length - 1] ^= 0x5a;
-  CHECK(image::load_png(bad_crc, "crc.png").rgba == expected);
-  CHECK(image::load_png(bad_adler, "adler.png").rgba == expected);
+  CHECK(std::ranges::equal(image::load_png(bad_crc, "crc.png").rgba, expected));
+  CHECK(std::ranges::equal(image::load_png(bad_adler, "adler.png").rgba, expected));
 }

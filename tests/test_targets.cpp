@@ -236,3 +236,17 @@ TEST_CASE("write_png writes a complete PNG, an unwritable path throws and leaves
   CHECK_THROWS_AS(softpbr::image::write_png(dir.path / "broken.png", broken), std::invalid_argument);
   CHECK_FALSE(fs::exists(dir.path / "broken.png"));
 }
+
+TEST_CASE("a target made with a pool starts with the samples of one made without: colour (0, 0, 0, 1), depth 1") {
+  raster::ThreadPool pool(3);
+  for (const int samples : {1, 4}) {
+    CAPTURE(samples);
+    const raster::Target serial(1031, 517, samples);  // 2.1 M samples: nine pieces, the last one short
+    const raster::Target pooled(1031, 517, samples, &pool);
+    CHECK(std::all_of(pooled.colors().begin(), pooled.colors().end(),
+                      [](const glm::vec4& c) { return c == glm::vec4(0, 0, 0, 1); }));
+    CHECK(std::all_of(pooled.depths().begin(), pooled.depths().end(), [](float d) { return d == 1.0f; }));
+    CHECK(raster::hash_colors(pooled) == raster::hash_colors(serial));
+    CHECK(raster::hash_depths(pooled) == raster::hash_depths(serial));
+  }
+}

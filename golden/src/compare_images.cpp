@@ -37,7 +37,7 @@ Image8 heat_map(const Image& expected, const Image& actual, double scale) {
     if (std::isfinite(d[p])) largest_finite = std::max(largest_finite, d[p]);
   }
   if (!(scale > 0)) scale = largest_finite;
-  Image8 out{expected.width, expected.height, std::vector<std::uint8_t>(n * 4)};
+  Image8 out{expected.width, expected.height, image::PixelVector<std::uint8_t>(n * 4)};
   for (std::size_t p = 0; p < n; ++p) {
     std::uint8_t* px = &out.rgba[4 * p];
     px[3] = 255;
@@ -53,7 +53,7 @@ Image8 heat_map(const Image& expected, const Image& actual, double scale) {
 }
 
 Image8 black(int width, int height) {
-  Image8 out{width, height, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4, 0)};
+  Image8 out{width, height, image::PixelVector<std::uint8_t>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4, 0)};
   for (std::size_t i = 3; i < out.rgba.size(); i += 4) out.rgba[i] = 255;
   return out;
 }

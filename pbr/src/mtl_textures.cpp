@@ -57,7 +57,7 @@ std::uint8_t nearest(const image::Image8& src, int w, int h, int x, int y, int c
 
 // A w × h RGBA image with every sample `fill`, and its texel (x, y).
 image::Image8 blank(int w, int h, std::uint8_t fill) {
-  return {w, h, std::vector<std::uint8_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4, fill)};
+  return {w, h, image::PixelVector<std::uint8_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4, fill)};
 }
 std::uint8_t* texel(image::Image8& im, int x, int y) {
   return &im.rgba[(static_cast<std::size_t>(y) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(x)) * 4];

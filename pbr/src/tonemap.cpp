@@ -383,7 +383,7 @@ void ToneMapper::encode_multisampled(const raster::TargetPixels& pixels, int x0,
   // tiles run on the pool's threads), so a frame allocates nothing after the first tile.
   constexpr int kBlock = 64;
   thread_local raster::Target resolved(kBlock, kBlock);
-  thread_local raster::Image8 piece{kBlock, kBlock, std::vector<std::uint8_t>(kBlock * kBlock * 4)};
+  thread_local raster::Image8 piece{kBlock, kBlock, image::PixelVector<std::uint8_t>(kBlock * kBlock * 4)};
   const ToneMapper& encoder = settings_.resolve == Resolve::ToneMapped && display_ ? *display_ : *this;
   glm::vec4* const scratch = resolved.colors().data();
   for (int by = y0; by < y1; by += kBlock)

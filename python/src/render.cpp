@@ -155,7 +155,7 @@ py::array_t<std::uint8_t> render(const PyScene& s, const Overrides& o) {
   const pbr::Scene scene = pbr::animate(s.file, o.frame);  // a copy: Python may change `s` while C++ runs
   raster::Image8 image;
   run_released(r, [&](raster::Renderer& renderer) {
-    raster::Target target(r.width, r.height, r.msaa);
+    raster::Target target(r.width, r.height, r.msaa, &renderer.pool());
     pbr::render_rgba8(scene, renderer, target, r.output, image);
   });
   return to_numpy(std::move(image));

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "softpbr/raster/color.h"
+#include "softpbr/raster/pool.h"
 
 namespace softpbr::raster {
 
@@ -32,7 +33,8 @@ int sample_reach(int samples) {
   return reach * 16;
 }
 
-Target::Target(int width, int height, int samples) : width_(width), height_(height), samples_(samples) {
+Target::Target(int width, int height, int samples, ThreadPool* pool)
+    : width_(width), height_(height), samples_(samples) {
   if (width < 1 || height < 1 || width > kMaxTargetSize || height > kMaxTargetSize)
     throw std::invalid_argument("Target: size " + std::to_string(width) + "x" + std::to_string(height) +
                                 " is outside 1x1 .. " + std::to_string(kMaxTargetSize) + "x" +
@@ -41,8 +43,22 @@ Target::Target(int width, int height, int samples) : width_(width), height_(heig
     throw std::invalid_argument("Target: " + std::to_string(samples) + " samples a pixel: expected 1, 4 or 8");
   const std::size_t n =
       static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(samples);
-  color_.assign(n, glm::vec4(0, 0, 0, 1));
-  depth_.assign(n, 1.0f);
+  color_.resize(n);
+  depth_.resize(n);
+  // Pieces of 2^18 samples (4 MiB of colour, 1 MiB of depth).
+  constexpr std::size_t kPiece = std::size_t{1} << 18;
+  const std::size_t pieces = (n + kPiece - 1) / kPiece;
+  auto fill = [&](std::size_t k) {
+    const std::size_t begin = k * kPiece, end = std::min(n, begin + kPiece);
+    std::fill(color_.begin() + static_cast<std::ptrdiff_t>(begin), color_.begin() + static_cast<std::ptrdiff_t>(end),
+              glm::vec4(0, 0, 0, 1));
+    std::fill(depth_.begin() + static_cast<std::ptrdiff_t>(begin), depth_.begin() + static_cast<std::ptrdiff_t>(end), 1.0f);
+  };
+  if (pool != nullptr && pieces > 1) {
+    pool->parallel_for(pieces, fill);
+  } else {
+    for (std::size_t k = 0; k < pieces; ++k) fill(k);
+  }
 }
 
 void Target::clear(glm::vec4 color, float depth) {

@@ -12,7 +12,10 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <utility>
 #include <vector>
+
+#include "softpbr/image/memory.h"
 
 namespace softpbr::image {
 
@@ -20,17 +23,31 @@ namespace softpbr::image {
 inline constexpr int kMaxSide = 16384;
 
 // An 8-bit RGBA image.
+// The pixels live in a PixelVector (memory.h: large buffers in huge pages); a std::vector
+// of pixels is accepted too, and copied.
 struct Image8 {
   int width = 0;
   int height = 0;
-  std::vector<std::uint8_t> rgba;  // width * height * 4 bytes
+  PixelVector<std::uint8_t> rgba;  // width * height * 4 bytes
+
+  Image8() = default;
+  Image8(int w, int h, PixelVector<std::uint8_t> pixels) : width(w), height(h), rgba(std::move(pixels)) {}
+  template <class Allocator>  // a template, so that {w, h, {}} picks the PixelVector
+  Image8(int w, int h, const std::vector<std::uint8_t, Allocator>& pixels)
+      : width(w), height(h), rgba(pixels.begin(), pixels.end()) {}
 };
 
 // A linear float RGBA image.
 struct ImageF {
   int width = 0;
   int height = 0;
-  std::vector<float> rgba;  // width * height * 4 floats
+  PixelVector<float> rgba;  // width * height * 4 floats
+
+  ImageF() = default;
+  ImageF(int w, int h, PixelVector<float> pixels) : width(w), height(h), rgba(std::move(pixels)) {}
+  template <class Allocator>
+  ImageF(int w, int h, const std::vector<float, Allocator>& pixels)
+      : width(w), height(h), rgba(pixels.begin(), pixels.end()) {}
 };
 
 // A const, non-owning view of RGBA samples: an Image8/ImageF, a render target's colour

@@ -167,8 +167,8 @@ class Texture {
   void allocate_levels(int width, int height, bool mipmaps);
 
   std::vector<Level> levels_;
-  std::vector<std::uint8_t> texels8_;  // RGBA8, every level
-  std::vector<float> texels_f_;        // RGBA float, every level
+  image::PixelVector<std::uint8_t> texels8_;  // RGBA8, every level
+  image::PixelVector<float> texels_f_;     // RGBA float, every level
   ColorSpace space_ = ColorSpace::Linear;
   const float* rgb_table_ = nullptr;   // 8-bit colour code → linear (sRGB or /255)
 };
