@@ -21,19 +21,14 @@
 
 namespace softpbr::image::detail {
 
+#if !defined(SOFTPBR_PIXELS_FROM_HEAP)
 namespace {
 constexpr std::size_t kHugePage = std::size_t{2} << 20;  // x86-64's and AArch64's (4 KiB granule) PMD size
 
-bool mapped(std::size_t bytes) {
-#if defined(SOFTPBR_PIXELS_FROM_HEAP)
-  (void)bytes;
-  return false;
-#else
-  return bytes >= kHugePageBufferBytes;
-#endif
-}
+bool mapped(std::size_t bytes) { return bytes >= kHugePageBufferBytes; }
 std::size_t mapped_size(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
 }  // namespace
+#endif
 
 void* allocate_pixels(std::size_t bytes, std::size_t alignment) {
 #if !defined(SOFTPBR_PIXELS_FROM_HEAP)
