@@ -437,8 +437,8 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     raster::Image8 rgba;
     if (png) pbr::render_rgba8(pbr::animate(file, frame), renderer, target, s.output, rgba);
     else pbr::render(pbr::animate(file, frame), renderer, target);
-    // Then three independent jobs on the renderer's threads: the hash (FNV-1a, serial by
-    // definition, the longest), the count of non-finite pixels, the PNG encoding.
+    // Then three independent jobs on the renderer's threads: the hash (XXH3, about 10 ms for
+    // a 4x MSAA 1080p target), the count of non-finite pixels, the PNG encoding.
     const float scale = exposure_scale(s.output.exposure);
     std::uint64_t hash = 0;
     std::size_t non_finite = 0;

@@ -1,6 +1,6 @@
 // Golden images of the PBR scenes: any bit difference in the float colour buffer fails.
 //
-// Each scene's golden is tests/goldens/NAME.hash (64-bit FNV-1a of the float RGBA buffer,
+// Each scene's golden is tests/goldens/NAME.hash (XXH3-64 of the float RGBA buffer,
 // raster::hash_colors) with NAME.png beside it, checked with CHECK_RENDER_MATCHES
 // (softpbr/golden/doctest_checks.h). On failure the actual, diff and side-by-side images are in
 // build/golden-output/goldens/. To accept an intended change, look at the new images, then

@@ -97,6 +97,24 @@ TEST_CASE("begin_frame with ClearValues clears every pixel, also with no draw, w
   CHECK(raster::hash_depths(a) == raster::hash_depths(b));
 }
 
+TEST_CASE("hash_colors and hash_depths are XXH3-64 of the little-endian float bytes (values from xxhsum -H3)") {
+  // python3 -c "import struct,sys; sys.stdout.buffer.write(struct.pack('<4f',1,0,0,1)*2)" | xxhsum -H3
+  raster::Target small(2, 1);
+  small.clear({1.0f, 0.0f, 0.0f, 1.0f}, 1.0f);
+  CHECK(raster::hash_colors(small) == 0x2ca2bee11d23a305ull);
+  CHECK(raster::hash_depths(small) == 0x774376da7ad20e6bull);
+  // 8976 colour bytes: XXH3's long-input path (over 240 bytes), a partial last stripe.
+  raster::Target larger(33, 17);
+  larger.clear({0.25f, 0.5f, 0.75f, 1.0f}, 0.5f);
+  CHECK(raster::hash_colors(larger) == 0xcb98830ec1635f10ull);
+  CHECK(raster::hash_depths(larger) == 0xabfef1fc0a82c236ull);
+  // One bit of one sample changes the hash.
+  raster::Target changed(33, 17);
+  changed.clear({0.25f, 0.5f, 0.75f, 1.0f}, 0.5f);
+  changed.color(32, 16).a = std::nextafter(1.0f, 2.0f);
+  CHECK(raster::hash_colors(changed) != raster::hash_colors(larger));
+}
+
 TEST_CASE("invalid target sizes throw std::invalid_argument") {
   const int sizes[][2] = {{0, 1}, {1, 0}, {0, 0}, {-1, 5}, {5, -1}, {16385, 1}, {1, 16385}, {-16384, -16384}};
   for (const auto& s : sizes) {

@@ -2,6 +2,7 @@
 #include "softpbr/raster/target.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -9,6 +10,10 @@
 
 #include "softpbr/raster/color.h"
 #include "softpbr/raster/pool.h"
+
+// xxHash (Debian's libxxhash-dev), compiled into this file: no link dependency.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
 
 namespace softpbr::raster {
 
@@ -133,29 +138,39 @@ Image8 resolve_srgb8(const Target& source) {
 }
 
 namespace {
-// FNV-1a, 64 bit (offset basis 14695981039346656037, prime 1099511628211), over the bytes
-// of each float in little-endian order regardless of the host's byte order.
-std::uint64_t fnv1a_floats(const float* values, std::size_t count) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (std::size_t i = 0; i < count; ++i) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &values[i], sizeof bits);
-    for (int b = 0; b < 4; ++b) {
-      h ^= (bits >> (8 * b)) & 0xffu;
-      h *= 1099511628211ull;
+// XXH3-64 (seed 0) over the bytes of the floats in little-endian order regardless of the
+// host's byte order (on a big-endian host in byte-swapped chunks).
+std::uint64_t xxh3_floats(const float* values, std::size_t count) {
+  static_assert(sizeof(float) == 4);
+  if constexpr (std::endian::native == std::endian::little) {
+    return XXH3_64bits(values, count * sizeof(float));
+  } else {
+    XXH3_state_t state;
+    XXH3_INITSTATE(&state);
+    XXH3_64bits_reset(&state);
+    constexpr std::size_t kChunk = 4096;
+    std::uint32_t swapped[kChunk];
+    for (std::size_t at = 0; at < count; at += kChunk) {
+      const std::size_t n = std::min(kChunk, count - at);
+      for (std::size_t i = 0; i < n; ++i) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &values[at + i], sizeof bits);
+        swapped[i] = (bits >> 24) | ((bits >> 8) & 0xff00u) | ((bits << 8) & 0xff0000u) | (bits << 24);
+      }
+      XXH3_64bits_update(&state, swapped, n * sizeof(float));
     }
+    return XXH3_64bits_digest(&state);
   }
-  return h;
 }
 }  // namespace
 
 std::uint64_t hash_colors(const Target& target) {
   static_assert(sizeof(glm::vec4) == 4 * sizeof(float));
-  return fnv1a_floats(&target.colors().data()->x, target.colors().size() * 4);
+  return xxh3_floats(&target.colors().data()->x, target.colors().size() * 4);
 }
 
 std::uint64_t hash_depths(const Target& target) {
-  return fnv1a_floats(target.depths().data(), target.depths().size());
+  return xxh3_floats(target.depths().data(), target.depths().size());
 }
 
 }  // namespace softpbr::raster

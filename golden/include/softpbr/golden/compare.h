@@ -25,8 +25,8 @@ namespace softpbr::golden {
 //     little-endian.
 // Equal hashes mean equal size and bit-identical pixels; the value is the same on every
 // platform. Example: a 1×1 Image8 with RGBA (255, 0, 0, 255) hashes to 0xc9fea42538ede09e.
-// (raster::hash_colors, used by the project's .hash render goldens, is FNV-1a over the
-// float bits alone, without the 16 header bytes.)
+// (raster::hash_colors, used by the project's .hash render goldens, is another hash:
+// XXH3-64 over the float bits alone, without the 16 header bytes.)
 std::uint64_t content_hash(const Image8& image);
 std::uint64_t content_hash(const ImageF& image);
 std::uint64_t content_hash(const raster::Target& target);  // = content_hash(to_image(target))

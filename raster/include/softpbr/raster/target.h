@@ -202,8 +202,9 @@ Target resolve_box(const Target& source);
 // multisampled target is resolved first (resolve_box).
 Image8 resolve_srgb8(const Target& target);
 
-// 64-bit FNV-1a over the colour buffer's float bits (little-endian byte order, row-major,
-// RGBA; every sample plane in order): equal hashes mean equal pixels, for determinism tests and golden checks.
+// XXH3-64 (xxHash, seed 0) over the colour buffer's float bits (little-endian byte order,
+// row-major, RGBA; every sample plane in order): equal hashes mean equal pixels, for
+// determinism tests and golden checks. The value is the same on every platform.
 std::uint64_t hash_colors(const Target& target);
 // The same over the depth buffer.
 std::uint64_t hash_depths(const Target& target);
