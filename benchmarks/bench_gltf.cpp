@@ -10,8 +10,9 @@
 //   load/M        pbr::load_gltf(file, {.pool}): everything the command's load does (read,
 //                 parse, validate, geometry, tangents, image decode, mip chains)
 //   parse/M       tinygltf alone, configured as the loader configures it (the file and its
-//                 buffers read, the JSON parsed, images kept encoded): the part of load/M
-//                 before softpbr's own work
+//                 buffers read, the JSON parsed, images in buffers kept encoded, image
+//                 files left unread: since 2026-12-04 the loader reads those itself, on
+//                 the pool): the part of load/M before softpbr's own work
 //   decode/M      image::load_image8 of every image the model's materials use, on the pool
 //                 (one job per image, as the loader)
 //   mips/M        raster::Texture of every decoded image in the colour space its slot
@@ -30,6 +31,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <set>
@@ -97,6 +99,14 @@ bool parse(const fs::path& file, tinygltf::Model& model) {
                                     : parser.LoadASCIIFromFile(&model, &err, &warn, file.string());
 }
 
+std::vector<unsigned char> read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(fs::file_size(path)));
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
+    throw std::runtime_error(path.string() + ": cannot read");
+  return bytes;
+}
+
 Model prepare(const std::string& name, const fs::path& file, raster::ThreadPool& pool) {
   Model m;
   m.name = name;
@@ -124,7 +134,10 @@ Model prepare(const std::string& name, const fs::path& file, raster::ThreadPool&
     auto it = image_of.find(u.first);
     if (it == image_of.end()) {
       it = image_of.emplace(u.first, m.encoded.size()).first;
-      m.encoded.push_back(g.images[static_cast<std::size_t>(u.first)].image);
+      const tinygltf::Image& im = g.images[static_cast<std::size_t>(u.first)];
+      // An image in its own file: softpbr's tinygltf leaves it unread (the loader reads it;
+      // the sample models' URIs need no percent-decoding).
+      m.encoded.push_back(im.image.empty() ? read_bytes(file.parent_path() / im.uri) : im.image);
     }
     m.textures.push_back({it->second, u.second});
   }

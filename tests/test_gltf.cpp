@@ -7,12 +7,14 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <random>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "softpbr/image/write.h"
 #include "softpbr/pbr/gltf.h"
+#include "softpbr/pbr/gltf_info.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/tonemap.h"
@@ -389,4 +391,69 @@ TEST_CASE("scene files place a glTF model like an OBJ model: its primitives with
   } catch (const pbr::SceneFileError& e) {
     CHECK(std::string(e.what()).rfind("t.json: /objects/0/mesh/file: ", 0) == 0);
   }
+}
+
+TEST_CASE("external glTF images: read only when a material uses them, URIs percent-decoded, errors at /images/N/uri") {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "gltf-external-images";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "inside");
+  std::vector<std::uint8_t> noise(64 * 64 * 4);
+  std::minstd_rand random(7);
+  for (std::uint8_t& v : noise) v = static_cast<std::uint8_t>(random() >> 8);
+  const softpbr::raster::Image8 picture{64, 64, noise};  // a PNG of more than 4 KiB
+  softpbr::image::write_png(dir / "inside" / "a b+c.png", picture);
+  // The triangle with material 0 using texture 0 of image 0, whose URI is `uri`; image 1
+  // (unused by any material) names a file that does not exist.
+  auto with_image = [](const std::string& uri) {
+    std::string j = triangle_gltf(kGoodAccessors, R"(, "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}], "images": [{"uri": ")" + uri + R"("}, {"uri": "unused.png"}])");
+    return j.replace(j.find(R"("indices": 1})"), 13, R"("indices": 1, "material": 0})");
+  };
+  auto write = [&](const std::string& name, const std::string& json) {
+    std::ofstream(dir / "inside" / name) << json;
+    return dir / "inside" / name;
+  };
+  // "%20" is a space, "+" is itself (RFC 3986; tinygltf's own decoder would read a space).
+  const fs::path good = write("good.gltf", with_image("a%20b+c.png"));
+  const pbr::GltfScene g = pbr::load_gltf(good);
+  REQUIRE(g.objects.size() == 1);
+  REQUIRE(g.objects[0].material.base_color_texture.texture != nullptr);
+  CHECK(g.objects[0].material.base_color_texture.texture->width() == 64);
+  // Both images are the model's files (an output may not replace one), read or not.
+  CHECK(std::count_if(g.files.begin(), g.files.end(), [](const std::string& f) { return f.ends_with("a b+c.png"); }) == 1);
+  CHECK(std::count_if(g.files.begin(), g.files.end(), [](const std::string& f) { return f.ends_with("unused.png"); }) == 1);
+  // Inside the roots: loads; from outside them: refused with the image's pointer.
+  CHECK_NOTHROW(pbr::load_gltf(good, {.roots = {dir / "inside"}}));
+  fs::create_directories(dir / "elsewhere");
+  const std::string outside = load_error(write("outside.gltf", with_image("../inside/a%20b+c.png")), {.roots = {dir / "elsewhere"}});
+  CAPTURE(outside);
+  CHECK(outside.find("outside.gltf: /images/0/uri: ") != std::string::npos);
+  CHECK(outside.find("a b+c.png: outside the folders the scene may read (") != std::string::npos);
+  // A missing file, a folder, an empty file.
+  const std::string missing = load_error(write("missing.gltf", with_image("nothere.png")));
+  CHECK(missing.find("missing.gltf: /images/0/uri: ") != std::string::npos);
+  CHECK(missing.ends_with("nothere.png: no such file"));
+  fs::create_directories(dir / "inside" / "folder.png");
+  const std::string folder = load_error(write("folder.gltf", with_image("folder.png")));
+  CHECK(folder.find("folder.gltf: /images/0/uri: ") != std::string::npos);
+  CHECK(folder.ends_with("folder.png: cannot read: not a regular file"));
+  std::ofstream(dir / "inside" / "empty.png").flush();
+  const std::string empty = load_error(write("empty.gltf", with_image("empty.png")));
+  CAPTURE(empty);
+  CHECK(empty.find("empty.gltf: /images/0 (empty.png): the image could not be read (an empty file)") != std::string::npos);
+  // softpbr info reads every external image for its header, and names a missing one.
+  const pbr::GltfInfo info = pbr::inspect_gltf(good);
+  REQUIRE(info.images.size() == 2);
+  CHECK(info.images[0].width == 64);
+  CHECK(info.images[0].bytes == fs::file_size(dir / "inside" / "a b+c.png"));
+  REQUIRE(info.parser_warnings.size() == 1);
+  CHECK(info.parser_warnings[0].find("good.gltf: /images/1/uri: ") != std::string::npos);
+  CHECK(info.parser_warnings[0].ends_with("unused.png: no such file"));
+  // Over the file size limit: refused before it is read.
+  REQUIRE(fs::file_size(good) < 4096);
+  REQUIRE(fs::file_size(dir / "inside" / "a b+c.png") > 4096);
+  const std::string big = load_error(good, {.max_file_bytes = 4096});
+  CAPTURE(big);
+  CHECK(big.find("good.gltf: /images/0/uri: ") != std::string::npos);
+  CHECK(big.ends_with(" bytes is over the limit of 4096"));
 }

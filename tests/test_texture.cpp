@@ -7,8 +7,13 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include "image_helpers.h"
+#include "softpbr/image/load.h"
+#include "softpbr/image/write.h"
 #include "softpbr/raster/color.h"
 #include "softpbr/raster/pool.h"
 #include "softpbr/raster/texture.h"
@@ -548,4 +553,52 @@ TEST_CASE("textures and samplers refuse what they cannot hold") {
   s = {};
   s.wrap_u = static_cast<raster::Wrap>(7);
   CHECK_THROWS_AS(raster::validate(s), std::invalid_argument);
+}
+
+TEST_CASE("a texture made from a moved image decoded with room for its mip chain keeps the buffer, with the same texels") {
+  // rgba8_chain_bytes is what the texture's levels take.
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {1, 37}, {64, 64}, {1031, 517}, {3, 2}}) {
+    CAPTURE(w);
+    CAPTURE(h);
+    const raster::Texture t(softpbr::test::random_image8(w, h, 3), raster::ColorSpace::Linear);
+    CHECK(raster::Texture::rgba8_chain_bytes(w, h) == t.texel_bytes());
+  }
+  CHECK(raster::Texture::rgba8_chain_bytes(0, 4) == 0);
+  CHECK(raster::Texture::rgba8_chain_bytes(4, raster::kMaxTextureSide + 1) == 0);
+
+  raster::ThreadPool pool(2);
+  const image::Image8 original = image_test::smooth8(1031, 517);
+  for (const auto& [format, encoded] :
+       std::vector<std::pair<std::string, std::vector<std::uint8_t>>>{{"png", image::encode_png(original, "png")},
+                                                                     {"jpeg", image_test::jpeg_of(original, 3, 90)}}) {
+    CAPTURE(format);
+    image::Image8 roomy = image::load_image8(encoded, format, {}, &raster::Texture::rgba8_chain_bytes);
+    const image::Image8 plain = image::load_image8(encoded, format);
+    CHECK(roomy.rgba == plain.rgba);
+    CHECK(roomy.rgba.capacity() >= raster::Texture::rgba8_chain_bytes(1031, 517));
+    for (const raster::ColorSpace space : {raster::ColorSpace::Srgb, raster::ColorSpace::Linear}) {
+      image::Image8 moved = roomy;
+      moved.rgba.reserve(roomy.rgba.capacity());
+      const std::uint8_t* buffer = moved.rgba.data();
+      const raster::Texture taken(std::move(moved), space, {}, &pool);
+      const raster::Texture copied(plain, space);
+      CHECK(taken.texels8().data() == buffer);  // no copy, no second buffer
+      CHECK(std::ranges::equal(taken.texels8(), copied.texels8()));
+      CHECK(moved.rgba.empty());
+      CHECK(moved.width == 0);
+    }
+    // Without room the texels move to a new buffer: the same texels.
+    image::Image8 tight = plain;
+    tight.rgba.shrink_to_fit();
+    const raster::Texture moved_tight(std::move(tight), raster::ColorSpace::Srgb);
+    CHECK(std::ranges::equal(moved_tight.texels8(), raster::Texture(plain, raster::ColorSpace::Srgb).texels8()));
+    // No mip chain: the base level only.
+    image::Image8 base_only = plain;
+    const raster::Texture flat(std::move(base_only), raster::ColorSpace::Linear, {.mipmaps = false});
+    CHECK(flat.level_count() == 1);
+    CHECK(std::ranges::equal(flat.texels8(), plain.rgba));
+  }
+  // A wrong-sized image is refused as by the view constructor.
+  image::Image8 bad{4, 4, std::vector<std::uint8_t>(10)};
+  CHECK_THROWS_AS(raster::Texture(std::move(bad), raster::ColorSpace::Srgb), std::invalid_argument);
 }

@@ -11,8 +11,14 @@
 #include <vector>
 
 #include "softpbr/image/image.h"
+#include "softpbr/image/load.h"
 
 namespace softpbr::image::detail {
+
+// load_png and load_jpeg with the pixels' buffer reserved to capacity(width, height) bytes
+// (nullptr: exactly the pixels).
+Image8 png_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+Image8 jpeg_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
 
 // Throws std::runtime_error("<name>: <what>").
 [[noreturn]] void fail(std::string_view name, std::string_view what);

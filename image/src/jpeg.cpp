@@ -9,6 +9,11 @@
 namespace softpbr::image {
 
 Image8 load_jpeg(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  return detail::jpeg_rgba8(bytes, name, limits, nullptr);
+}
+
+Image8 detail::jpeg_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits,
+                          Capacity capacity) {
   detail::expect_format(bytes, name, detail::Format::Jpeg);
   const detail::JpegScan scan = detail::jpeg_scan(bytes);
   // The size first when the frame header was read: the more useful message for a file
@@ -21,7 +26,7 @@ Image8 load_jpeg(std::span<const std::uint8_t> bytes, std::string_view name, con
     detail::fail(name, "not a readable image (stb_image reads its size as " + std::to_string(size.width) + "x" +
                            std::to_string(size.height) + ", the frame header says " + std::to_string(scan.width) +
                            "x" + std::to_string(scan.height) + ")");
-  return detail::stb_load_rgba8(bytes, name);
+  return detail::stb_load_rgba8(bytes, name, capacity);
 }
 
 Image8 load_jpeg(const std::filesystem::path& path, const Limits& limits) {

@@ -5,9 +5,13 @@
 namespace softpbr::image {
 
 Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  return load_image8(bytes, name, limits, nullptr);
+}
+
+Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity) {
   switch (detail::sniff(bytes)) {
-    case detail::Format::Jpeg: return load_jpeg(bytes, name, limits);
-    case detail::Format::Png: return load_png(bytes, name, limits);
+    case detail::Format::Jpeg: return detail::jpeg_rgba8(bytes, name, limits, capacity);
+    case detail::Format::Png: return detail::png_rgba8(bytes, name, limits, capacity);
     case detail::Format::Hdr: detail::fail(name, "is a Radiance .hdr (float) image; load it with load_hdr (or load_imagef)");
     case detail::Format::Exr: detail::fail(name, "is an OpenEXR (float) image; load it with load_exr (or load_imagef)");
     default: detail::fail(name, "not a readable image (no PNG or JPEG signature)");

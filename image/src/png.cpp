@@ -23,7 +23,7 @@ using SpngContext = std::unique_ptr<spng_ctx, decltype(&spng_ctx_free)>;
 // PNGs before; the tests compare both on every kind of PNG), about 1.3× faster and with
 // no copy of the pixels. As stb_image, it reads past bad CRCs and zlib checksums; gamma
 // and colour chunks are not applied (glTF and scene textures are sRGB or linear data).
-Image8 decode_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+Image8 decode_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity) {
   const SpngContext ctx(spng_ctx_new(SPNG_CTX_IGNORE_ADLER32), &spng_ctx_free);
   if (!ctx) detail::fail(name, "cannot decode (out of memory)");
   const auto side = static_cast<std::uint32_t>(std::max(limits.max_side, 1));
@@ -40,6 +40,7 @@ Image8 decode_png(std::span<const std::uint8_t> bytes, std::string_view name, co
     image.width = static_cast<int>(ihdr.width);
     image.height = static_cast<int>(ihdr.height);
     try {
+      if (capacity != nullptr) image.rgba.reserve(std::max(size, capacity(image.width, image.height)));
       image.rgba.resize(size);
     } catch (const std::bad_alloc&) {  // a process or address-space limit: as stb_image said it
       detail::fail(name, "cannot decode (out of memory for " + std::to_string(size) + " bytes of pixels)");
@@ -52,6 +53,11 @@ Image8 decode_png(std::span<const std::uint8_t> bytes, std::string_view name, co
 }  // namespace
 
 Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  return detail::png_rgba8(bytes, name, limits, nullptr);
+}
+
+Image8 detail::png_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits,
+                         Capacity capacity) {
   detail::expect_format(bytes, name, detail::Format::Png);
   // The size from the IHDR chunk (it must follow the signature), before anything else.
   if (bytes.size() >= 24 && bytes[12] == 'I' && bytes[13] == 'H' && bytes[14] == 'D' && bytes[15] == 'R') {
@@ -64,7 +70,7 @@ Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, cons
   // Decoders allocate what a chunk claims before reading it (png_scan.h).
   if (const std::string problem = detail::png_truncation(bytes); !problem.empty())
     detail::fail(name, "cannot decode (" + problem + ")");
-  return decode_png(bytes, name, limits);
+  return decode_png(bytes, name, limits, capacity);
 }
 
 Image8 load_png(const std::filesystem::path& path, const Limits& limits) {

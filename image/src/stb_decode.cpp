@@ -5,6 +5,7 @@
 // bundles, and as it came first in the link line, that copy decoded every image.
 #include "stb_decode.h"
 
+#include <algorithm>
 #include <string>
 
 #if defined(__GNUC__)
@@ -41,12 +42,14 @@ StbSize stb_info(std::span<const std::uint8_t> bytes, std::string_view name) {
   return size;
 }
 
-Image8 stb_load_rgba8(std::span<const std::uint8_t> bytes, std::string_view name) {
+Image8 stb_load_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, Capacity capacity) {
   int w = 0, h = 0, channels = 0;
   const std::unique_ptr<stbi_uc[], StbFree> data(stbi_load_from_memory(bytes.data(), stb_size(bytes, name), &w, &h, &channels, 4));
   if (!data) fail(name, std::string("cannot decode (") + stbi_failure_reason() + ")");
   Image8 image{w, h, {}};
-  image.rgba.assign(data.get(), data.get() + static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  const std::size_t size = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4;
+  if (capacity != nullptr) image.rgba.reserve(std::max(size, capacity(w, h)));
+  image.rgba.assign(data.get(), data.get() + size);
   return image;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "softpbr/image/image.h"
+#include "softpbr/image/load.h"
 
 namespace softpbr::image::detail {
 
@@ -21,7 +22,8 @@ struct StbSize {
 StbSize stb_info(std::span<const std::uint8_t> bytes, std::string_view name);
 
 // The whole image decoded to RGBA8 (grey replicated, alpha 255 when absent).
-Image8 stb_load_rgba8(std::span<const std::uint8_t> bytes, std::string_view name);
+// The buffer is reserved to capacity(width, height) bytes when `capacity` is given.
+Image8 stb_load_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, Capacity capacity = nullptr);
 
 // The pixels stb_image returns, freed with stbi_image_free.
 struct StbFree {

@@ -258,16 +258,41 @@ void downsample(const Texture::Level& src, const Texture::Level& dst, const Fetc
 
 }  // namespace
 
-Texture::Texture(const image::ImageView8& image, ColorSpace space, const TextureOptions& options, ThreadPool* pool)
-    : space_(space) {
+std::size_t Texture::levels8(const image::ImageView8& image, const TextureOptions& options) {
   image::check_pixels(image, "texture");
-  if (space != ColorSpace::Linear && space != ColorSpace::Srgb)
+  if (space_ != ColorSpace::Linear && space_ != ColorSpace::Srgb)
     throw std::invalid_argument("texture: colour space is neither linear nor sRGB");
   allocate_levels(image.width, image.height, options.mipmaps);
-  const std::size_t texels = levels_.back().offset + static_cast<std::size_t>(levels_.back().width) *
-                                                          static_cast<std::size_t>(levels_.back().height);
-  texels8_.resize(texels * 4);
+  return (levels_.back().offset + static_cast<std::size_t>(levels_.back().width) *
+                                      static_cast<std::size_t>(levels_.back().height)) * 4;
+}
+
+Texture::Texture(const image::ImageView8& image, ColorSpace space, const TextureOptions& options, ThreadPool* pool)
+    : space_(space) {
+  texels8_.resize(levels8(image, options));
   std::copy(image.rgba.begin(), image.rgba.end(), texels8_.begin());
+  build_mips8(pool);
+}
+
+Texture::Texture(image::Image8&& image, ColorSpace space, const TextureOptions& options, ThreadPool* pool)
+    : space_(space) {
+  const std::size_t bytes = levels8(image, options);
+  texels8_ = std::move(image.rgba);  // level 0 is at offset 0, in the image's row order
+  image.width = image.height = 0;
+  texels8_.resize(bytes);  // within the capacity: no copy
+  build_mips8(pool);
+}
+
+std::size_t Texture::rgba8_chain_bytes(int width, int height) {
+  if (width < 1 || height < 1 || width > kMaxTextureSide || height > kMaxTextureSide) return 0;
+  std::size_t texels = 0;
+  for (int l = 0; l < mip_level_count(width, height); ++l)
+    texels += static_cast<std::size_t>(std::max(1, width >> l)) * static_cast<std::size_t>(std::max(1, height >> l));
+  return texels * 4;
+}
+
+void Texture::build_mips8(ThreadPool* pool) {
+  const ColorSpace space = space_;
   rgb_table_ = space == ColorSpace::Srgb ? srgb8_decode_table() : unorm8_decode_table();
   const float* alpha_table = unorm8_decode_table();
   for (std::size_t l = 1; l < levels_.size(); ++l) {

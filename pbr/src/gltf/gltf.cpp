@@ -13,6 +13,7 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -21,6 +22,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "gltf/draco.h"
+#include "gltf/files.h"
 #include "gltf/meshopt.h"
 #include "gltf/schema.h"
 #include "gltf/tinygltf.h"
@@ -49,9 +51,11 @@ std::string number_text(double x) { return json_reader::show_number(x); }
 
 class Loader {
  public:
-  Loader(const std::string& file, const tg::Model& model, const GltfOptions& options, GltfScene& out,
-         std::map<int, std::uint64_t> fallback, std::map<std::pair<std::size_t, std::size_t>, int> draco_indices)
+  Loader(const std::string& file, const std::string& base_dir, const tg::Model& model, const GltfOptions& options,
+         GltfScene& out, std::map<int, std::uint64_t> fallback,
+         std::map<std::pair<std::size_t, std::size_t>, int> draco_indices)
       : file_(file),
+        base_dir_(base_dir),
         m_(model),
         options_(options),
         out_(out),
@@ -760,10 +764,10 @@ class Loader {
     std::uint64_t used = 0, largest = 0;
     for (const tg::Buffer& b : m_.buffers) used += b.data.size();
     for (const tg::Image& im : m_.images) used += im.image.size();
+    for (const auto& bytes : external_) used += bytes.size();
     const std::uint64_t threads = options_.pool != nullptr ? options_.pool->size() : 1;
     for (const auto& [index, space] : jobs) {
-      const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
-      const image::ImageHeader h = image::read_image_header(im.image);
+      const image::ImageHeader h = image::read_image_header(encoded(index));
       const std::uint64_t texels = std::uint64_t(h.width) * std::uint64_t(h.height) * 4;
       used += texels + texels / 3 + 64;
       largest = std::max(largest, texels);
@@ -776,6 +780,43 @@ class Loader {
     }
   }
 
+  // An image's encoded bytes: in a buffer view or a data URI (tinygltf copied them), or
+  // in its own file (read_images()).
+  std::span<const std::uint8_t> encoded(int index) const {
+    const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
+    if (!im.image.empty() || static_cast<std::size_t>(index) >= external_.size()) return im.image;
+    return external_[static_cast<std::size_t>(index)];
+  }
+
+  // Every external image's path joins the files read (GltfScene::files: an output must not
+  // replace one); the ones the jobs decode are read, in parallel on the pool, before
+  // anything is decoded (check_texture_memory reads their headers).
+  void read_images(const std::vector<std::pair<int, raster::ColorSpace>>& jobs) {
+    std::vector<std::string> paths(m_.images.size());
+    for (std::size_t i = 0; i < m_.images.size(); ++i) {
+      const tg::Image& im = m_.images[i];
+      if (im.bufferView >= 0 || !gltf::is_external_uri(im.uri)) continue;
+      paths[i] = gltf::uri_path(base_dir_, im.uri);
+      out_.files.push_back(paths[i]);
+    }
+    external_.assign(m_.images.size(), {});
+    std::vector<int> wanted;
+    for (const auto& job : jobs)
+      if (!paths[static_cast<std::size_t>(job.first)].empty() &&
+          std::find(wanted.begin(), wanted.end(), job.first) == wanted.end())
+        wanted.push_back(job.first);
+    std::vector<std::string> problems(wanted.size());
+    auto read = [&](std::size_t k) {
+      const auto i = static_cast<std::size_t>(wanted[k]);
+      problems[k] = gltf::read_external(paths[i], options_.max_file_bytes, options_.roots, external_[i]);
+    };
+    if (options_.pool != nullptr) options_.pool->parallel_for(wanted.size(), read);
+    else for (std::size_t k = 0; k < wanted.size(); ++k) read(k);
+    for (std::size_t k = 0; k < wanted.size(); ++k)
+      if (!problems[k].empty())
+        fail("/images/" + std::to_string(wanted[k]) + "/uri", problems[k]);
+  }
+
   // Decodes every image a slot needs, once per image and colour space, on the pool, and
   // fills the slots (of the cached materials and of the objects that copied them).
   void decode_images() {
@@ -785,6 +826,7 @@ class Loader {
       const auto key = std::make_pair(p.image, p.space);
       if (job_of.emplace(key, jobs.size()).second) jobs.push_back(key);
     }
+    read_images(jobs);
     check_texture_memory(jobs);
     std::vector<std::shared_ptr<const raster::Texture>> textures(jobs.size());
     auto decode = [&](std::size_t j) {
@@ -792,11 +834,12 @@ class Loader {
       const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
       const std::string name =
           file_ + ": /images/" + std::to_string(index) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " (" + im.uri + ")");
-      if (im.image.empty())
-        throw LoadError(name + ": the image could not be read" + (im.uri.empty() ? "" : " (missing or empty file)"));
+      const std::span<const std::uint8_t> bytes = encoded(index);
+      if (bytes.empty()) throw LoadError(name + ": the image could not be read" + (im.uri.empty() ? "" : " (an empty file)"));
       try {
-        const image::Image8 pixels = image::load_image8(im.image, name, options_.image_limits);
-        textures[j] = std::make_shared<const raster::Texture>(pixels, space);
+        // Decoded with room for the mip chain, which the texture then builds in place.
+        image::Image8 pixels = image::load_image8(bytes, name, options_.image_limits, &raster::Texture::rgba8_chain_bytes);
+        textures[j] = std::make_shared<const raster::Texture>(std::move(pixels), space);
       } catch (const LoadError&) {
         throw;
       } catch (const std::bad_alloc&) {
@@ -910,6 +953,10 @@ class Loader {
   };
 
   std::string file_;
+  std::string base_dir_;
+  // The encoded bytes of the external images the materials use, by image index (tinygltf
+  // reads none: TINYGLTF_NO_EXTERNAL_IMAGE), read on the pool by read_images().
+  std::vector<std::vector<unsigned char>> external_;
   const tg::Model& m_;
   const GltfOptions& options_;
   GltfScene& out_;
@@ -947,23 +994,12 @@ struct FsContext {
   std::vector<std::string> files;  // every external file read (GltfScene::files)
 };
 
+// tinygltf's file reader (external buffers: images it leaves to Loader::read_images).
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   auto* ctx = static_cast<FsContext*>(user);
   ctx->files.push_back(path);
-  if (const std::string problem = detail::outside_roots(path, *ctx->roots); !problem.empty()) {
-    if (err) *err += path + ": " + problem + "\n";
-    return false;
-  }
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec || size > ctx->limit) {
-    if (err) *err += path + (ec ? ": cannot read" : ": over the size limit") + "\n";
-    return false;
-  }
-  std::ifstream in(path, std::ios::binary);
-  out->resize(static_cast<std::size_t>(size));
-  if (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size))) {
-    if (err) *err += path + ": cannot read\n";
+  if (const std::string problem = gltf::read_external(path, ctx->limit, *ctx->roots, *out); !problem.empty()) {
+    if (err) *err += problem + "\n";
     return false;
   }
   return true;
@@ -1116,7 +1152,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
     if (end == std::string::npos) break;
     start = end + 1;
   }
-  Loader(file, model, options, out, std::move(fallback), std::move(draco_indices)).load();
+  Loader(file, base_dir, model, options, out, std::move(fallback), std::move(draco_indices)).load();
   return out;
 }
 

@@ -2,10 +2,10 @@
 // gltf.cpp does, keeping from each image only its header's size (never its pixels).
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <map>
 
+#include "gltf/files.h"
 #include "gltf/tinygltf.h"
 #include "softpbr/image/load.h"
 #include "softpbr/pbr/gltf_info.h"
@@ -26,24 +26,8 @@ struct Context {
 
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
   const auto* ctx = static_cast<const Context*>(user);
-  if (const std::string problem = detail::outside_roots(path, *ctx->roots); !problem.empty()) {
-    if (err) *err += path + ": " + problem + "\n";
-    return false;
-  }
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    if (err) *err += path + ": cannot read: not a regular file\n";
-    return false;
-  }
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec || size > ctx->limit) {
-    if (err) *err += path + (ec ? ": cannot read" : ": over the size limit") + "\n";
-    return false;
-  }
-  std::ifstream in(path, std::ios::binary);
-  out->resize(static_cast<std::size_t>(size));
-  if (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size))) {
-    if (err) *err += path + ": cannot read\n";
+  if (const std::string problem = gltf::read_external(path, ctx->limit, *ctx->roots, *out); !problem.empty()) {
+    if (err) *err += problem + "\n";
     return false;
   }
   return true;
@@ -146,6 +130,19 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
     if (!line.empty()) info.parser_warnings.push_back(file + ": " + line);
     if (end == std::string::npos) break;
     start = end + 1;
+  }
+  // External image files (tinygltf reads none): each read for its header, one at a time.
+  for (std::size_t i = 0; i < m.images.size(); ++i) {
+    const tg::Image& im = m.images[i];
+    if (im.bufferView >= 0 || !gltf::is_external_uri(im.uri)) continue;
+    std::vector<unsigned char> encoded;
+    const std::string problem = gltf::read_external(gltf::uri_path(base_dir, im.uri), ctx.limit, *ctx.roots, encoded);
+    if (!problem.empty()) {
+      info.parser_warnings.push_back(file + ": /images/" + std::to_string(i) + "/uri: " + problem);
+      continue;
+    }
+    ctx.headers[static_cast<int>(i)] = image::read_image_header(encoded);
+    ctx.sizes[static_cast<int>(i)] = encoded.size();
   }
   info.version = m.asset.version;
   info.generator = m.asset.generator;

@@ -1,6 +1,8 @@
 // tinygltf (Debian's libtinygltf-dev), configured the one way softpbr uses it: JSON through
 // nlohmann-json, no image decoding (images are decoded by softpbr::image, with its
-// limits), no image writing. Included by gltf.cpp and by tinygltf.cpp, the one
+// limits), no reading of external image files (the loader reads the ones its materials
+// use, in parallel, straight into the buffers it decodes from: gltf/files.h), no image
+// writing. Included by gltf.cpp and by tinygltf.cpp, the one
 // translation unit that compiles its implementation.
 #pragma once
 
@@ -8,4 +10,5 @@
 #define TINYGLTF_NO_STB_IMAGE_WRITE
 #define TINYGLTF_NO_INCLUDE_STB_IMAGE
 #define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
 #include <tiny_gltf.h>

@@ -44,6 +44,14 @@ Image8 load_jpeg(std::span<const std::uint8_t> bytes, std::string_view name, con
 Image8 load_image8(const std::filesystem::path& path, const Limits& limits = {});
 Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
 
+// The capacity in bytes to reserve for the pixels of a decoded width × height RGBA8 image
+// (used only when above width × height × 4).
+using Capacity = std::size_t (*)(int width, int height);
+// As load_image8, the pixels' buffer reserved to capacity(width, height) bytes: room to
+// grow without a copy. raster::Texture::rgba8_chain_bytes is such a function; a Texture
+// made from the moved image then keeps its buffer and writes the mip chain after it.
+Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+
 // Radiance .hdr (RGBE, flat or run-length encoded) as linear float RGBA with alpha 1.
 // Refuses 8-bit files (stb would invent a gamma curve for them; use load_png).
 ImageF load_hdr(const std::filesystem::path& path, const Limits& limits = {});

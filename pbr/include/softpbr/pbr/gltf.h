@@ -19,6 +19,9 @@
 //   doubleSided, KHR_materials_unlit, KHR_texture_transform on every texture; the default material for
 //   primitives without one; samplers mapped to raster::Sampler (see gltf.cpp);
 // - images (PNG, JPEG) decoded by softpbr::image with its limits, on `pool` in parallel;
+//   an image in its own file is read only when a material uses it (on `pool` too), its
+//   URI percent-decoded as RFC 3986 says ("%20" a space, "+" itself), within `roots` and
+//   max_file_bytes; every such file is listed in GltfScene::files, read or not;
 // - KHR_lights_punctual lights placed by their nodes, and cameras: perspective (yfov,
 //   znear, zfar; an infinite far plane becomes 10^5 × znear) and orthographic (xmag, ymag,
 //   znear ≥ 0, zfar: Camera::orthographic with glTF's matrix; a negative magnification,

@@ -97,6 +97,14 @@ class Texture {
   // wrong size, std::bad_alloc when the texels do not fit in memory.
   Texture(const image::ImageView8& image, ColorSpace space, const TextureOptions& options = {},
           ThreadPool* pool = nullptr);
+  // The same, taking over the image's pixel buffer: with capacity for the mip chain
+  // (image::load_image8 with rgba8_chain_bytes as its capacity) the base level is not
+  // copied and no second buffer is allocated; otherwise the texels move to a new buffer.
+  // The same texels either way.
+  Texture(image::Image8&& image, ColorSpace space, const TextureOptions& options = {}, ThreadPool* pool = nullptr);
+  // Bytes of an 8-bit texture's texels with its whole mip chain, for a base of width ×
+  // height (its level count as mip_level_count); 0 for a size outside [1, kMaxTextureSide].
+  static std::size_t rgba8_chain_bytes(int width, int height);
   // A float RGBA texture (HDR): values are used as stored and must be finite
   // (std::invalid_argument otherwise).
   explicit Texture(const image::ImageViewF& image, const TextureOptions& options = {}, ThreadPool* pool = nullptr);
@@ -165,6 +173,10 @@ class Texture {
 
  private:
   void allocate_levels(int width, int height, bool mipmaps);
+  // Checks an 8-bit image and space_, sets levels_; returns the bytes of every level.
+  std::size_t levels8(const image::ImageView8& image, const TextureOptions& options);
+  // The 8-bit texture's levels after the base, which texels8_ holds (sized for all).
+  void build_mips8(ThreadPool* pool);
 
   std::vector<Level> levels_;
   image::PixelVector<std::uint8_t> texels8_;  // RGBA8, every level

@@ -1,0 +1,56 @@
+// External files of a .gltf: see files.h.
+#include "gltf/files.h"
+
+#include <fstream>
+#include <system_error>
+
+#include "texture_cache.h"
+
+namespace softpbr::pbr::gltf {
+
+namespace {
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+}  // namespace
+
+std::string uri_path(const std::string& base_dir, const std::string& uri) {
+  std::string decoded;
+  decoded.reserve(uri.size());
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    const int hi = uri[i] == '%' && i + 2 < uri.size() ? hex_digit(uri[i + 1]) : -1;
+    const int lo = hi >= 0 ? hex_digit(uri[i + 2]) : -1;
+    if (lo >= 0) {
+      decoded += static_cast<char>(hi * 16 + lo);
+      i += 2;
+    } else {
+      decoded += uri[i];
+    }
+  }
+  if (base_dir.empty()) return decoded;
+  return base_dir.back() == '/' ? base_dir + decoded : base_dir + "/" + decoded;
+}
+
+bool is_external_uri(const std::string& uri) { return !uri.empty() && uri.rfind("data:", 0) != 0; }
+
+std::string read_external(const std::string& path, std::uint64_t limit, const std::vector<std::filesystem::path>& roots,
+                          std::vector<unsigned char>& out) {
+  if (const std::string problem = detail::outside_roots(path, roots); !problem.empty()) return path + ": " + problem;
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) return path + ": no such file";
+  if (!std::filesystem::is_regular_file(status)) return path + ": cannot read: not a regular file";
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return path + ": cannot read";
+  if (size > limit) return path + ": " + std::to_string(size) + " bytes is over the limit of " + std::to_string(limit);
+  std::ifstream in(path, std::ios::binary);
+  out.resize(static_cast<std::size_t>(size));
+  if (!in || (size > 0 && !in.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(size))))
+    return path + ": cannot read";
+  return "";
+}
+
+}  // namespace softpbr::pbr::gltf
