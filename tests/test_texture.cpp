@@ -557,7 +557,8 @@ TEST_CASE("textures and samplers refuse what they cannot hold") {
 
 TEST_CASE("a texture made from a moved image decoded with room for its mip chain keeps the buffer, with the same texels") {
   // rgba8_chain_bytes is what the texture's levels take.
-  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {1, 37}, {64, 64}, {1031, 517}, {3, 2}}) {
+  for (const auto& size : std::vector<std::pair<int, int>>{{1, 1}, {1, 37}, {64, 64}, {1031, 517}, {3, 2}}) {
+    const int w = size.first, h = size.second;  // not a structured binding: CAPTURE's lambda takes it (Clang 14)
     CAPTURE(w);
     CAPTURE(h);
     const raster::Texture t(softpbr::test::random_image8(w, h, 3), raster::ColorSpace::Linear);
@@ -568,9 +569,10 @@ TEST_CASE("a texture made from a moved image decoded with room for its mip chain
 
   raster::ThreadPool pool(2);
   const image::Image8 original = image_test::smooth8(1031, 517);
-  for (const auto& [format, encoded] :
-       std::vector<std::pair<std::string, std::vector<std::uint8_t>>>{{"png", image::encode_png(original, "png")},
-                                                                     {"jpeg", image_test::jpeg_of(original, 3, 90)}}) {
+  for (const auto& file : std::vector<std::pair<std::string, std::vector<std::uint8_t>>>{
+           {"png", image::encode_png(original, "png")}, {"jpeg", image_test::jpeg_of(original, 3, 90)}}) {
+    const std::string& format = file.first;
+    const std::vector<std::uint8_t>& encoded = file.second;
     CAPTURE(format);
     image::Image8 roomy = image::load_image8(encoded, format, {}, &raster::Texture::rgba8_chain_bytes);
     const image::Image8 plain = image::load_image8(encoded, format);
