@@ -433,6 +433,11 @@ TEST_CASE("external glTF images: read only when a material uses them, URIs perce
   const std::string missing = load_error(write("missing.gltf", with_image("nothere.png")));
   CHECK(missing.find("missing.gltf: /images/0/uri: ") != std::string::npos);
   CHECK(missing.ends_with("nothere.png: no such file"));
+  // "%00" would end the path early in the system's calls (here at "good.gltf").
+  const std::string nul = load_error(write("nul.gltf", with_image("good.gltf%00.png")));
+  CAPTURE(nul);
+  CHECK(nul.find("nul.gltf: /images/0/uri: ") != std::string::npos);
+  CHECK(nul.ends_with("good.gltf…: a NUL character in the file name"));
   fs::create_directories(dir / "inside" / "folder.png");
   const std::string folder = load_error(write("folder.gltf", with_image("folder.png")));
   CHECK(folder.find("folder.gltf: /images/0/uri: ") != std::string::npos);

@@ -30,7 +30,9 @@ TextureImage read_texture_image(const fs::path& path, std::uint64_t max_bytes) {
   out.is_float = is_float_image_path(path);
   try {
     if (out.is_float) out.imagef = image::load_imagef(path, limits);
-    else out.image8 = image::load_image8(path, limits);
+    // With room for the mip chain: make_texture(TextureImage&&) keeps the buffer.
+    else out.image8 = image::load_image8(image::read_file(path, limits), path.string(), limits,
+                                         &raster::Texture::rgba8_chain_bytes);
   } catch (const std::runtime_error& e) {
     // The library's "… needs N bytes decoded, over the limit of M": say where M comes from.
     const std::string what = e.what();
@@ -40,6 +42,16 @@ TextureImage read_texture_image(const fs::path& path, std::uint64_t max_bytes) {
     throw;
   }
   return out;
+}
+
+std::shared_ptr<const raster::Texture> make_texture(TextureImage&& image, raster::ColorSpace space,
+                                                    const std::string& name) {
+  if (image.is_float) return make_texture(static_cast<const TextureImage&>(image), space, name);
+  try {
+    return std::make_shared<const raster::Texture>(std::move(image.image8), space);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(name + ": " + e.what());
+  }
 }
 
 std::shared_ptr<const raster::Texture> make_texture(const TextureImage& image, raster::ColorSpace space,

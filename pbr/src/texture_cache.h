@@ -47,6 +47,10 @@ TextureImage read_texture_image(const std::filesystem::path& path, std::uint64_t
 // the texture refuses the pixels (a float texel that is not finite).
 std::shared_ptr<const raster::Texture> make_texture(const TextureImage& image, raster::ColorSpace space,
                                                     const std::string& name);
+// The same, keeping an 8-bit image's pixel buffer (read_texture_image leaves room for the
+// mip chain in it).
+std::shared_ptr<const raster::Texture> make_texture(TextureImage&& image, raster::ColorSpace space,
+                                                    const std::string& name);
 
 // "" when `roots` is empty or `path`, with symbolic links and ".." resolved, lies inside
 // one of them (each root itself resolved); else the problem, "outside the folders …".

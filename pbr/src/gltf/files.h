@@ -19,7 +19,8 @@ bool is_external_uri(const std::string& uri);
 
 // Reads a whole regular file of at most `limit` bytes that lies inside one of `roots`
 // (empty: anywhere) into `out`. Returns "" on success, otherwise one line saying what is
-// wrong, starting with the path ("textures/a.png: no such file").
+// wrong, starting with the path ("textures/a.png: no such file"). A path holding a NUL
+// character (a URI's "%00") is refused.
 std::string read_external(const std::string& path, std::uint64_t limit, const std::vector<std::filesystem::path>& roots,
                           std::vector<unsigned char>& out);
 
