@@ -31,7 +31,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <set>
@@ -99,14 +98,6 @@ bool parse(const fs::path& file, tinygltf::Model& model) {
                                     : parser.LoadASCIIFromFile(&model, &err, &warn, file.string());
 }
 
-std::vector<unsigned char> read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(fs::file_size(path)));
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
-    throw std::runtime_error(path.string() + ": cannot read");
-  return bytes;
-}
-
 Model prepare(const std::string& name, const fs::path& file, raster::ThreadPool& pool) {
   Model m;
   m.name = name;
@@ -137,7 +128,7 @@ Model prepare(const std::string& name, const fs::path& file, raster::ThreadPool&
       const tinygltf::Image& im = g.images[static_cast<std::size_t>(u.first)];
       // An image in its own file: softpbr's tinygltf leaves it unread (the loader reads it;
       // the sample models' URIs need no percent-decoding).
-      m.encoded.push_back(im.image.empty() ? read_bytes(file.parent_path() / im.uri) : im.image);
+      m.encoded.push_back(im.image.empty() ? image::read_file(file.parent_path() / im.uri) : im.image);
     }
     m.textures.push_back({it->second, u.second});
   }

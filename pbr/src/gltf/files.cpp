@@ -39,7 +39,8 @@ bool is_external_uri(const std::string& uri) { return !uri.empty() && uri.rfind(
 std::string read_external(const std::string& path, std::uint64_t limit, const std::vector<std::filesystem::path>& roots,
                           std::vector<unsigned char>& out) {
   // "%00" decodes to a NUL, where the system's calls would end the path early.
-  if (path.find('\0') != std::string::npos) return path.substr(0, path.find('\0')) + "…: a NUL character in the file name";
+  if (const std::size_t nul = path.find('\0'); nul != std::string::npos)
+    return path.substr(0, nul) + "…: a NUL character in the file name";
   if (const std::string problem = detail::outside_roots(path, roots); !problem.empty()) return path + ": " + problem;
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);

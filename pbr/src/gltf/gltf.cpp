@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -780,12 +781,18 @@ class Loader {
     }
   }
 
+  // fn(0) … fn(count − 1), on the pool when there is one.
+  void for_each_job(std::size_t count, const std::function<void(std::size_t)>& fn) const {
+    if (options_.pool != nullptr) options_.pool->parallel_for(count, fn);
+    else for (std::size_t k = 0; k < count; ++k) fn(k);
+  }
+
   // An image's encoded bytes: in a buffer view or a data URI (tinygltf copied them), or
-  // in its own file (read_images()).
+  // in its own file (after read_images()).
   std::span<const std::uint8_t> encoded(int index) const {
-    const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
-    if (!im.image.empty() || static_cast<std::size_t>(index) >= external_.size()) return im.image;
-    return external_[static_cast<std::size_t>(index)];
+    const auto i = static_cast<std::size_t>(index);
+    if (!m_.images[i].image.empty()) return m_.images[i].image;
+    return external_[i];
   }
 
   // Every external image's path joins the files read (GltfScene::files: an output must not
@@ -810,8 +817,7 @@ class Loader {
       const auto i = static_cast<std::size_t>(wanted[k]);
       problems[k] = gltf::read_external(paths[i], options_.max_file_bytes, options_.roots, external_[i]);
     };
-    if (options_.pool != nullptr) options_.pool->parallel_for(wanted.size(), read);
-    else for (std::size_t k = 0; k < wanted.size(); ++k) read(k);
+    for_each_job(wanted.size(), read);
     for (std::size_t k = 0; k < wanted.size(); ++k)
       if (!problems[k].empty())
         fail("/images/" + std::to_string(wanted[k]) + "/uri", problems[k]);
@@ -848,11 +854,7 @@ class Loader {
         throw LoadError(e.what());
       }
     };
-    if (options_.pool != nullptr) {
-      options_.pool->parallel_for(jobs.size(), decode);
-    } else {
-      for (std::size_t j = 0; j < jobs.size(); ++j) decode(j);
-    }
+    for_each_job(jobs.size(), decode);
     for (const Pending& p : pending_) p.slot->texture = textures[job_of.at({p.image, p.space})];
     // The objects, now that their materials are complete.
     for (const Placed& o : placed_) out_.objects.push_back({o.mesh, *materials_.at(o.material), o.transform});
