@@ -7,7 +7,9 @@
 // variants that split its time, the shared meshes when ../shared/models exists),
 // each at 1 and 2 renderer threads. One iteration is one frame of pbr::render(): clear,
 // 21 (or 8) draws with the PBR shader, end_frame() with each tile tone mapped to RGBA8
-// right after it is drawn (pbr::render_rgba8: the finished image). Counters:
+// right after it is drawn (pbr::render_rgba8: the finished image). SOFTPBR_BENCH_MSAA=4
+// (or 8) renders into a multisampled target; SOFTPBR_BENCH_LANES=N picks the packet width.
+// Counters:
 //   ms/frame   wall-clock time per frame
 //   Mpix/s     shaded pixels (covered pixels × the scene's overdraw) per second
 //   Mtri/s     submitted triangles per second
@@ -33,8 +35,9 @@ namespace raster = softpbr::raster;
 
 namespace {
 
+// Pixels whose sample 0 is covered (the first sample plane; with 1 sample, every pixel).
 std::size_t covered_pixels(const raster::Target& target) {
-  const auto d = target.depths();
+  const auto d = target.depths().first(static_cast<std::size_t>(target.width()) * target.height());
   return static_cast<std::size_t>(std::count_if(d.begin(), d.end(), [](float z) { return z < 1.0f; }));
 }
 
@@ -45,12 +48,20 @@ int bench_lanes() {
   return env != nullptr ? std::atoi(env) : 0;
 }
 
+// The target's samples a pixel from SOFTPBR_BENCH_MSAA (1, 4 or 8; unset: 1), to compare
+// a scene's MSAA frame with its 1× frame in one binary.
+int bench_msaa() {
+  const char* env = std::getenv("SOFTPBR_BENCH_MSAA");
+  const int n = env != nullptr ? std::atoi(env) : 1;
+  return raster::valid_sample_count(n) ? n : 1;
+}
+
 void run_scene(benchmark::State& state, const bench::BenchScene* s) {
   const unsigned threads = static_cast<unsigned>(state.range(0));
   raster::Renderer renderer({.threads = threads, .tile_size = 64, .lanes = bench_lanes()});
   bench::reset_heap_peak();
   const std::size_t before = bench::heap_in_use();
-  raster::Target target(s->width, s->height);
+  raster::Target target(s->width, s->height, bench_msaa());
   raster::Image8 image;
   pbr::render_rgba8(s->scene, renderer, target, s->output, image);  // warm-up: buffers reach their size
   const double shaded = static_cast<double>(covered_pixels(target)) * s->overdraw;

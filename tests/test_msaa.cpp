@@ -11,6 +11,7 @@
 #include <doctest/doctest.h>
 
 #include "raster_helpers.h"
+#include "softpbr/raster/detail/rast.h"
 #include "softpbr/raster/raster.h"
 
 namespace {
@@ -96,6 +97,19 @@ std::vector<Point> grid_triangles(std::mt19937& rng, int count, int width, int h
 }
 
 }  // namespace
+
+TEST_CASE("the tile kernel's sample-lane masks turn into pixel order exactly (all 65536 masks)") {
+  // Sample lane k = 4·s + j (sample s of pixel j) goes to bit 4·j + s.
+  for (unsigned x = 0; x < 0x10000u; ++x) {
+    unsigned expected = 0, pixels = 0;
+    for (int s = 0; s < 4; ++s)
+      for (int j = 0; j < 4; ++j)
+        if (x >> (4 * s + j) & 1u) expected |= 1u << (4 * j + s), pixels |= 1u << j;
+    CAPTURE(x);
+    REQUIRE(raster::detail::transpose_4x4_bits(x) == expected);
+    REQUIRE(raster::detail::pixels_of_sample_lanes(x) == pixels);
+  }
+}
 
 TEST_CASE("MSAA sample patterns are the standard D3D/Vulkan 4x and 8x positions, distinct and inside the pixel") {
   const auto one = raster::sample_offsets(1);

@@ -74,6 +74,10 @@ template <> struct NativeVector<std::int32_t, 4> { typedef std::int32_t type __a
 template <> struct NativeVector<double, 4> { typedef double type __attribute__((vector_size(32))); };
 template <> struct NativeVector<std::int64_t, 2> { typedef std::int64_t type __attribute__((vector_size(16))); };
 template <> struct NativeVector<std::int64_t, 4> { typedef std::int64_t type __attribute__((vector_size(32))); };
+template <> struct NativeVector<std::int64_t, 8> { typedef std::int64_t type __attribute__((vector_size(64))); };
+template <> struct NativeVector<double, 8> { typedef double type __attribute__((vector_size(64))); };
+template <> struct NativeVector<float, 8> { typedef float type __attribute__((vector_size(32))); };
+template <> struct NativeVector<float, 16> { typedef float type __attribute__((vector_size(64))); };
 template <class T, int N>
 using native_t = typename NativeVector<T, N>::type;
 

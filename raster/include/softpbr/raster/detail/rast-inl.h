@@ -184,8 +184,23 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
     return v;
   };
   if constexpr (kMs > 1) {
-    for (int lane = 0; lane < b.count; ++lane)
-      write_samples<kMs>(state, color(lane), b.sample_mask[lane], b.sample_depth[lane], b.index[lane], target);
+    if (!state.alpha_test && state.blend == Blend::Replace) {
+      // The common case: a pixel whose samples all passed takes its colour in every plane.
+      constexpr unsigned kAll = (1u << kMs) - 1;
+      for (int lane = 0; lane < b.count; ++lane) {
+        const glm::vec4 src = color(lane);
+        const std::size_t idx = b.index[lane];
+        if (b.sample_mask[lane] == kAll) {
+          for (int s = 0; s < kMs; ++s) colors[static_cast<std::size_t>(s) * target.plane + idx] = src;
+        } else {
+          for (unsigned m = b.sample_mask[lane]; m != 0; m &= m - 1)
+            colors[static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx] = src;
+        }
+      }
+    } else {
+      for (int lane = 0; lane < b.count; ++lane)
+        write_samples<kMs>(state, color(lane), b.sample_mask[lane], b.sample_depth[lane], b.index[lane], target);
+    }
   } else if (state.alpha_test) {  // the blend mode decided once per packet: replacing does not read the target
     // Lanes in submission order, each tested against the depths the lanes before it wrote.
     for (int lane = 0; lane < b.count; ++lane) {
@@ -331,15 +346,39 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   const I64x4 quad_step1 = I64x4{} + std::int64_t{t.a[1]} * (2 * kStep);
   const I64x4 quad_step2 = I64x4{} + std::int64_t{t.a[2]} * (2 * kStep);
   const auto to_float = [](I64x4 e) { return simd::SOFTPBR_TARGET_NS::to_float_below_2p51(e); };
-  // MSAA: each sample's offset of the three edge functions from their pixel-centre values
-  // (sample offsets are 1/16 pixel, 16 fixed-point units).
+  // A quad's four lanes repeated over 8 sample lanes (two samples): a shuffle, not a
+  // broadcast, into a vector of the registers' width (GCC builds wider generic vectors, and
+  // broadcasts into them, through the stack).
+  using I64x8 = simd::native_t<std::int64_t, 8>;
+  const auto quad_lanes = [](I64x4 e) -> I64x8 { return __builtin_shufflevector(e, e, 0, 1, 2, 3, 0, 1, 2, 3); };
+  // MSAA: a quad's samples run four at a time as 16 sample lanes k = 4·s + j (sample s of
+  // pixel j; transpose_4x4_bits, rast.h), in kChunks chunks of four samples, each chunk two
+  // halves of 8 lanes (samples 4c, 4c + 1 and 4c + 2, 4c + 3). chunk_edge[c][i][h] holds
+  // edge i at each sample lane of half h minus its value at the lane's pixel centre: the
+  // sample's offset (sample offsets are 1/16 pixel, 16 fixed-point units), added to the
+  // quad's four centre values repeated (quad_lanes); chunk_weight[c][i − 1][h] the same for
+  // edges 1 and 2 with their bias added, the unbiased values the depth plane takes. Exact
+  // integers, so a sample's values are those of its own plane equation, whichever way the
+  // sum is grouped.
   constexpr int kSamples = kMs > 1 ? kMs : 1;
-  std::int64_t sample_edge[3][kSamples];
+  constexpr int kChunks = kMs > 1 ? kMs / 4 : 1;
+  using V16 = simd::Lanes<16, SOFTPBR_ISA>;
+  [[maybe_unused]] I64x8 chunk_edge[kChunks][3][2], chunk_weight[kChunks][2][2];
   if constexpr (kMs > 1) {
     const SampleOffset* offsets = kMs == 4 ? kSamplePattern4 : kSamplePattern8;
-    for (int i = 0; i < 3; ++i)
-      for (int s = 0; s < kMs; ++s)
-        sample_edge[i][s] = std::int64_t{t.a[i]} * (offsets[s].x * 16) + std::int64_t{t.b[i]} * (offsets[s].y * 16);
+    for (int c = 0; c < kChunks; ++c) {
+      I64x4 ox, oy;  // the chunk's four sample offsets in fixed point
+      for (int s = 0; s < 4; ++s) ox[s] = offsets[4 * c + s].x * 16, oy[s] = offsets[4 * c + s].y * 16;
+      for (int i = 0; i < 3; ++i) {
+        const I64x4 offset = (I64x4{} + std::int64_t{t.a[i]}) * ox + (I64x4{} + std::int64_t{t.b[i]}) * oy;
+        chunk_edge[c][i][0] = __builtin_shufflevector(offset, offset, 0, 0, 0, 0, 1, 1, 1, 1);
+        chunk_edge[c][i][1] = __builtin_shufflevector(offset, offset, 2, 2, 2, 2, 3, 3, 3, 3);
+      }
+      for (int h = 0; h < 2; ++h) {
+        chunk_weight[c][0][h] = chunk_edge[c][1][h] + static_cast<std::int64_t>(t.bias[1]);
+        chunk_weight[c][1][h] = chunk_edge[c][2][h] + static_cast<std::int64_t>(t.bias[2]);
+      }
+    }
   }
   // A row of quads is walked only over the quads where every edge function can be ≥ 0
   // (span_of_row): the others would find no sample inside. Worth its three divisions per
@@ -371,18 +410,23 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // their OR is clear.
       const unsigned in_tile = rows & (qx + 1 < tile.x1 ? 0xFu : 0x5u);
       unsigned mask;
-      // MSAA: covered[s] has bit j when sample s of lane j is inside.
-      unsigned covered[kSamples];
+      // MSAA: covered[c] has bit 4·s + j when sample 4c + s of lane j is inside.
+      [[maybe_unused]] unsigned covered[kChunks];
       if constexpr (kMs == 1) {
         mask = ~simd::SOFTPBR_TARGET_NS::sign_bits(e0 | e1 | e2) & in_tile;
       } else {
-        mask = 0;
-        for (int s = 0; s < kMs; ++s) {
-          covered[s] = ~simd::SOFTPBR_TARGET_NS::sign_bits((e0 + sample_edge[0][s]) | (e1 + sample_edge[1][s]) |
-                                                           (e2 + sample_edge[2][s])) &
-                       in_tile;
-          mask |= covered[s];
+        unsigned any = 0;
+        for (int c = 0; c < kChunks; ++c) {
+          unsigned bits = 0;
+          for (int h = 0; h < 2; ++h)
+            bits |= simd::SOFTPBR_TARGET_NS::sign_bits8((quad_lanes(e0) + chunk_edge[c][0][h]) |
+                                                        (quad_lanes(e1) + chunk_edge[c][1][h]) |
+                                                        (quad_lanes(e2) + chunk_edge[c][2][h]))
+                    << (8 * h);
+          covered[c] = ~bits & (in_tile * 0x1111u);
+          any |= covered[c];
         }
+        mask = pixels_of_sample_lanes(any);
       }
       if (mask == 0) continue;
 
@@ -423,7 +467,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       };
       // MSAA: depth per sample from the same plane equation at the sample, tested and
       // written per sample; lane_samples[j] keeps the samples of lane j that passed.
-      alignas(16) float sample_z[kSamples][4];
+      alignas(64) float sample_z[kSamples][4];  // [s][j]: chunk c's sample lanes at [4c]
       unsigned lane_samples[4] = {0, 0, 0, 0};
       if constexpr (kMs == 1) {
         if (whole_quad) {
@@ -438,29 +482,65 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         }
       } else {
         mask = 0;
-        for (int s = 0; s < kMs; ++s) {
-          if (covered[s] == 0) continue;
-          const V4 sw1(to_float(e1 + (sample_edge[1][s] + t.bias[1])));
-          const V4 sw2(to_float(e2 + (sample_edge[2][s] + t.bias[2])));
-          const V4 l1 = sw1 * V4(t.inv_area);
-          const V4 l2 = sw2 * V4(t.inv_area);
-          const V4 sz = simd::clamp(V4(t.z0) + l1 * V4(t.dz1) + l2 * V4(t.dz2), V4(0.0f), V4(1.0f));
-          sz.store(sample_z[s]);
-          float* const plane_depths = depths + static_cast<std::size_t>(s) * target.plane;
-          unsigned passed = 0;  // bit j: sample s of lane j passed
+        for (int c = 0; c < kChunks; ++c) {
+          if (covered[c] == 0) continue;
+          // The 16 sample lanes' depths, as the 4-lane form computes each sample's.
+          const auto weights = [&](I64x4 e, int i) {
+            using F8 = simd::native_t<float, 8>;
+            const F8 lo = simd::SOFTPBR_TARGET_NS::to_float_below_2p51_n<8>(quad_lanes(e) + chunk_weight[c][i][0]);
+            const F8 hi = simd::SOFTPBR_TARGET_NS::to_float_below_2p51_n<8>(quad_lanes(e) + chunk_weight[c][i][1]);
+            return V16(__builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+          };
+          const V16 sw1 = weights(e1, 0);
+          const V16 sw2 = weights(e2, 1);
+          const V16 l1 = sw1 * V16(t.inv_area);
+          const V16 l2 = sw2 * V16(t.inv_area);
+          const V16 sz = simd::clamp(V16(t.z0) + l1 * V16(t.dz1) + l2 * V16(t.dz2), V16(0.0f), V16(1.0f));
+          sz.store(sample_z[4 * c]);
+          unsigned passed;  // bit 4·s + j: sample 4c + s of lane j passed
           if (whole_quad) {
-            passed = test_quad(plane_depths, sz, covered[s]);
+            // The four samples' 2×2 depths from their planes as one vector: two 2-float
+            // rows per plane, compared at once and written back with the passing lanes
+            // replaced (the others keep their own bits; the tile has one writer).
+            using F4 = simd::native_t<float, 4>;
+            using F8 = simd::native_t<float, 8>;
+            float* plane_depths[4];
+            F4 rows[4];
+            for (int s = 0; s < 4; ++s) {
+              plane_depths[s] = depths + static_cast<std::size_t>(4 * c + s) * target.plane + quad_idx;
+              __builtin_memcpy(&rows[s], plane_depths[s], 2 * sizeof(float));
+              __builtin_memcpy(reinterpret_cast<char*>(&rows[s]) + 2 * sizeof(float), plane_depths[s] + width,
+                               2 * sizeof(float));
+            }
+            const F8 lo = __builtin_shufflevector(rows[0], rows[1], 0, 1, 2, 3, 4, 5, 6, 7);
+            const F8 hi = __builtin_shufflevector(rows[2], rows[3], 0, 1, 2, 3, 4, 5, 6, 7);
+            const V16 old(__builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+            passed = covered[c];
+            if (depth_test == DepthTest::Less) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz < old);
+            else if (depth_test == DepthTest::LessEqual) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz <= old);
+            if (early_depth_write && passed != 0) {
+              alignas(64) float merged[16];
+              simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits<16>(passed), sz, old).store(merged);
+              for (int s = 0; s < 4; ++s) {
+                __builtin_memcpy(plane_depths[s], merged + 4 * s, 2 * sizeof(float));
+                __builtin_memcpy(plane_depths[s] + width, merged + 4 * s + 2, 2 * sizeof(float));
+              }
+            }
           } else {
-            for (unsigned c = covered[s]; c != 0; c &= c - 1) {
-              const int j = std::countr_zero(c);
+            passed = 0;
+            for (unsigned b = covered[c]; b != 0; b &= b - 1) {
+              const int k = std::countr_zero(b);
+              const int s = 4 * c + k / 4, j = k % 4;
+              float* const plane_depths = depths + static_cast<std::size_t>(s) * target.plane;
               const std::size_t idx = pixel_index(j);
               if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
               if (early_depth_write) plane_depths[idx] = sample_z[s][j];
-              passed |= 1u << j;
+              passed |= 1u << k;
             }
           }
-          mask |= passed;
-          for (unsigned c = passed; c != 0; c &= c - 1) lane_samples[std::countr_zero(c)] |= 1u << s;
+          mask |= pixels_of_sample_lanes(passed);
+          const unsigned by_pixel = transpose_4x4_bits(passed);  // pixel j's samples in nibble j
+          for (int j = 0; j < 4; ++j) lane_samples[j] |= ((by_pixel >> (4 * j)) & 0xFu) << (4 * c);
         }
       }
       if (mask == 0) continue;

@@ -40,6 +40,18 @@ inline constexpr auto kDerivativeIndices = [] {
   return indices;
 }();
 
+// MSAA: the tile kernel tests four samples of a quad's four pixels at once, as 16 "sample
+// lanes" k = 4·s + j (sample s of pixel j). The bits of such a mask in pixel order, 4·j + s
+// (pixel j's samples in nibble j): the 4×4 bit matrix transposed by two delta swaps.
+constexpr unsigned transpose_4x4_bits(unsigned x) {
+  unsigned t = (x ^ (x >> 3)) & 0x0A0Au;  // (s even, j odd) with (s + 1, j − 1)
+  x ^= t ^ (t << 3);
+  t = (x ^ (x >> 6)) & 0x00CCu;  // the 2×2 blocks (s < 2, j ≥ 2) with (s + 2, j − 2)
+  return x ^ t ^ (t << 6);
+}
+// The pixels j with some sample in a 16-bit sample-lane mask (bit j set: any bit 4·s + j).
+constexpr unsigned pixels_of_sample_lanes(unsigned x) { return (x | x >> 4 | x >> 8 | x >> 12) & 0xFu; }
+
 }  // namespace softpbr::raster::detail
 
 // raster_tile<W, S>() in softpbr::raster::detail::{baseline, avx2, avx512}.

@@ -335,20 +335,33 @@ inline unsigned sign_bits(native_t<std::int64_t, 4> v) {
   return static_cast<unsigned>((v[0] < 0) | ((v[1] < 0) << 1) | ((v[2] < 0) << 2) | ((v[3] < 0) << 3));
 #endif
 }
-// Four 64-bit integers below 2^51 in magnitude as floats, each rounded once to nearest:
-// the same bits as converting each integer directly (the rasterizer's edge values stay
-// below 2^50, setup.h). x86 has no vector conversion from int64 before AVX-512DQ, so the
-// direct form is four scalar cvtsi2ss and their shuffles; here each integer is added to
-// the bits of 2^52 + 2^51, whose double then holds 2^52 + 2^51 + v exactly, the constant
-// is subtracted (exact), and one cvtpd2ps rounds the exact v to float.
-inline native_t<float, 4> to_float_below_2p51(native_t<std::int64_t, 4> v) {
-  using D4 = native_t<double, 4>;
-  constexpr std::int64_t kMagicBits = 0x4338000000000000;  // 2^52 + 2^51 as a double
-  const native_t<std::int64_t, 4> biased = v + kMagicBits;
-  D4 d;
-  __builtin_memcpy(&d, &biased, sizeof d);
-  return __builtin_convertvector(d - 6755399441055744.0, native_t<float, 4>);
+// Bit i set when lane i of eight 64-bit integers is negative (half of the MSAA quad
+// stage's sample lanes): one vpmovq2m with AVX-512, else the four-lane form twice.
+inline unsigned sign_bits8(native_t<std::int64_t, 8> v) {
+#if SOFTPBR_TARGET_AVX512
+  return static_cast<unsigned>(_mm512_movepi64_mask(reinterpret_cast<__m512i>(v)));
+#else
+  const native_t<std::int64_t, 4> lo = __builtin_shufflevector(v, v, 0, 1, 2, 3);
+  const native_t<std::int64_t, 4> hi = __builtin_shufflevector(v, v, 4, 5, 6, 7);
+  return sign_bits(lo) | (sign_bits(hi) << 4);
+#endif
 }
+// N (4 or 8) 64-bit integers below 2^51 in magnitude as floats, each rounded once to
+// nearest: the same bits as converting each integer directly (the rasterizer's edge values
+// stay below 2^50, setup.h). x86 has no vector conversion from int64 before AVX-512DQ, so
+// the direct form is scalar cvtsi2ss and their shuffles; here each integer is added to the
+// bits of 2^52 + 2^51, whose double then holds 2^52 + 2^51 + v exactly, the constant is
+// subtracted (exact), and one cvtpd2ps rounds the exact v to float.
+template <int N>
+inline native_t<float, N> to_float_below_2p51_n(native_t<std::int64_t, N> v) {
+  using D = native_t<double, N>;
+  constexpr std::int64_t kMagicBits = 0x4338000000000000;  // 2^52 + 2^51 as a double
+  const native_t<std::int64_t, N> biased = v + kMagicBits;
+  D d;
+  __builtin_memcpy(&d, &biased, sizeof d);
+  return __builtin_convertvector(d - 6755399441055744.0, native_t<float, N>);
+}
+inline native_t<float, 4> to_float_below_2p51(native_t<std::int64_t, 4> v) { return to_float_below_2p51_n<4>(v); }
 // Bit i set when lane i of a 4-lane mask is set (movmskps where SSE has it).
 inline unsigned mask_bits(LaneMask<4, SOFTPBR_ISA> m) {
 #if defined(__SSE2__)
@@ -357,11 +370,28 @@ inline unsigned mask_bits(LaneMask<4, SOFTPBR_ISA> m) {
   return static_cast<unsigned>((m.m[0] & 1) | (m.m[1] & 2) | (m.m[2] & 4) | (m.m[3] & 8));
 #endif
 }
-// The 4-lane mask whose lane i is set when bit i of `bits` is.
-inline LaneMask<4, SOFTPBR_ISA> mask_from_bits(unsigned bits) {
-  using I = typename detail::Native<4>::i;
-  const I lane_bit = {1, 2, 4, 8};
-  return LaneMask<4, SOFTPBR_ISA>(((I{} + static_cast<std::int32_t>(bits)) & lane_bit) != 0);
+// Bit i set when lane i of a 16-lane mask is set (vpmovd2m with AVX-512, two vmovmskps
+// with AVX, else four movmskps).
+inline unsigned mask_bits(LaneMask<16, SOFTPBR_ISA> m) {
+#if SOFTPBR_TARGET_AVX512
+  return static_cast<unsigned>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m.m)));
+#else
+  unsigned bits = 0;
+  for (int q = 0; q < 4; ++q) {
+    typename detail::Native<4>::i part;
+    __builtin_memcpy(&part, reinterpret_cast<const char*>(&m.m) + q * sizeof part, sizeof part);
+    bits |= mask_bits(LaneMask<4, SOFTPBR_ISA>(part)) << (4 * q);
+  }
+  return bits;
+#endif
+}
+// The N-lane mask (4 or 16) whose lane i is set when bit i of `bits` is.
+template <int N = 4>
+inline LaneMask<N, SOFTPBR_ISA> mask_from_bits(unsigned bits) {
+  using I = typename detail::Native<N>::i;
+  I lane_bit;
+  for (int i = 0; i < N; ++i) lane_bit[i] = std::int32_t{1} << i;
+  return LaneMask<N, SOFTPBR_ISA>(((I{} + static_cast<std::int32_t>(bits)) & lane_bit) != 0);
 }
 
 // The mask of lanes [0, n) of N (n in [0, N]).
