@@ -58,6 +58,63 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
   }
 }
 
+// MSAA: a quad's samples are tested as "sample lanes" k = 4·s + j (sample s of pixel j; the
+// masks' bit order, transpose_4x4_bits in rast.h), kLanes at once — four samples with
+// AVX-512, two with AVX2, one with SSE/NEON: a float vector of the target's width for
+// depth, its 64-bit edge values in kPieces vectors of kPiece lanes (the widest each target
+// holds in registers; GCC builds wider generic vectors, and broadcasts into them, through
+// the stack).
+struct SampleGroup {
+  static constexpr int kPiece = SOFTPBR_TARGET_AVX512 ? 8 : 4;
+  static constexpr int kLanes = SOFTPBR_TARGET_AVX512 ? 16 : SOFTPBR_TARGET_AVX ? 8 : 4;
+  static constexpr int kSamples = kLanes / 4;
+  static constexpr int kPieces = kLanes / kPiece;
+  using Piece = simd::native_t<std::int64_t, kPiece>;
+  using Depths = simd::Lanes<kLanes, SOFTPBR_ISA>;
+  using Floats = typename simd::detail::Native<kLanes>::f;
+
+  // A quad's four lanes (pixel centres) repeated over a piece's samples.
+  // (A preprocessor choice: `if constexpr` discards nothing outside a template.)
+  static Piece repeat_quad(simd::native_t<std::int64_t, 4> e) {
+#if SOFTPBR_TARGET_AVX512
+    return __builtin_shufflevector(e, e, 0, 1, 2, 3, 0, 1, 2, 3);
+#else
+    return e;
+#endif
+  }
+  // A piece's lanes from its samples' values, each repeated over the sample's four pixels.
+  static Piece repeat_samples(const std::int64_t* sample_values) {
+    using I4 = simd::native_t<std::int64_t, 4>;
+    const I4 a = I4{} + sample_values[0];
+#if SOFTPBR_TARGET_AVX512
+    return __builtin_shufflevector(a, I4{} + sample_values[1], 0, 1, 2, 3, 4, 5, 6, 7);
+#else
+    return a;
+#endif
+  }
+  static unsigned sign_bits(Piece v) {
+#if SOFTPBR_TARGET_AVX512
+    return simd::SOFTPBR_TARGET_NS::sign_bits8(v);
+#else
+    return simd::SOFTPBR_TARGET_NS::sign_bits(v);
+#endif
+  }
+  // Two vectors of n floats as one of 2n.
+  static simd::native_t<float, 8> join(simd::native_t<float, 4> a, simd::native_t<float, 4> b) {
+    return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7);
+  }
+  static typename simd::detail::Native<16>::f join(simd::native_t<float, 8> a, simd::native_t<float, 8> b) {
+    return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  }
+  // kLanes floats from the group's pieces, or from its samples' 4-float rows.
+  template <int N>
+  static Floats join_all(const simd::native_t<float, N>* parts) {
+    if constexpr (N == kLanes) return parts[0];
+    else if constexpr (2 * N == kLanes) return join(parts[0], parts[1]);
+    else return join(join(parts[0], parts[1]), join(parts[2], parts[3]));
+  }
+};
+
 // Covered pixels waiting for a packet shader (W lanes; W = 0, the scalar path, keeps one
 // unused): the FragmentPacket the shader reads, filled lane by lane, so a full packet is
 // shaded where it was written, without a copy.
@@ -346,39 +403,33 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   const I64x4 quad_step1 = I64x4{} + std::int64_t{t.a[1]} * (2 * kStep);
   const I64x4 quad_step2 = I64x4{} + std::int64_t{t.a[2]} * (2 * kStep);
   const auto to_float = [](I64x4 e) { return simd::SOFTPBR_TARGET_NS::to_float_below_2p51(e); };
-  // A quad's four lanes repeated over 8 sample lanes (two samples): a shuffle, not a
-  // broadcast, into a vector of the registers' width (GCC builds wider generic vectors, and
-  // broadcasts into them, through the stack).
-  using I64x8 = simd::native_t<std::int64_t, 8>;
-  const auto quad_lanes = [](I64x4 e) -> I64x8 { return __builtin_shufflevector(e, e, 0, 1, 2, 3, 0, 1, 2, 3); };
-  // MSAA: a quad's samples run four at a time as 16 sample lanes k = 4·s + j (sample s of
-  // pixel j; transpose_4x4_bits, rast.h), in kChunks chunks of four samples, each chunk two
-  // halves of 8 lanes (samples 4c, 4c + 1 and 4c + 2, 4c + 3). chunk_edge[c][i][h] holds
-  // edge i at each sample lane of half h minus its value at the lane's pixel centre: the
-  // sample's offset (sample offsets are 1/16 pixel, 16 fixed-point units), added to the
-  // quad's four centre values repeated (quad_lanes); chunk_weight[c][i − 1][h] the same for
-  // edges 1 and 2 with their bias added, the unbiased values the depth plane takes. Exact
-  // integers, so a sample's values are those of its own plane equation, whichever way the
-  // sum is grouped.
+  // MSAA: the sample lanes of group g (SampleGroup: samples g·kSamples …) run as its
+  // pieces; group_edge[g][i][p] holds edge i at piece p's sample lanes minus its value at
+  // the lane's pixel centre, i.e. the sample's offset (1/16 pixel, 16 fixed-point units),
+  // added to the quad's centre values repeated (repeat_quad); group_weight[g][i − 1][p] the
+  // same for edges 1 and 2 with their bias added, the unbiased values the depth plane
+  // takes. Exact integers, so a sample's values are those of its own plane equation,
+  // whichever way the sum is grouped.
+  using G = SampleGroup;
   constexpr int kSamples = kMs > 1 ? kMs : 1;
-  constexpr int kChunks = kMs > 1 ? kMs / 4 : 1;
-  using V16 = simd::Lanes<16, SOFTPBR_ISA>;
-  [[maybe_unused]] I64x8 chunk_edge[kChunks][3][2], chunk_weight[kChunks][2][2];
+  constexpr int kGroups = kMs > 1 ? kMs / G::kSamples : 1;
+  [[maybe_unused]] typename G::Piece group_edge[kGroups][3][G::kPieces], group_weight[kGroups][2][G::kPieces];
   if constexpr (kMs > 1) {
     const SampleOffset* offsets = kMs == 4 ? kSamplePattern4 : kSamplePattern8;
-    for (int c = 0; c < kChunks; ++c) {
-      I64x4 ox, oy;  // the chunk's four sample offsets in fixed point
-      for (int s = 0; s < 4; ++s) ox[s] = offsets[4 * c + s].x * 16, oy[s] = offsets[4 * c + s].y * 16;
-      for (int i = 0; i < 3; ++i) {
-        const I64x4 offset = (I64x4{} + std::int64_t{t.a[i]}) * ox + (I64x4{} + std::int64_t{t.b[i]}) * oy;
-        chunk_edge[c][i][0] = __builtin_shufflevector(offset, offset, 0, 0, 0, 0, 1, 1, 1, 1);
-        chunk_edge[c][i][1] = __builtin_shufflevector(offset, offset, 2, 2, 2, 2, 3, 3, 3, 3);
-      }
-      for (int h = 0; h < 2; ++h) {
-        chunk_weight[c][0][h] = chunk_edge[c][1][h] + static_cast<std::int64_t>(t.bias[1]);
-        chunk_weight[c][1][h] = chunk_edge[c][2][h] + static_cast<std::int64_t>(t.bias[2]);
-      }
+    std::int64_t offset[3][kSamples], weight[2][kSamples];
+    for (int s = 0; s < kMs; ++s) {
+      for (int i = 0; i < 3; ++i)
+        offset[i][s] = std::int64_t{t.a[i]} * (offsets[s].x * 16) + std::int64_t{t.b[i]} * (offsets[s].y * 16);
+      weight[0][s] = offset[1][s] + t.bias[1];
+      weight[1][s] = offset[2][s] + t.bias[2];
     }
+    constexpr int kPieceSamples = G::kPiece / 4;
+    for (int g = 0; g < kGroups; ++g)
+      for (int p = 0; p < G::kPieces; ++p) {
+        const int s = g * G::kSamples + p * kPieceSamples;
+        for (int i = 0; i < 3; ++i) group_edge[g][i][p] = G::repeat_samples(&offset[i][s]);
+        for (int i = 0; i < 2; ++i) group_weight[g][i][p] = G::repeat_samples(&weight[i][s]);
+      }
   }
   // A row of quads is walked only over the quads where every edge function can be ≥ 0
   // (span_of_row): the others would find no sample inside. Worth its three divisions per
@@ -410,21 +461,22 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // their OR is clear.
       const unsigned in_tile = rows & (qx + 1 < tile.x1 ? 0xFu : 0x5u);
       unsigned mask;
-      // MSAA: covered[c] has bit 4·s + j when sample 4c + s of lane j is inside.
-      [[maybe_unused]] unsigned covered[kChunks];
+      // MSAA: covered[g] has bit 4·s + j when sample g·kSamples + s of lane j is inside.
+      [[maybe_unused]] unsigned covered[kGroups];
       if constexpr (kMs == 1) {
         mask = ~simd::SOFTPBR_TARGET_NS::sign_bits(e0 | e1 | e2) & in_tile;
       } else {
+        constexpr unsigned kEvery = 0x1111u & ((1u << G::kLanes) - 1);  // lane 0 of each sample
         unsigned any = 0;
-        for (int c = 0; c < kChunks; ++c) {
-          unsigned bits = 0;
-          for (int h = 0; h < 2; ++h)
-            bits |= simd::SOFTPBR_TARGET_NS::sign_bits8((quad_lanes(e0) + chunk_edge[c][0][h]) |
-                                                        (quad_lanes(e1) + chunk_edge[c][1][h]) |
-                                                        (quad_lanes(e2) + chunk_edge[c][2][h]))
-                    << (8 * h);
-          covered[c] = ~bits & (in_tile * 0x1111u);
-          any |= covered[c];
+        for (int g = 0; g < kGroups; ++g) {
+          unsigned outside = 0;
+          for (int p = 0; p < G::kPieces; ++p)
+            outside |= G::sign_bits((G::repeat_quad(e0) + group_edge[g][0][p]) |
+                                    (G::repeat_quad(e1) + group_edge[g][1][p]) |
+                                    (G::repeat_quad(e2) + group_edge[g][2][p]))
+                       << (G::kPiece * p);
+          covered[g] = ~outside & (in_tile * kEvery);
+          any |= covered[g];
         }
         mask = pixels_of_sample_lanes(any);
       }
@@ -467,7 +519,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       };
       // MSAA: depth per sample from the same plane equation at the sample, tested and
       // written per sample; lane_samples[j] keeps the samples of lane j that passed.
-      alignas(64) float sample_z[kSamples][4];  // [s][j]: chunk c's sample lanes at [4c]
+      alignas(64) float sample_z[kSamples][4];  // [s][j]: group g's sample lanes at [g·kSamples]
       unsigned lane_samples[4] = {0, 0, 0, 0};
       if constexpr (kMs == 1) {
         if (whole_quad) {
@@ -482,55 +534,52 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         }
       } else {
         mask = 0;
-        for (int c = 0; c < kChunks; ++c) {
-          if (covered[c] == 0) continue;
-          // The 16 sample lanes' depths, as the 4-lane form computes each sample's.
+        for (int g = 0; g < kGroups; ++g) {
+          if (covered[g] == 0) continue;
+          // The group's depths, as the 4-lane form computes a pixel centre's.
           const auto weights = [&](I64x4 e, int i) {
-            using F8 = simd::native_t<float, 8>;
-            const F8 lo = simd::SOFTPBR_TARGET_NS::to_float_below_2p51_n<8>(quad_lanes(e) + chunk_weight[c][i][0]);
-            const F8 hi = simd::SOFTPBR_TARGET_NS::to_float_below_2p51_n<8>(quad_lanes(e) + chunk_weight[c][i][1]);
-            return V16(__builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+            simd::native_t<float, G::kPiece> parts[G::kPieces];
+            for (int p = 0; p < G::kPieces; ++p)
+              parts[p] = simd::SOFTPBR_TARGET_NS::to_float_below_2p51_n<G::kPiece>(G::repeat_quad(e) +
+                                                                                   group_weight[g][i][p]);
+            return typename G::Depths(G::join_all<G::kPiece>(parts));
           };
-          const V16 sw1 = weights(e1, 0);
-          const V16 sw2 = weights(e2, 1);
-          const V16 l1 = sw1 * V16(t.inv_area);
-          const V16 l2 = sw2 * V16(t.inv_area);
-          const V16 sz = simd::clamp(V16(t.z0) + l1 * V16(t.dz1) + l2 * V16(t.dz2), V16(0.0f), V16(1.0f));
-          sz.store(sample_z[4 * c]);
-          unsigned passed;  // bit 4·s + j: sample 4c + s of lane j passed
+          using D = typename G::Depths;
+          const D l1 = weights(e1, 0) * D(t.inv_area);
+          const D l2 = weights(e2, 1) * D(t.inv_area);
+          const D sz = simd::clamp(D(t.z0) + l1 * D(t.dz1) + l2 * D(t.dz2), D(0.0f), D(1.0f));
+          sz.store(sample_z[g * G::kSamples]);
+          unsigned passed;  // bit 4·s + j: sample g·kSamples + s of lane j passed
           if (whole_quad) {
-            // The four samples' 2×2 depths from their planes as one vector: two 2-float
-            // rows per plane, compared at once and written back with the passing lanes
-            // replaced (the others keep their own bits; the tile has one writer).
+            // The samples' 2×2 depths from their planes as one vector: two 2-float rows per
+            // plane, compared at once and written back with the passing lanes replaced
+            // (the others keep their own bits; the tile has one writer).
             using F4 = simd::native_t<float, 4>;
-            using F8 = simd::native_t<float, 8>;
-            float* plane_depths[4];
-            F4 rows[4];
-            for (int s = 0; s < 4; ++s) {
-              plane_depths[s] = depths + static_cast<std::size_t>(4 * c + s) * target.plane + quad_idx;
+            float* plane_depths[G::kSamples];
+            F4 rows[G::kSamples];
+            for (int s = 0; s < G::kSamples; ++s) {
+              plane_depths[s] = depths + static_cast<std::size_t>(g * G::kSamples + s) * target.plane + quad_idx;
               __builtin_memcpy(&rows[s], plane_depths[s], 2 * sizeof(float));
               __builtin_memcpy(reinterpret_cast<char*>(&rows[s]) + 2 * sizeof(float), plane_depths[s] + width,
                                2 * sizeof(float));
             }
-            const F8 lo = __builtin_shufflevector(rows[0], rows[1], 0, 1, 2, 3, 4, 5, 6, 7);
-            const F8 hi = __builtin_shufflevector(rows[2], rows[3], 0, 1, 2, 3, 4, 5, 6, 7);
-            const V16 old(__builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
-            passed = covered[c];
+            const D old(G::join_all<4>(rows));
+            passed = covered[g];
             if (depth_test == DepthTest::Less) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz < old);
             else if (depth_test == DepthTest::LessEqual) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz <= old);
             if (early_depth_write && passed != 0) {
-              alignas(64) float merged[16];
-              simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits<16>(passed), sz, old).store(merged);
-              for (int s = 0; s < 4; ++s) {
+              alignas(64) float merged[G::kLanes];
+              simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits<G::kLanes>(passed), sz, old).store(merged);
+              for (int s = 0; s < G::kSamples; ++s) {
                 __builtin_memcpy(plane_depths[s], merged + 4 * s, 2 * sizeof(float));
                 __builtin_memcpy(plane_depths[s] + width, merged + 4 * s + 2, 2 * sizeof(float));
               }
             }
           } else {
             passed = 0;
-            for (unsigned b = covered[c]; b != 0; b &= b - 1) {
+            for (unsigned b = covered[g]; b != 0; b &= b - 1) {
               const int k = std::countr_zero(b);
-              const int s = 4 * c + k / 4, j = k % 4;
+              const int s = g * G::kSamples + k / 4, j = k % 4;
               float* const plane_depths = depths + static_cast<std::size_t>(s) * target.plane;
               const std::size_t idx = pixel_index(j);
               if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
@@ -540,7 +589,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           }
           mask |= pixels_of_sample_lanes(passed);
           const unsigned by_pixel = transpose_4x4_bits(passed);  // pixel j's samples in nibble j
-          for (int j = 0; j < 4; ++j) lane_samples[j] |= ((by_pixel >> (4 * j)) & 0xFu) << (4 * c);
+          for (int j = 0; j < 4; ++j) lane_samples[j] |= ((by_pixel >> (4 * j)) & 0xFu) << (G::kSamples * g);
         }
       }
       if (mask == 0) continue;

@@ -370,6 +370,20 @@ inline unsigned mask_bits(LaneMask<4, SOFTPBR_ISA> m) {
   return static_cast<unsigned>((m.m[0] & 1) | (m.m[1] & 2) | (m.m[2] & 4) | (m.m[3] & 8));
 #endif
 }
+// Bit i set when lane i of an 8-lane mask is set (vmovmskps with AVX, else two movmskps).
+inline unsigned mask_bits(LaneMask<8, SOFTPBR_ISA> m) {
+#if SOFTPBR_TARGET_AVX
+  return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m.m)));
+#else
+  unsigned bits = 0;
+  for (int q = 0; q < 2; ++q) {
+    typename detail::Native<4>::i part;
+    __builtin_memcpy(&part, reinterpret_cast<const char*>(&m.m) + q * sizeof part, sizeof part);
+    bits |= mask_bits(LaneMask<4, SOFTPBR_ISA>(part)) << (4 * q);
+  }
+  return bits;
+#endif
+}
 // Bit i set when lane i of a 16-lane mask is set (vpmovd2m with AVX-512, two vmovmskps
 // with AVX, else four movmskps).
 inline unsigned mask_bits(LaneMask<16, SOFTPBR_ISA> m) {
