@@ -172,6 +172,43 @@ TEST_CASE("the lanes kernels write exactly the rectangle asked for, at every wid
   CHECK(a.rgba == b.rgba);
 }
 
+TEST_CASE("multisampled targets: every lanes kernel resolves (tone-mapped) and encodes byte for byte as the scalar one") {
+  const std::vector<float> values = test_values();
+  for (int samples : {4, 8}) {
+    // Samples of one pixel differ (each from its own place in the list) or agree (every
+    // third pixel: its samples are one colour, the case of a pixel inside a surface).
+    raster::Target target(53, 9, samples);
+    const std::size_t plane = static_cast<std::size_t>(target.width()) * target.height();
+    for (std::size_t i = 0; i < plane; ++i)
+      for (int s = 0; s < samples; ++s) {
+        const std::size_t j = (i * 2654435761u + (i % 3 == 0 ? 0 : static_cast<std::size_t>(s) * 7919)) % values.size();
+        target.colors()[static_cast<std::size_t>(s) * plane + i] = {
+            values[j], values[(j + 1) % values.size()], values[(j + 2) % values.size()],
+            values[(j + 3) % values.size()]};
+      }
+    int kernels_run = 0;
+    for (pbr::ToneMap op : kOps)
+      for (float gamma : {0.0f, 2.2f})
+        for (float exposure : {0.0f, 1.0f}) {
+          const pbr::ToneMapper mapper({exposure, op, gamma});
+          for (const auto [x0, x1, y0, y1] : {std::array{0, 53, 0, 9}, std::array{1, 18, 2, 5}, std::array{3, 40, 4, 9}}) {
+            raster::Image8 want = blank_image(target, 0x77);
+            mapper.encode(target, x0, y0, x1, y1, want, pbr::EncodeKernel::Scalar);
+            for (pbr::EncodeKernel kernel : kLanesKernels) {
+              if (!pbr::ToneMapper::supported(kernel)) continue;
+              ++kernels_run;
+              raster::Image8 got = blank_image(target, 0x77);
+              mapper.encode(target, x0, y0, x1, y1, got, kernel);
+              INFO("kernel ", kernel_name(kernel), ", ", pbr::tone_map_name(op), ", ", samples, " samples, gamma ",
+                   gamma, ", exposure ", exposure, ", x ", x0, "..", x1, ", y ", y0, "..", y1);
+              CHECK(first_difference(got, want) == -1);
+            }
+          }
+        }
+    CHECK(kernels_run >= static_cast<int>(std::size(kOps)) * 2 * 2 * 3);
+  }
+}
+
 TEST_CASE("the code of a value is the number of thresholds at or below it (0 for NaN), for every curve") {
   const std::vector<float> values = test_values();
   for (float gamma : kGammas) {

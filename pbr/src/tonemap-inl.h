@@ -124,6 +124,60 @@ SOFTPBR_KERNEL void encode_with_lanes(ToneMap op, const Job& job) {
   }
 }
 
+// Resolve::ToneMapped of a multisampled row, N pixels at a time: exposure and the tone map
+// per sample, then each channel's box mean (box_mean: pairwise in sample order); alpha is
+// the mean of the linear alphas. The last pixels of a row run one at a time, with the same
+// operations per lane (the scalar reference is resolve_tone_mapped_row, tonemap.cpp).
+template <int N, ToneMap kOp, int kS>
+inline void resolve_rows_lanes(const ResolveJob& job) {
+  using V = simd::Lanes<N, SOFTPBR_ISA>;
+  const raster::TargetPixels& pixels = *job.pixels;
+  const std::size_t width = static_cast<std::size_t>(pixels.width);
+  const glm::vec4* colors = pixels.colors;
+  for (int y = job.y0; y < job.y1; ++y) {
+    // Row indices relative to the pixels' origin (unsigned arithmetic: row + x − origin).
+    const std::size_t row = static_cast<std::size_t>(y) * width - pixels.origin;
+    glm::vec4* out = job.out + static_cast<std::size_t>(y - job.y0) * job.out_width;
+    int x = job.x0;
+    for (; x + N <= job.x1; x += N, out += N) {
+      V r[kS], g[kS], b[kS], a[kS];
+      for (int s = 0; s < kS; ++s) {
+        simd::load_deinterleave4<N>(&colors[static_cast<std::size_t>(s) * pixels.plane + row + static_cast<std::size_t>(x)].r,
+                                    r[s], g[s], b[s], a[s]);
+        r[s] *= V(job.scale);
+        g[s] *= V(job.scale);
+        b[s] *= V(job.scale);
+        tone_map_operators::tone_map<kOp>(r[s], g[s], b[s]);
+      }
+      simd::store_interleave4<N>(box_mean(r), box_mean(g), box_mean(b), box_mean(a), &out[0].r);
+    }
+    for (; x < job.x1; ++x, ++out) {
+      float r[kS], g[kS], b[kS], a[kS];
+      for (int s = 0; s < kS; ++s) {
+        const glm::vec4& c = colors[static_cast<std::size_t>(s) * pixels.plane + row + static_cast<std::size_t>(x)];
+        r[s] = c.r * job.scale, g[s] = c.g * job.scale, b[s] = c.b * job.scale, a[s] = c.a;
+        tone_map_operators::tone_map<kOp>(r[s], g[s], b[s]);
+      }
+      *out = {box_mean(r), box_mean(g), box_mean(b), box_mean(a)};
+    }
+  }
+}
+
+// The kernel: job's rectangle of a 4- or 8-sample target, N pixels at a time.
+template <int N>
+SOFTPBR_KERNEL void resolve_with_lanes(ToneMap op, const ResolveJob& job) {
+  const auto with_samples = [&]<ToneMap kOp>() {
+    if (job.pixels->samples == 4) resolve_rows_lanes<N, kOp, 4>(job);
+    else resolve_rows_lanes<N, kOp, 8>(job);
+  };
+  switch (op) {
+    case ToneMap::None: return with_samples.template operator()<ToneMap::None>();
+    case ToneMap::Reinhard: return with_samples.template operator()<ToneMap::Reinhard>();
+    case ToneMap::Aces: return with_samples.template operator()<ToneMap::Aces>();
+    default: return with_samples.template operator()<ToneMap::Neutral>();
+  }
+}
+
 }  // namespace SOFTPBR_TARGET_NS
 }  // namespace
 }  // namespace softpbr::pbr

@@ -211,10 +211,28 @@ inline unsigned code_of(const float* t, const std::uint8_t* first, float t0, int
   return v >= t0 ? k : 0u;  // NaN fails the comparison
 }
 
+// A multisampled rectangle to resolve (ToneMapper::resolve, Resolve::ToneMapped) into
+// `out`, out_width pixels a row.
+struct ResolveJob {
+  const raster::TargetPixels* pixels;
+  int x0, y0, x1, y1;
+  float scale;
+  glm::vec4* out;
+  std::size_t out_width;
+};
+
+// The mean of kS values, as raster::resolve_box sums them: pairwise in sample order.
+template <int kS, class F>
+inline F box_mean(const F (&v)[kS]) {
+  if constexpr (kS == 4) return ((v[0] + v[1]) + (v[2] + v[3])) * F(0.25f);
+  else return (((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]))) * F(0.125f);
+}
+
 }  // namespace
 }  // namespace softpbr::pbr
 
-// {baseline, avx2, avx512}::encode_with_lanes<N>() in softpbr::pbr's unnamed namespace.
+// {baseline, avx2, avx512}::encode_with_lanes<N>() and resolve_with_lanes<N>() in
+// softpbr::pbr's unnamed namespace.
 #define SOFTPBR_TARGET_FILE "tonemap-inl.h"
 #include "softpbr/simd/foreach_target.h"
 
@@ -234,6 +252,14 @@ void encode_lanes(EncodeKernel kernel, ToneMap op, const Job& job) {
     case EncodeKernel::Avx512: return SOFTPBR_DISPATCH(isa, encode_with_lanes<16>)(op, job);
     case EncodeKernel::Avx2: return SOFTPBR_DISPATCH(isa, encode_with_lanes<8>)(op, job);
     default: return SOFTPBR_DISPATCH(isa, encode_with_lanes<4>)(op, job);
+  }
+}
+void resolve_lanes(EncodeKernel kernel, ToneMap op, const ResolveJob& job) {
+  const simd::Isa isa = kernel_isa(kernel);
+  switch (kernel) {
+    case EncodeKernel::Avx512: return SOFTPBR_DISPATCH(isa, resolve_with_lanes<16>)(op, job);
+    case EncodeKernel::Avx2: return SOFTPBR_DISPATCH(isa, resolve_with_lanes<8>)(op, job);
+    default: return SOFTPBR_DISPATCH(isa, resolve_with_lanes<4>)(op, job);
   }
 }
 }  // namespace
@@ -292,13 +318,6 @@ void ToneMapper::encode(const raster::Target& target, int x0, int y0, int x1, in
 }
 
 namespace {
-// The mean of kS values, as raster::resolve_box sums them: pairwise in sample order.
-template <int kS, class F>
-inline F box_mean(const F (&v)[kS]) {
-  if constexpr (kS == 4) return ((v[0] + v[1]) + (v[2] + v[3])) * F(0.25f);
-  else return (((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]))) * F(0.125f);
-}
-
 // Resolve::ToneMapped for pixels [x0, x1) of row y: exposure and the tone map per sample
 // (tone_map_operators, lanes of 4 pixels then single pixels: the same operations per
 // lane), the box mean of each channel; alpha is the mean of the linear alphas.
@@ -343,8 +362,16 @@ void ToneMapper::resolve(const raster::Target& target, int x0, int y0, int x1, i
 
 void ToneMapper::resolve(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, glm::vec4* out,
                          std::size_t out_width) const {
+  static const EncodeKernel widest = widest_kernel();
+  resolve(pixels, x0, y0, x1, y1, out, out_width, widest);
+}
+
+void ToneMapper::resolve(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, glm::vec4* out,
+                         std::size_t out_width, EncodeKernel kernel) const {
   if (settings_.resolve == Resolve::Linear || pixels.samples == 1)
     return raster::resolve_box(pixels, x0, y0, x1, y1, out, out_width);
+  if (kernel != EncodeKernel::Scalar)
+    return resolve_lanes(kernel, settings_.tone_map, {&pixels, x0, y0, x1, y1, scale_, out, out_width});
   const std::size_t width = static_cast<std::size_t>(pixels.width);
   const glm::vec4* colors = pixels.colors;
   const auto run = [&]<ToneMap kOp, int kS>() {
@@ -389,7 +416,7 @@ void ToneMapper::encode_multisampled(const raster::TargetPixels& pixels, int x0,
   for (int by = y0; by < y1; by += kBlock)
     for (int bx = x0; bx < x1; bx += kBlock) {
       const int w = std::min(kBlock, x1 - bx), h = std::min(kBlock, y1 - by);
-      resolve(pixels, bx, by, bx + w, by + h, scratch, kBlock);
+      resolve(pixels, bx, by, bx + w, by + h, scratch, kBlock, kernel);
       encoder.encode(resolved, 0, 0, w, h, piece, kernel);
       for (int y = 0; y < h; ++y)
         std::memcpy(image.rgba.data() + ((static_cast<std::size_t>(by + y) * static_cast<std::size_t>(image.width)) +

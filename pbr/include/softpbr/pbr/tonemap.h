@@ -131,6 +131,8 @@ class ToneMapper {
   void encode(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, raster::Image8& image) const;
 
  private:
+  void resolve(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, glm::vec4* out,
+               std::size_t out_width, EncodeKernel kernel) const;
   void encode_multisampled(const raster::Target& target, int x0, int y0, int x1, int y1, raster::Image8& image,
                            EncodeKernel kernel) const;
   void encode_multisampled(const raster::TargetPixels& pixels, int x0, int y0, int x1, int y1, raster::Image8& image,
