@@ -370,36 +370,26 @@ inline unsigned mask_bits(LaneMask<4, SOFTPBR_ISA> m) {
   return static_cast<unsigned>((m.m[0] & 1) | (m.m[1] & 2) | (m.m[2] & 4) | (m.m[3] & 8));
 #endif
 }
-// Bit i set when lane i of an 8-lane mask is set (vmovmskps with AVX, else two movmskps).
-inline unsigned mask_bits(LaneMask<8, SOFTPBR_ISA> m) {
-#if SOFTPBR_TARGET_AVX
-  return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m.m)));
-#else
-  unsigned bits = 0;
-  for (int q = 0; q < 2; ++q) {
-    typename detail::Native<4>::i part;
-    __builtin_memcpy(&part, reinterpret_cast<const char*>(&m.m) + q * sizeof part, sizeof part);
-    bits |= mask_bits(LaneMask<4, SOFTPBR_ISA>(part)) << (4 * q);
-  }
-  return bits;
-#endif
-}
-// Bit i set when lane i of a 16-lane mask is set (vpmovd2m with AVX-512, two vmovmskps
-// with AVX, else four movmskps).
-inline unsigned mask_bits(LaneMask<16, SOFTPBR_ISA> m) {
+// Bit i set when lane i of an 8- or 16-lane mask is set: vmovmskps (AVX) or vpmovd2m
+// (AVX-512) where the target has one for the width, else movmskps per four lanes.
+template <int N>
+inline unsigned mask_bits(LaneMask<N, SOFTPBR_ISA> m) {
+  static_assert(N == 8 || N == 16);
 #if SOFTPBR_TARGET_AVX512
-  return static_cast<unsigned>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m.m)));
-#else
+  if constexpr (N == 16) return static_cast<unsigned>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m.m)));
+#endif
+#if SOFTPBR_TARGET_AVX
+  if constexpr (N == 8) return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m.m)));
+#endif
   unsigned bits = 0;
-  for (int q = 0; q < 4; ++q) {
+  for (int q = 0; q < N / 4; ++q) {
     typename detail::Native<4>::i part;
     __builtin_memcpy(&part, reinterpret_cast<const char*>(&m.m) + q * sizeof part, sizeof part);
     bits |= mask_bits(LaneMask<4, SOFTPBR_ISA>(part)) << (4 * q);
   }
   return bits;
-#endif
 }
-// The N-lane mask (4 or 16) whose lane i is set when bit i of `bits` is.
+// The N-lane mask (4, 8 or 16) whose lane i is set when bit i of `bits` is.
 template <int N = 4>
 inline LaneMask<N, SOFTPBR_ISA> mask_from_bits(unsigned bits) {
   using I = typename detail::Native<N>::i;
