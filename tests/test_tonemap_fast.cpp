@@ -191,7 +191,9 @@ TEST_CASE("multisampled targets: every lanes kernel resolves (tone-mapped) and e
       for (float gamma : {0.0f, 2.2f})
         for (float exposure : {0.0f, 1.0f}) {
           const pbr::ToneMapper mapper({exposure, op, gamma});
-          for (const auto [x0, x1, y0, y1] : {std::array{0, 53, 0, 9}, std::array{1, 18, 2, 5}, std::array{3, 40, 4, 9}}) {
+          for (const std::array<int, 4>& rect : {std::array{0, 53, 0, 9}, std::array{1, 18, 2, 5}, std::array{3, 40, 4, 9}}) {
+            // Plain ints, not structured bindings: Clang 14 cannot capture those in INFO's lambda.
+            const int x0 = rect[0], x1 = rect[1], y0 = rect[2], y1 = rect[3];
             raster::Image8 want = blank_image(target, 0x77);
             mapper.encode(target, x0, y0, x1, y1, want, pbr::EncodeKernel::Scalar);
             for (pbr::EncodeKernel kernel : kLanesKernels) {
