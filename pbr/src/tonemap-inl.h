@@ -126,8 +126,8 @@ SOFTPBR_KERNEL void encode_with_lanes(ToneMap op, const Job& job) {
 
 // Resolve::ToneMapped of a multisampled row, N pixels at a time: exposure and the tone map
 // per sample, then each channel's box mean (box_mean: pairwise in sample order); alpha is
-// the mean of the linear alphas. The last pixels of a row run one at a time, with the same
-// operations per lane (the scalar reference is resolve_tone_mapped_row, tonemap.cpp).
+// the mean of the linear alphas. The last pixels of a row run one at a time
+// (resolve_tone_mapped_pixel; the 4-lane reference is resolve_tone_mapped_row, tonemap.cpp).
 template <int N, ToneMap kOp, int kS>
 inline void resolve_rows_lanes(const ResolveJob& job) {
   using V = simd::Lanes<N, SOFTPBR_ISA>;
@@ -151,15 +151,8 @@ inline void resolve_rows_lanes(const ResolveJob& job) {
       }
       simd::store_interleave4<N>(box_mean(r), box_mean(g), box_mean(b), box_mean(a), &out[0].r);
     }
-    for (; x < job.x1; ++x, ++out) {
-      float r[kS], g[kS], b[kS], a[kS];
-      for (int s = 0; s < kS; ++s) {
-        const glm::vec4& c = colors[static_cast<std::size_t>(s) * pixels.plane + row + static_cast<std::size_t>(x)];
-        r[s] = c.r * job.scale, g[s] = c.g * job.scale, b[s] = c.b * job.scale, a[s] = c.a;
-        tone_map_operators::tone_map<kOp>(r[s], g[s], b[s]);
-      }
-      *out = {box_mean(r), box_mean(g), box_mean(b), box_mean(a)};
-    }
+    for (; x < job.x1; ++x, ++out)
+      *out = resolve_tone_mapped_pixel<kOp, kS>(colors, pixels.plane, row + static_cast<std::size_t>(x), job.scale);
   }
 }
 

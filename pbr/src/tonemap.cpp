@@ -228,6 +228,19 @@ inline F box_mean(const F (&v)[kS]) {
   else return (((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]))) * F(0.125f);
 }
 
+// Resolve::ToneMapped of one pixel, sample s at colors[s · plane + i]: the operations of
+// one lane of the lanes forms (the tails of rows that fill no set of lanes).
+template <ToneMap kOp, int kS>
+inline glm::vec4 resolve_tone_mapped_pixel(const glm::vec4* colors, std::size_t plane, std::size_t i, float scale) {
+  float r[kS], g[kS], b[kS], a[kS];
+  for (int s = 0; s < kS; ++s) {
+    const glm::vec4& c = colors[static_cast<std::size_t>(s) * plane + i];
+    r[s] = c.r * scale, g[s] = c.g * scale, b[s] = c.b * scale, a[s] = c.a;
+    tone_map_operators::tone_map<kOp>(r[s], g[s], b[s]);
+  }
+  return {box_mean(r), box_mean(g), box_mean(b), box_mean(a)};
+}
+
 }  // namespace
 }  // namespace softpbr::pbr
 
@@ -343,15 +356,8 @@ void resolve_tone_mapped_row(const glm::vec4* colors, std::size_t plane, std::si
     box_mean(a).store(ch[3]);
     for (int i = 0; i < 4; ++i) out[i] = {ch[0][i], ch[1][i], ch[2][i], ch[3][i]};
   }
-  for (; x < x1; ++x, ++out) {
-    float r[kS], g[kS], b[kS], a[kS];
-    for (int s = 0; s < kS; ++s) {
-      const glm::vec4& c = colors[static_cast<std::size_t>(s) * plane + row + static_cast<std::size_t>(x)];
-      r[s] = c.r * scale, g[s] = c.g * scale, b[s] = c.b * scale, a[s] = c.a;
-      tone_map_operators::tone_map<kOp>(r[s], g[s], b[s]);
-    }
-    *out = {box_mean(r), box_mean(g), box_mean(b), box_mean(a)};
-  }
+  for (; x < x1; ++x, ++out)
+    *out = resolve_tone_mapped_pixel<kOp, kS>(colors, plane, row + static_cast<std::size_t>(x), scale);
 }
 }  // namespace
 

@@ -48,6 +48,10 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
     return;
   }
   if (state.blend == Blend::Replace) {
+    if (mask == (1u << kMs) - 1) {  // the common case, every sample: unrolled stores
+      for (int s = 0; s < kMs; ++s) target.colors[static_cast<std::size_t>(s) * target.plane + idx] = src;
+      return;
+    }
     for (unsigned m = mask; m != 0; m &= m - 1)
       target.colors[static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx] = src;
     return;
@@ -241,23 +245,8 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
     return v;
   };
   if constexpr (kMs > 1) {
-    if (!state.alpha_test && state.blend == Blend::Replace) {
-      // The common case: a pixel whose samples all passed takes its colour in every plane.
-      constexpr unsigned kAll = (1u << kMs) - 1;
-      for (int lane = 0; lane < b.count; ++lane) {
-        const glm::vec4 src = color(lane);
-        const std::size_t idx = b.index[lane];
-        if (b.sample_mask[lane] == kAll) {
-          for (int s = 0; s < kMs; ++s) colors[static_cast<std::size_t>(s) * target.plane + idx] = src;
-        } else {
-          for (unsigned m = b.sample_mask[lane]; m != 0; m &= m - 1)
-            colors[static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx] = src;
-        }
-      }
-    } else {
-      for (int lane = 0; lane < b.count; ++lane)
-        write_samples<kMs>(state, color(lane), b.sample_mask[lane], b.sample_depth[lane], b.index[lane], target);
-    }
+    for (int lane = 0; lane < b.count; ++lane)
+      write_samples<kMs>(state, color(lane), b.sample_mask[lane], b.sample_depth[lane], b.index[lane], target);
   } else if (state.alpha_test) {  // the blend mode decided once per packet: replacing does not read the target
     // Lanes in submission order, each tested against the depths the lanes before it wrote.
     for (int lane = 0; lane < b.count; ++lane) {
