@@ -192,6 +192,19 @@ std::vector<BenchScene> ibl_gallery_variants(int width, int height) {
   return v;
 }
 
+std::vector<BenchScene> fill_variants(int width, int height) {
+  const BenchScene base = fill_scene(width, height);
+  const std::string size = size_suffix(width, height);
+  std::vector<BenchScene> v;
+  for (std::size_t lights = 0; lights < base.scene.lights.size(); ++lights) {
+    v.push_back(base);
+    v.back().name = "fill8x_lights" + std::to_string(lights) + "_" + size;
+    v.back().scene.lights.resize(lights);
+  }
+  v.push_back(fill_scene(width, height, 1));
+  return v;
+}
+
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height) {
   pbr::GalleryOptions o = benchmark_gallery_options();
   o.mesh = std::make_shared<const pbr::Mesh>(pbr::merge_shapes(pbr::load_obj(obj)));

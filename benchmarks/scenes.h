@@ -87,6 +87,15 @@ BenchScene ibl_gallery_scene(int width, int height);
 //   gallery_ibl_empty      nothing but the clear and the tone map of the cleared tiles
 std::vector<BenchScene> ibl_gallery_variants(int width, int height);
 
+// Variants of fill_scene(width, height) that split its frame time (bench_scenes only),
+// named "fill8x_<tag>_<size>":
+//   lights0, lights1, lights2  the first 0, 1 or 2 of the 3 lights (lights0: the ambient
+//                              and emission alone), so frame time against light count
+//                              gives one light's cost and a packet's cost without lights
+//   layers1 (named fill1x_*)   one plane: the per-frame part (clear, tone map, encode)
+//                              plus one layer
+std::vector<BenchScene> fill_variants(int width, int height);
+
 // The gallery with each cell showing `obj` (fitted into a 0.8 cube). Throws as load_obj.
 BenchScene mesh_scene(const std::string& name, const std::filesystem::path& obj, int width, int height);
 
