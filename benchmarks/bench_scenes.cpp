@@ -13,6 +13,9 @@
 //   ms/frame   wall-clock time per frame
 //   Mpix/s     shaded pixels (covered pixels × the scene's overdraw) per second
 //   Mtri/s     submitted triangles per second
+//   shades     fragment-shader invocations a frame (Renderer::frame_shading(): with MSAA,
+//              one per pixel and triangle that covers some of its samples)
+//   fill       how full the packets were: shades / (shader calls × lanes)
 //   peak_MiB   peak heap during a frame beyond what existed before the target was made
 //              (the meshes and the scene): target + per-frame geometry
 // The renderer, target and meshes are built and one frame is drawn before timing.
@@ -65,6 +68,7 @@ void run_scene(benchmark::State& state, const bench::BenchScene* s) {
   raster::Image8 image;
   pbr::render_rgba8(s->scene, renderer, target, s->output, image);  // warm-up: buffers reach their size
   const double shaded = static_cast<double>(covered_pixels(target)) * s->overdraw;
+  const raster::ShadeCounts shading = renderer.frame_shading();
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) pbr::render_rgba8(s->scene, renderer, target, s->output, image);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -75,6 +79,10 @@ void run_scene(benchmark::State& state, const bench::BenchScene* s) {
   state.counters["Mpix/s"] = 1e-6 * shaded * frames / seconds;
   state.counters["Mtri/s"] = 1e-6 * static_cast<double>(s->triangles) * frames / seconds;
   state.counters["peak_MiB"] = static_cast<double>(peak) / (1024.0 * 1024.0);
+  state.counters["shades"] = static_cast<double>(shading.invocations);
+  state.counters["fill"] = shading.calls == 0 ? 0.0
+                                              : static_cast<double>(shading.invocations) /
+                                                    (static_cast<double>(shading.calls) * renderer.lanes());
 }
 
 }  // namespace

@@ -194,6 +194,87 @@ TEST_CASE("per-sample coverage of random triangles on the sample grid is the ref
   }
 }
 
+TEST_CASE("Renderer::frame_shading counts one shader invocation per pixel and triangle, alike for threads, tiles and lanes") {
+  std::mt19937 rng(19);
+  constexpr int kW = 23, kH = 19;
+  for (const int n : {1, 4, 8}) {
+    CAPTURE(n);
+    const std::vector<Point> points = grid_triangles(rng, 40, kW, kH);
+    // The reference: a triangle shades each pixel where it covers some sample (the depth
+    // test is off in the counting state).
+    const auto offsets = raster::sample_offsets(n);
+    std::uint64_t expected = 0;
+    for (std::size_t t = 0; t + 2 < points.size(); t += 3)
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+          bool any = false;
+          for (int s = 0; s < n && !any; ++s)
+            any = softpbr::test::reference_covers_point(points[t], points[t + 1], points[t + 2],
+                                                        std::int64_t{x} * 256 + 128 + offsets[s].x * 16,
+                                                        std::int64_t{y} * 256 + 128 + offsets[s].y * 16);
+          expected += any ? 1 : 0;
+        }
+    REQUIRE(expected > 300);
+    for (const int lanes : {1, 4, 8, 16})
+      for (const int tile : {8, 64})
+        for (const unsigned threads : {1u, 2u}) {
+          CAPTURE(lanes);
+          CAPTURE(tile);
+          CAPTURE(threads);
+          raster::Renderer r({.threads = threads, .tile_size = tile, .lanes = lanes});
+          sample_counts<softpbr::test::CountPacketShader>(r, kW, kH, n, points);
+          const raster::ShadeCounts c = r.frame_shading();
+          CHECK(c.invocations == expected);
+          // Packets of up to `lanes`, at least one per tile touched: never fewer calls than
+          // full packets would need, never more than one a pixel.
+          CHECK(c.calls * static_cast<std::uint64_t>(lanes) >= c.invocations);
+          CHECK(c.calls <= c.invocations);
+        }
+    raster::Renderer scalar({.threads = 2, .tile_size = 16});
+    sample_counts<softpbr::test::CountShader>(scalar, kW, kH, n, points);
+    CHECK(scalar.frame_shading().invocations == expected);
+    CHECK(scalar.frame_shading().calls == expected);  // fragment(): one call a pixel
+  }
+}
+
+TEST_CASE("Renderer::frame_shading: the early depth test saves invocations, and each frame counts afresh") {
+  constexpr int kW = 32, kH = 24;
+  const auto layer = [&](float depth) {
+    return std::vector<FlatShader::Vertex>{at(0, 0, kW, kH, depth, {1, 0, 0, 1}), at(kW, 0, kW, kH, depth, {1, 0, 0, 1}),
+                                          at(0, kH, kW, kH, depth, {1, 0, 0, 1}), at(kW, kH, kW, kH, depth, {1, 0, 0, 1})};
+  };
+  const std::vector<std::uint32_t> quad = {0, 1, 2, 2, 1, 3};
+  const auto near = layer(0.25f), far = layer(0.75f);
+  for (const int n : {1, 4}) {
+    CAPTURE(n);
+    raster::Target target(kW, kH, n);
+    raster::Renderer r({.threads = 2, .tile_size = 8});
+    const auto frame = [&](const std::vector<FlatShader::Vertex>& first, const std::vector<FlatShader::Vertex>& second) {
+      r.begin_frame(target, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(first), quad);
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(second), quad);
+      r.end_frame();
+      return r.frame_shading().invocations;
+    };
+    // Two triangles make each layer; at MSAA the pixels on their shared diagonal whose
+    // samples the two split are shaded by both.
+    const std::uint64_t one_layer = [&] {
+      r.begin_frame(target, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(far), quad);
+      r.end_frame();
+      return r.frame_shading().invocations;
+    }();
+    if (n == 1) CHECK(one_layer == std::uint64_t{kW} * kH);
+    else CHECK(one_layer > std::uint64_t{kW} * kH);
+    CHECK(frame(far, near) == 2 * one_layer);  // back to front: both layers shaded
+    CHECK(frame(near, far) == one_layer);      // front to back: the far layer fails early
+    r.begin_frame(target, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+    r.end_frame();
+    CHECK(r.frame_shading().invocations == 0);
+    CHECK(r.frame_shading().calls == 0);
+  }
+}
+
 TEST_CASE("top-left rule per sample: an edge through a column of samples gives them to exactly one of two triangles") {
   // Vertical and horizontal edges through the samples of pixel (4, 4) at each sample's
   // offset: the two triangles of a split square share the edge; every sample of the target

@@ -59,10 +59,9 @@ struct BackgroundShader {
 
 // The explicit instantiation of raster::raster_tile for shader S (declaration or definition).
 #define SOFTPBR_PBR_SCENE_KERNEL(S)                                                                     \
-  template void ::softpbr::raster::raster_tile<S>(const S&, const ::softpbr::raster::DrawGeometry&,        \
-                                                  std::size_t, const ::softpbr::raster::TileRect&,         \
-                                                  const ::softpbr::raster::TargetPixels&, int,             \
-                                                  ::softpbr::simd::Isa)
+  template ::softpbr::raster::ShadeCounts softpbr::raster::raster_tile<S>(                                  \
+      const S&, const ::softpbr::raster::DrawGeometry&, std::size_t, const ::softpbr::raster::TileRect&,  \
+      const ::softpbr::raster::TargetPixels&, int, ::softpbr::simd::Isa)
 
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::PbrShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::TexturedPbrShader);

@@ -132,6 +132,8 @@ void Renderer::begin_frame(Target& target) {
   pending_bytes_ = 0;
   cleared_ = false;
   cancelled_.store(false, std::memory_order_relaxed);
+  shaded_invocations_.store(0, std::memory_order_relaxed);
+  shader_calls_.store(0, std::memory_order_relaxed);
   touched_.assign(grid_.count(), 0);
   tile_order(grid_, pool_.size(), tile_order_);
   // The frame may write any pixel: the target knows nothing until end_frame() says again.
@@ -211,18 +213,23 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
         clear_tile(pixels, rect, *clear_, !touched);
       thread_local TileBlock block;
       TargetPixels tile_pixels = pixels;  // what the callback reads: the block or the target
+      ShadeCounts shaded;
       if (in_block) {
         tile_pixels = tile_block(block, pixels, rect);
         const std::size_t n = tile_pixels.plane * static_cast<std::size_t>(tile_pixels.samples);
         std::fill(tile_pixels.colors, tile_pixels.colors + n, clear_->color);
         std::fill(tile_pixels.depths, tile_pixels.depths + n, clear_->depth);
-        for (const auto& draw : draws_) draw->raster(tile, rect, tile_pixels, lanes_, isa_);
+        for (const auto& draw : draws_) shaded += draw->raster(tile, rect, tile_pixels, lanes_, isa_);
         store_tile(tile_pixels, rect, pixels);
         touched_[tile] = 1;  // one writer per tile
       } else if (touched) {
         SOFTPBR_DCHECK(tile < touched_.size());
-        for (const auto& draw : draws_) draw->raster(tile, rect, pixels, lanes_, isa_);
+        for (const auto& draw : draws_) shaded += draw->raster(tile, rect, pixels, lanes_, isa_);
         touched_[tile] = 1;  // one writer per tile
+      }
+      if (shaded.calls != 0) {
+        shaded_invocations_.fetch_add(shaded.invocations, std::memory_order_relaxed);
+        shader_calls_.fetch_add(shaded.calls, std::memory_order_relaxed);
       }
       if (after_tile) (*after_tile)(rect, clear_.has_value() && touched_[tile] == 0, tile_pixels);
     });

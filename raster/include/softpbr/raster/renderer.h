@@ -164,20 +164,31 @@ class Renderer {
   using TileCallback = std::function<void(const TileRect& rect, bool only_clear, const TargetPixels& pixels)>;
   void end_frame(const TileCallback& after_tile);
 
+  // What the last frame shaded (since begin_frame(); complete once end_frame() returns):
+  // fragment-shader invocations, as GL's pipeline statistics count them (one per pixel a
+  // triangle covers and that passes the depth test; with MSAA one per pixel and triangle,
+  // whatever number of its samples the triangle covers), and the shader calls that
+  // shaded them (fragment() once per pixel, fragment_packet() once per packet of up to
+  // lanes() pixels, so invocations / (calls · lanes()) is how full the packets were).
+  // Invocations are the same for any thread count, tile size and lane width.
+  ShadeCounts frame_shading() const {
+    return {shaded_invocations_.load(std::memory_order_relaxed), shader_calls_.load(std::memory_order_relaxed)};
+  }
+
  private:
   struct DrawCall {
     virtual ~DrawCall() = default;
     // One virtual call per draw and tile; the shader inlines inside.
-    virtual void raster(std::size_t tile, const TileRect& rect, const TargetPixels& target, int lanes,
-                        simd::Isa isa) const = 0;
+    virtual ShadeCounts raster(std::size_t tile, const TileRect& rect, const TargetPixels& target, int lanes,
+                               simd::Isa isa) const = 0;
     DrawGeometry geometry;
   };
   template <Shader S>
   struct TypedDrawCall final : DrawCall {
     explicit TypedDrawCall(const S& s) : shader(s) {}
-    void raster(std::size_t tile, const TileRect& rect, const TargetPixels& target, int lanes,
-                simd::Isa isa) const override {
-      raster_tile(shader, this->geometry, tile, rect, target, lanes, isa);
+    ShadeCounts raster(std::size_t tile, const TileRect& rect, const TargetPixels& target, int lanes,
+                       simd::Isa isa) const override {
+      return raster_tile(shader, this->geometry, tile, rect, target, lanes, isa);
     }
     S shader;
   };
@@ -201,6 +212,7 @@ class Renderer {
   std::function<bool()> cancel_;
   std::atomic<bool> cancelled_{false};  // the frame's cancel_ returned true (set by any tile's thread)
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
+  std::atomic<std::uint64_t> shaded_invocations_{0}, shader_calls_{0};  // the frame's (frame_shading())
   bool cleared_ = false;                // the frame's clear is done (by an earlier pass)
   std::vector<std::uint8_t> touched_;   // per tile: a triangle was rasterized into it
   // The order the pool's threads take the tiles in: tiles taken one after the other

@@ -153,6 +153,7 @@ struct Packet {
   std::uint8_t sample_mask[kW];
   float sample_depth[kW][kMaxSamples];
   int count = 0;
+  ShadeCounts shaded;  // for the tile: flush_packet adds each packet (the scalar path each pixel)
 
   explicit Packet(const S& shader) : uniforms(packet_uniforms_of<W, F>(shader)) {
     // Derivatives the shader does not read stay zero.
@@ -213,6 +214,8 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
   using F = typename Packet<W, S>::F;
   SOFTPBR_DCHECK(b.count >= 0 && b.count <= W);
   if (b.count == 0) return;
+  b.shaded.invocations += static_cast<std::uint64_t>(b.count);
+  b.shaded.calls += 1;
   FragmentPacket<F, typename S::Varyings>& p = b.p;
   if constexpr (W > 1) {
     for (int lane = b.count; lane < W; ++lane) {  // pad with copies of lane 0: finite, discarded
@@ -628,6 +631,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
                               z[j],
                               t.front_facing};
           const glm::vec4 src = shader.fragment(f);
+          packet.shaded.invocations += 1;
+          packet.shaded.calls += 1;
           const std::size_t idx = pixel_index(j);
           if constexpr (kMs > 1) {
             float zs[kMs];
@@ -702,13 +707,14 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
 // Rasterizes one draw's triangles that touch tile `tile` (rectangle `rect`) into `target`,
 // W lanes at a time (W = 0: scalar fragment(), one pixel at a time), kMs samples a pixel.
 template <int W, int kMs, Shader S>
-SOFTPBR_KERNEL void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
-                 const TargetPixels& target) {
+SOFTPBR_KERNEL ShadeCounts raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile,
+                                       const TileRect& rect, const TargetPixels& target) {
   Packet<W, S> packet(shader);
   for (const TriangleChunk& chunk : geometry.chunks)
     for (const std::uint32_t i : chunk.tile(tile))
       raster_triangle<W, kMs>(shader, geometry, chunk, chunk.triangles[i], rect, target, packet);
   if constexpr (W > 0) flush_packet<W, kMs>(shader, packet, geometry.state, target);
+  return packet.shaded;
 }
 
 }  // namespace softpbr::raster::detail::SOFTPBR_TARGET_NS

@@ -26,6 +26,24 @@
 #include "softpbr/simd/dispatch.h"
 #include "softpbr/simd/simd.h"
 
+namespace softpbr::raster {
+
+// What a tile kernel shaded: fragment-shader invocations (one per pixel a triangle covers
+// and that passes the depth test, so at MSAA one per pixel and triangle, not per sample;
+// a packet's padding lanes are not counted) and the fragment() / fragment_packet() calls
+// that shaded them. Invocations do not depend on threads, tiles or lanes; calls do.
+struct ShadeCounts {
+  std::uint64_t invocations = 0;
+  std::uint64_t calls = 0;
+  ShadeCounts& operator+=(const ShadeCounts& o) {
+    invocations += o.invocations;
+    calls += o.calls;
+    return *this;
+  }
+};
+
+}  // namespace softpbr::raster
+
 namespace softpbr::raster::detail {
 
 // The varying floats the tile kernel computes derivatives of (kDerivativeMask), in order.
@@ -81,8 +99,8 @@ auto tile_kernel([[maybe_unused]] simd::Isa isa) {
 }
 
 template <int W, Shader S>
-void dispatch_tile(simd::Isa isa, const S& shader, const DrawGeometry& geometry, std::size_t tile,
-                   const TileRect& rect, const TargetPixels& target) {
+ShadeCounts dispatch_tile(simd::Isa isa, const S& shader, const DrawGeometry& geometry, std::size_t tile,
+                          const TileRect& rect, const TargetPixels& target) {
   switch (target.samples) {
     case 4: return tile_kernel<W, 4, S>(isa)(shader, geometry, tile, rect, target);
     case 8: return tile_kernel<W, 8, S>(isa)(shader, geometry, tile, rect, target);
@@ -96,9 +114,10 @@ void dispatch_tile(simd::Isa isa, const S& shader, const DrawGeometry& geometry,
 // width) when the shader has one, else one pixel at a time through fragment(); with the
 // kernel compiled for `isa`, which the CPU must support; per sample for a multisampled
 // target (target.samples). The same bits for every lane count and instruction set.
+// Returns what it shaded.
 template <Shader S>
-void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
-                 const TargetPixels& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {
+ShadeCounts raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile, const TileRect& rect,
+                        const TargetPixels& target, int lanes, simd::Isa isa = simd::Isa::Baseline) {
   if constexpr (PacketShaderFor<S, float> && PacketShaderFor<S, simd::Vec<4>>) {
     switch (lanes == 0 ? simd::kNativeWidth : lanes) {
       case 1: return detail::dispatch_tile<1>(isa, shader, geometry, tile, rect, target);
@@ -107,7 +126,7 @@ void raster_tile(const S& shader, const DrawGeometry& geometry, std::size_t tile
       default: return detail::dispatch_tile<16>(isa, shader, geometry, tile, rect, target);
     }
   } else {
-    detail::dispatch_tile<0>(isa, shader, geometry, tile, rect, target);
+    return detail::dispatch_tile<0>(isa, shader, geometry, tile, rect, target);
   }
 }
 
