@@ -1,11 +1,11 @@
-// The eight-lane texture kernel (raster/src/texture-inl.h, run by Texture::sample_batch on
-// CPUs with AVX2 for 8-bit textures with power-of-two sides through repeat, trilinear
-// samplers) against the scalar lookup, bit for bit, on random and hostile inputs: every
-// batch size from 1 to 17 (partial groups of eight), anisotropy 1 to 16, LOD biases and
-// limits that put lanes in magnification, between levels and on the last level, and
-// coordinates and derivatives that are zero, subnormal, huge, infinite or NaN. Elsewhere
-// (no AVX2, other textures or samplers) sample_batch runs the scalar code and this passes
-// trivially.
+// The texture lane kernels (raster/src/texture-inl.h, run by Texture::sample_batch on
+// CPUs with AVX2 (8 lanes) or AVX-512 (16 lanes) for 8-bit textures with power-of-two sides
+// through repeat, trilinear samplers) against the scalar lookup, bit for bit, on random
+// and hostile inputs: each kernel the CPU runs, every batch size from 1 to 17 (partial
+// groups of 8 and 16), anisotropy 1 to 16, LOD biases and limits that put lanes in
+// magnification, between levels and on the last level, and coordinates and derivatives
+// that are zero, subnormal, huge, infinite or NaN. Elsewhere (no AVX2, other textures or
+// samplers) sample_batch runs the scalar code and this passes trivially.
 #include <doctest/doctest.h>
 
 #include <bit>
@@ -42,56 +42,62 @@ float value(std::mt19937& rng, float scale) {
 
 }  // namespace
 
-TEST_CASE("the eight-lane texture kernel returns the scalar lookup's bits") {
-  const raster::Texture textures[] = {
-      raster::Texture(softpbr::test::random_image8(256, 256, 1), raster::ColorSpace::Srgb),
-      raster::Texture(softpbr::test::random_image8(64, 16, 2), raster::ColorSpace::Linear),
-      raster::Texture(softpbr::test::random_image8(1, 128, 3), raster::ColorSpace::Srgb),
-      raster::Texture(softpbr::test::random_image8(1, 1, 4), raster::ColorSpace::Srgb),
-      raster::Texture(softpbr::test::random_image8(32, 32, 5), raster::ColorSpace::Srgb, {.mipmaps = false}),
-  };
-  std::mt19937 rng(21);
-  const int anisotropies[] = {1, 2, 5, 16};
-  const float derivative_scales[] = {1e-4f, 4e-3f, 0.05f, 2.0f};
-  long mismatches = 0, lookups = 0;
-  for (const raster::Texture& t : textures)
-    for (int rep = 0; rep < 400; ++rep) {
-      raster::Sampler s;  // repeat, trilinear
-      s.max_anisotropy = anisotropies[rep % 4];
-      if (rep % 5 == 1) s.lod_bias = -1.5f;
-      if (rep % 5 == 2) s.lod_bias = 2.25f;
-      if (rep % 7 == 3) s.min_lod = 1.0f;
-      if (rep % 7 == 4) s.max_lod = 2.5f;
-      const float scale = derivative_scales[(rep / 4) % 4];
-      constexpr int kMax = 17;
-      std::vector<float> in[6], out[4];
-      for (auto& v : in) v.resize(kMax);
-      for (auto& v : out) v.resize(kMax);
-      for (int i = 0; i < kMax; ++i) {
-        in[0][i] = value(rng, 3.0f);
-        in[1][i] = value(rng, 3.0f);
-        for (int k = 2; k < 6; ++k) in[k][i] = value(rng, scale);
-        if (rng() % 3 == 0) {  // an anisotropic footprint along u
-          in[3][i] = in[2][i] * 0.01f;
-          in[4][i] = in[2][i] * 0.02f;
-          in[5][i] = in[2][i] * 0.125f;
+TEST_CASE("the 8- and 16-lane texture kernels return the scalar lookup's bits") {
+  for (const auto isa : {softpbr::simd::Isa::Baseline, softpbr::simd::Isa::Avx2, softpbr::simd::Isa::Avx512}) {
+    if (!softpbr::simd::supported(isa)) continue;
+    CAPTURE(static_cast<int>(isa));
+    const raster::Texture textures[] = {
+        raster::Texture(softpbr::test::random_image8(256, 256, 1), raster::ColorSpace::Srgb),
+        raster::Texture(softpbr::test::random_image8(64, 16, 2), raster::ColorSpace::Linear),
+        raster::Texture(softpbr::test::random_image8(1, 128, 3), raster::ColorSpace::Srgb),
+        raster::Texture(softpbr::test::random_image8(1, 1, 4), raster::ColorSpace::Srgb),
+        raster::Texture(softpbr::test::random_image8(32, 32, 5), raster::ColorSpace::Srgb, {.mipmaps = false}),
+    };
+    std::mt19937 rng(21);
+    const int anisotropies[] = {1, 2, 5, 16};
+    const float derivative_scales[] = {1e-4f, 4e-3f, 0.05f, 2.0f};
+    long mismatches = 0, lookups = 0;
+    for (const raster::Texture& t : textures)
+      for (int rep = 0; rep < 400; ++rep) {
+        raster::Sampler s;  // repeat, trilinear
+        s.max_anisotropy = anisotropies[rep % 4];
+        if (rep % 5 == 1) s.lod_bias = -1.5f;
+        if (rep % 5 == 2) s.lod_bias = 2.25f;
+        if (rep % 7 == 3) s.min_lod = 1.0f;
+        if (rep % 7 == 4) s.max_lod = 2.5f;
+        const float scale = derivative_scales[(rep / 4) % 4];
+        constexpr int kMax = 17;
+        std::vector<float> in[6], out[4];
+        for (auto& v : in) v.resize(kMax);
+        for (auto& v : out) v.resize(kMax);
+        for (int i = 0; i < kMax; ++i) {
+          in[0][i] = value(rng, 3.0f);
+          in[1][i] = value(rng, 3.0f);
+          for (int k = 2; k < 6; ++k) in[k][i] = value(rng, scale);
+          if (rng() % 3 == 0) {  // an anisotropic footprint along u
+            in[3][i] = in[2][i] * 0.01f;
+            in[4][i] = in[2][i] * 0.02f;
+            in[5][i] = in[2][i] * 0.125f;
+          }
+        }
+        const int n = 1 + rep % kMax;
+        t.sample_batch(s, n,
+                       {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data(), nullptr,
+                        out[0].data(), out[1].data(), out[2].data(), out[3].data()},
+                       isa);
+        for (int i = 0; i < n; ++i) {
+          const glm::vec4 one = t.sample(s, {in[0][i], in[1][i]}, {in[2][i], in[3][i]}, {in[4][i], in[5][i]});
+          ++lookups;
+          for (int ch = 0; ch < 4; ++ch)
+            if (std::bit_cast<std::uint32_t>(out[ch][i]) != std::bit_cast<std::uint32_t>(one[ch])) {
+              ++mismatches;
+              break;
+            }
         }
       }
-      const int n = 1 + rep % kMax;
-      t.sample_batch(s, n, {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data(),
-                            nullptr, out[0].data(), out[1].data(), out[2].data(), out[3].data()});
-      for (int i = 0; i < n; ++i) {
-        const glm::vec4 one = t.sample(s, {in[0][i], in[1][i]}, {in[2][i], in[3][i]}, {in[4][i], in[5][i]});
-        ++lookups;
-        for (int ch = 0; ch < 4; ++ch)
-          if (std::bit_cast<std::uint32_t>(out[ch][i]) != std::bit_cast<std::uint32_t>(one[ch])) {
-            ++mismatches;
-            break;
-          }
-      }
-    }
-  CHECK(lookups > 10000);
-  CHECK(mismatches == 0);
+    CHECK(lookups > 10000);
+    CHECK(mismatches == 0);
+  }
 }
 
 TEST_CASE("a batch that asks for some channels gets them with the bits of a full lookup") {

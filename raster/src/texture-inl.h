@@ -1,10 +1,10 @@
-// Texture lookups eight lanes at a time, compiled once per target (texture.cpp includes it
-// through softpbr/simd/foreach_target.h; no include guard, no header included here). Only
-// the copies with 256-bit vectors define the kernel (SOFTPBR_TARGET_AVX: avx2 and avx512);
-// texture.cpp runs its scalar code elsewhere.
+// Texture lookups kL lanes at a time (8 with AVX2, 16 with AVX-512), compiled once per
+// target (texture.cpp includes it through softpbr/simd/foreach_target.h; no include guard,
+// no header included here). Only the copies with 256-bit vectors or wider define the
+// kernel (SOFTPBR_TARGET_AVX: avx2 and avx512); texture.cpp runs its scalar code elsewhere.
 //
 // The kernel is texture.cpp's scalar fast path (Lookup::sample_fast: an 8-bit texture whose
-// sides are powers of two, both wraps Repeat, every filter Linear) on eight lanes: every
+// sides are powers of two, both wraps Repeat, every filter Linear) on kL lanes: every
 // lane goes through the IEEE operations the scalar code applies to it, in the same order
 // (-ffp-contract=off, no target enables FMA); branches become selects, and a lane's result
 // is the one its branch of the scalar code computes. Where the scalar code skips work
@@ -18,74 +18,91 @@ namespace softpbr::raster::detail::SOFTPBR_TARGET_NS {
 
 namespace texture_lanes {
 
-typedef float F8 __attribute__((vector_size(32)));
-typedef std::int32_t I8 __attribute__((vector_size(32)));
+// kL lanes: 16 where the target has AVX-512 (its 512-bit registers), else 8.
+#if SOFTPBR_TARGET_AVX512
+inline constexpr int kL = 16;
+#else
+inline constexpr int kL = 8;
+#endif
+typedef float FV __attribute__((vector_size(4 * kL)));
+typedef std::int32_t IV __attribute__((vector_size(4 * kL)));
 
-inline F8 splat(float x) { return x - F8{}; }  // a bare broadcast (see Lanes(float))
-inline I8 splat_int(std::int32_t x) { return I8{} + x; }
+inline FV splat(float x) { return x - FV{}; }  // a bare broadcast (see Lanes(float))
+inline IV splat_int(std::int32_t x) { return IV{} + x; }
 // m ? a : b per lane (m all ones or zeros, as comparisons give).
-inline F8 select(I8 m, F8 a, F8 b) { return (F8)((m & (I8)a) | (~m & (I8)b)); }
-inline I8 select(I8 m, I8 a, I8 b) { return (m & a) | (~m & b); }
-inline bool any(I8 m) { return _mm256_movemask_ps((__m256)m) != 0; }
-inline bool all(I8 m) { return _mm256_movemask_ps((__m256)m) == 0xff; }
-inline F8 to_float(I8 i) { return __builtin_convertvector(i, F8); }
-inline I8 to_int(F8 x) { return __builtin_convertvector(x, I8); }  // towards zero
-inline F8 sqrt(F8 x) { return (F8)_mm256_sqrt_ps((__m256)x); }
+inline FV select(IV m, FV a, FV b) { return (FV)((m & (IV)a) | (~m & (IV)b)); }
+inline IV select(IV m, IV a, IV b) { return (m & a) | (~m & b); }
+#if SOFTPBR_TARGET_AVX512
+inline bool any(IV m) { return _mm512_movepi32_mask((__m512i)m) != 0; }
+inline bool all(IV m) { return _mm512_movepi32_mask((__m512i)m) == 0xffff; }
+#else
+inline bool any(IV m) { return _mm256_movemask_ps((__m256)m) != 0; }
+inline bool all(IV m) { return _mm256_movemask_ps((__m256)m) == 0xff; }
+#endif
+inline FV to_float(IV i) { return __builtin_convertvector(i, FV); }
+inline IV to_int(FV x) { return __builtin_convertvector(x, IV); }  // towards zero
+#if SOFTPBR_TARGET_AVX512
+// The masked form with every lane selected, as simd's Lanes: GCC 12 warns of
+// _mm512_sqrt_ps's undefined pass-through operand.
+inline FV sqrt(FV x) { return (FV)_mm512_mask_sqrt_ps((__m512)x, static_cast<__mmask16>(0xffff), (__m512)x); }
+#else
+inline FV sqrt(FV x) { return (FV)_mm256_sqrt_ps((__m256)x); }
+#endif
 
 // finite_or_zero: x − x is 0 only for finite x.
-inline F8 finite_or_zero(F8 x) { return select((x - x) == 0.0f, x, F8{}); }
+inline FV finite_or_zero(FV x) { return select((x - x) == 0.0f, x, FV{}); }
 // std::clamp(v, lo, hi): v < lo ? lo : (hi < v ? hi : v).
-inline F8 clamp(F8 v, float lo, float hi) { return select(v < lo, splat(lo), select(splat(hi) < v, splat(hi), v)); }
+inline FV clamp(FV v, float lo, float hi) { return select(v < lo, splat(lo), select(splat(hi) < v, splat(hi), v)); }
 // coordinate(): clamped to ±2^16.
-inline F8 coordinate(F8 x) { return clamp(finite_or_zero(x), -kMaxCoordinate, kMaxCoordinate); }
+inline FV coordinate(FV x) { return clamp(finite_or_zero(x), -kMaxCoordinate, kMaxCoordinate); }
 
 // floor_of() per lane (the same preconditions: |x| < 2^31, x ≠ −0).
 struct FloorL {
-  I8 i;
-  F8 f;
+  IV i;
+  FV f;
 };
-inline FloorL floor_of(F8 x) {
-  I8 i = to_int(x);
+inline FloorL floor_of(FV x) {
+  IV i = to_int(x);
   i = i + (to_float(i) > x);  // a true mask is −1
   return {i, to_float(i)};
 }
 
 // log2_of() per lane: the same selects and the same polynomial.
-inline F8 log2_of(F8 x) {
+inline FV log2_of(FV x) {
   const float inf = std::numeric_limits<float>::infinity();
-  const I8 subnormal = x < std::numeric_limits<float>::min();
-  const F8 xn = select(subnormal, x * 16777216.0f, x);  // 2^24
-  const I8 bits = (I8)xn;
-  I8 e = select(subnormal, splat_int(-24), I8{}) + (((bits >> 23) & 0xff) - 127);
-  F8 m = (F8)((bits & 0x007fffff) | 0x3f800000);  // [1, 2)
-  const I8 above = m > 1.41421356f;
+  const IV subnormal = x < std::numeric_limits<float>::min();
+  const FV xn = select(subnormal, x * 16777216.0f, x);  // 2^24
+  const IV bits = (IV)xn;
+  IV e = select(subnormal, splat_int(-24), IV{}) + (((bits >> 23) & 0xff) - 127);
+  FV m = (FV)((bits & 0x007fffff) | 0x3f800000);  // [1, 2)
+  const IV above = m > 1.41421356f;
   m = select(above, m * 0.5f, m);
   e = e - above;
-  const F8 s = (m - 1.0f) / (m + 1.0f);
-  const F8 s2 = s * s;
-  F8 p = splat(1.0f / 9.0f);
+  const FV s = (m - 1.0f) / (m + 1.0f);
+  const FV s2 = s * s;
+  FV p = splat(1.0f / 9.0f);
   p = p * s2 + 1.0f / 7.0f;
   p = p * s2 + 1.0f / 5.0f;
   p = p * s2 + 1.0f / 3.0f;
   p = p * s2 + 1.0f;
   constexpr float kTwoOverLn2 = 2.88539008f;  // 2 / ln 2
-  F8 r = to_float(e) + s * p * kTwoOverLn2;
+  FV r = to_float(e) + s * p * kTwoOverLn2;
   r = select(x == inf, splat(inf), r);
   r = select(x == 0.0f, splat(-inf), r);
   return select(!(x >= 0.0f), splat(std::numeric_limits<float>::quiet_NaN()), r);  // NaN, negatives
 }
 
-struct Rgba8 {
-  F8 c[4];
+struct RgbaV {
+  FV c[4];
 };
 
 // A level per lane: the masks of its sides (powers of two), log₂ of its width, its first
 // texel, its sides as floats.
 struct LevelLanes {
-  I8 wmask, hmask, wshift, offset;
-  F8 fw, fh;
+  IV wmask, hmask, wshift, offset;
+  FV fw, fh;
 };
-inline LevelLanes level_lanes(const LaneTexture& t, I8 d) {
+inline LevelLanes level_lanes(const LaneTexture& t, IV d) {
   LevelLanes r;
   if (all(d == d[0])) {
     const Texture::Level& lv = t.levels[d[0]];
@@ -97,7 +114,7 @@ inline LevelLanes level_lanes(const LaneTexture& t, I8 d) {
     r.fh = splat(static_cast<float>(lv.height));
     return r;
   }
-  for (int i = 0; i < 8; ++i) {
+  for (int i = 0; i < kL; ++i) {
     const Texture::Level& lv = t.levels[d[i]];
     r.wmask[i] = lv.width - 1;
     r.hmask[i] = lv.height - 1;
@@ -109,53 +126,53 @@ inline LevelLanes level_lanes(const LaneTexture& t, I8 d) {
   return r;
 }
 
-// Eight texels (RGBA8, by index into the texel array) decoded: colour through the
+// kL texels (RGBA8, by index into the texel array) decoded: colour through the
 // texture's table, alpha through k/255's; only the channels in kCh (bit c: channel c), the
 // others 0. Loaded one by one: on Zen 3 this is faster than AVX2's gathers (one for the
 // texels and four for the tables: 50 against 43 ns a lookup in a micro benchmark, though
 // half the instructions).
 template <unsigned kCh>
-inline Rgba8 texels(const LaneTexture& t, I8 index) {
-  alignas(32) std::int32_t at[8];
+inline RgbaV texels(const LaneTexture& t, IV index) {
+  alignas(64) std::int32_t at[kL];
   std::memcpy(at, &index, sizeof at);
-  alignas(32) float c[4][8];
-  for (int i = 0; i < 8; ++i) {
+  alignas(64) float c[4][kL];
+  for (int i = 0; i < kL; ++i) {
     const std::uint8_t* p = t.texels + static_cast<std::size_t>(at[i]) * 4;
     if constexpr ((kCh & 1) != 0) c[0][i] = t.rgb[p[0]];
     if constexpr ((kCh & 2) != 0) c[1][i] = t.rgb[p[1]];
     if constexpr ((kCh & 4) != 0) c[2][i] = t.rgb[p[2]];
     if constexpr ((kCh & 8) != 0) c[3][i] = t.alpha[p[3]];
   }
-  Rgba8 r;
+  RgbaV r;
   for (int ch = 0; ch < 4; ++ch) {
-    if (kCh >> ch & 1) std::memcpy(&r.c[ch], c[ch], sizeof(F8));
-    else r.c[ch] = F8{};
+    if (kCh >> ch & 1) std::memcpy(&r.c[ch], c[ch], sizeof(FV));
+    else r.c[ch] = FV{};
   }
   return r;
 }
 
 // Lookup::bilinear_repeat() per lane, each at its own level (the channels in kCh).
 template <unsigned kCh>
-inline Rgba8 bilinear(const LaneTexture& t, const LevelLanes& lv, F8 cu, F8 cv) {
-  const F8 x = cu * lv.fw, y = cv * lv.fh;
-  const F8 xs = x - 0.5f, ys = y - 0.5f;
+inline RgbaV bilinear(const LaneTexture& t, const LevelLanes& lv, FV cu, FV cv) {
+  const FV x = cu * lv.fw, y = cv * lv.fh;
+  const FV xs = x - 0.5f, ys = y - 0.5f;
   const FloorL x0 = floor_of(xs), y0 = floor_of(ys);
-  const F8 ax = xs - x0.f, ay = ys - y0.f;  // exact
+  const FV ax = xs - x0.f, ay = ys - y0.f;  // exact
   // Powers of two: i & (w − 1) is repeat_index(i, w), (i + 1) & (w − 1) its neighbour.
-  const I8 ia = x0.i & lv.wmask, ja = y0.i & lv.hmask;
-  const I8 ib = (ia + 1) & lv.wmask, jb = (ja + 1) & lv.hmask;
-  const I8 row_a = lv.offset + (ja << lv.wshift), row_b = lv.offset + (jb << lv.wshift);
-  const Rgba8 c00 = texels<kCh>(t, row_a + ia), c10 = texels<kCh>(t, row_a + ib);
-  const Rgba8 c01 = texels<kCh>(t, row_b + ia), c11 = texels<kCh>(t, row_b + ib);
-  const F8 bx = 1.0f - ax, by = 1.0f - ay;
-  Rgba8 out;
+  const IV ia = x0.i & lv.wmask, ja = y0.i & lv.hmask;
+  const IV ib = (ia + 1) & lv.wmask, jb = (ja + 1) & lv.hmask;
+  const IV row_a = lv.offset + (ja << lv.wshift), row_b = lv.offset + (jb << lv.wshift);
+  const RgbaV c00 = texels<kCh>(t, row_a + ia), c10 = texels<kCh>(t, row_a + ib);
+  const RgbaV c01 = texels<kCh>(t, row_b + ia), c11 = texels<kCh>(t, row_b + ib);
+  const FV bx = 1.0f - ax, by = 1.0f - ay;
+  RgbaV out;
   for (int ch = 0; ch < 4; ++ch) {
     if (!(kCh >> ch & 1)) {
-      out.c[ch] = F8{};
+      out.c[ch] = FV{};
       continue;
     }
-    const F8 top = c00.c[ch] * bx + c10.c[ch] * ax;
-    const F8 bottom = c01.c[ch] * bx + c11.c[ch] * ax;
+    const FV top = c00.c[ch] * bx + c10.c[ch] * ax;
+    const FV bottom = c01.c[ch] * bx + c11.c[ch] * ax;
     out.c[ch] = top * by + bottom * ay;
   }
   return out;
@@ -164,67 +181,67 @@ inline Rgba8 bilinear(const LaneTexture& t, const LevelLanes& lv, F8 cu, F8 cv) 
 // Lookup::trilinear_repeat() per lane: level 0 where λ ≤ 0, the last level where λ ≥ q,
 // else the blend of the two levels around λ.
 template <unsigned kCh>
-inline Rgba8 trilinear(const LaneTexture& t, F8 lod, F8 u, F8 v) {
-  const F8 cu = coordinate(u), cv = coordinate(v);
-  const I8 positive = lod > 0.0f;
-  const I8 between = positive & (lod < static_cast<float>(t.q));
+inline RgbaV trilinear(const LaneTexture& t, FV lod, FV u, FV v) {
+  const FV cu = coordinate(u), cv = coordinate(v);
+  const IV positive = lod > 0.0f;
+  const IV between = positive & (lod < static_cast<float>(t.q));
   const FloorL f = floor_of(select(between, lod, splat(0.5f)));
-  const I8 d1 = select(between, f.i, select(positive, splat_int(t.q), I8{}));
-  const Rgba8 a = bilinear<kCh>(t, level_lanes(t, d1), cu, cv);
+  const IV d1 = select(between, f.i, select(positive, splat_int(t.q), IV{}));
+  const RgbaV a = bilinear<kCh>(t, level_lanes(t, d1), cu, cv);
   if (!any(between)) return a;
-  const Rgba8 b = bilinear<kCh>(t, level_lanes(t, select(between, d1 + 1, d1)), cu, cv);
-  const F8 w = lod - f.f;  // exact where it is used
-  Rgba8 out;
+  const RgbaV b = bilinear<kCh>(t, level_lanes(t, select(between, d1 + 1, d1)), cu, cv);
+  const FV w = lod - f.f;  // exact where it is used
+  RgbaV out;
   for (int ch = 0; ch < 4; ++ch) out.c[ch] = select(between, a.c[ch] * (1.0f - w) + b.c[ch] * w, a.c[ch]);
   return out;
 }
 
 // Lookup::sample_fast() per lane (the batch's bias is 0), the channels in kCh.
 template <unsigned kCh>
-inline Rgba8 sample8(const LaneTexture& t, F8 u, F8 v, F8 dudx, F8 dvdx, F8 dudy, F8 dvdy) {
+inline RgbaV sample_v(const LaneTexture& t, FV u, FV v, FV dudx, FV dvdx, FV dudy, FV dvdy) {
   // Lookup::footprint().
   dudx = finite_or_zero(dudx);
   dvdx = finite_or_zero(dvdx);
   dudy = finite_or_zero(dudy);
   dvdy = finite_or_zero(dvdy);
-  const F8 ux = dudx * t.width, vx = dvdx * t.height, uy = dudy * t.width, vy = dvdy * t.height;
-  const F8 px = sqrt(ux * ux + vx * vx);
-  const F8 py = sqrt(uy * uy + vy * vy);
-  const I8 x_major = ~(px < py);
-  const F8 pmax = select(x_major, px, py), pmin = select(x_major, py, px);
-  I8 probes = splat_int(1);
+  const FV ux = dudx * t.width, vx = dvdx * t.height, uy = dudy * t.width, vy = dvdy * t.height;
+  const FV px = sqrt(ux * ux + vx * vx);
+  const FV py = sqrt(uy * uy + vy * vy);
+  const IV x_major = ~(px < py);
+  const FV pmax = select(x_major, px, py), pmin = select(x_major, py, px);
+  IV probes = splat_int(1);
   if (t.max_anisotropy > 1) {
-    const F8 ratio = pmax / pmin;  // +∞ for pmin = 0; NaN for ∞/∞ and 0/0 (then unused)
-    const I8 below = ratio < static_cast<float>(t.max_anisotropy);
-    const F8 r = select(below, ratio, splat(1.0f));  // in [1, 16): converts exactly
-    const I8 whole = to_int(r);
-    const I8 ceil = whole - (to_float(whole) < r);  // std::ceil(ratio) of a positive ratio
+    const FV ratio = pmax / pmin;  // +∞ for pmin = 0; NaN for ∞/∞ and 0/0 (then unused)
+    const IV below = ratio < static_cast<float>(t.max_anisotropy);
+    const FV r = select(below, ratio, splat(1.0f));  // in [1, 16): converts exactly
+    const IV whole = to_int(r);
+    const IV ceil = whole - (to_float(whole) < r);  // std::ceil(ratio) of a positive ratio
     probes = select(pmax > 0.0f, select(below, ceil, splat_int(t.max_anisotropy)), probes);
   }
-  const I8 several = probes > 1;
-  F8 lod = log2_of(select(several, pmax / to_float(probes), pmax));
+  const IV several = probes > 1;
+  FV lod = log2_of(select(several, pmax / to_float(probes), pmax));
   // clamp_lod(lod + finite_or_zero(bias)) with bias 0.
   lod = clamp((lod + 0.0f) + t.lod_bias, t.min_lod, t.max_lod);
   if (!any(several)) return trilinear<kCh>(t, lod, u, v);
   // EXT_texture_filter_anisotropic's probes: lanes with one probe read (u, v) as the scalar
   // code does; the others the mean of theirs, summed in order, a probe past a lane's count
   // adding nothing.
-  const F8 mu = select(x_major, dudx, dudy), mv = select(x_major, dvdx, dvdy);
-  const F8 cu = coordinate(u), cv = coordinate(v);
-  const F8 n1 = to_float(probes + 1);
+  const FV mu = select(x_major, dudx, dudy), mv = select(x_major, dvdx, dvdy);
+  const FV cu = coordinate(u), cv = coordinate(v);
+  const FV n1 = to_float(probes + 1);
   int most = 1;
-  for (int i = 0; i < 8; ++i) most = probes[i] > most ? probes[i] : most;
-  Rgba8 sum = {{F8{}, F8{}, F8{}, F8{}}};
-  Rgba8 single{};
+  for (int i = 0; i < kL; ++i) most = probes[i] > most ? probes[i] : most;
+  RgbaV sum = {{FV{}, FV{}, FV{}, FV{}}};
+  RgbaV single{};
   for (int i = 1; i <= most; ++i) {
-    const F8 w = static_cast<float>(i) / n1 - 0.5f;
-    const Rgba8 c = trilinear<kCh>(t, lod, select(several, cu + mu * w, u), select(several, cv + mv * w, v));
+    const FV w = static_cast<float>(i) / n1 - 0.5f;
+    const RgbaV c = trilinear<kCh>(t, lod, select(several, cu + mu * w, u), select(several, cv + mv * w, v));
     if (i == 1) single = c;
-    const I8 taken = several & (splat_int(i) <= probes);
+    const IV taken = several & (splat_int(i) <= probes);
     for (int ch = 0; ch < 4; ++ch) sum.c[ch] = select(taken, sum.c[ch] + c.c[ch], sum.c[ch]);
   }
-  const F8 n = to_float(probes);
-  Rgba8 out;
+  const FV n = to_float(probes);
+  RgbaV out;
   for (int ch = 0; ch < 4; ++ch) out.c[ch] = select(several, sum.c[ch] / n, single.c[ch]);
   return out;
 }
@@ -235,24 +252,24 @@ inline Rgba8 sample8(const LaneTexture& t, F8 u, F8 v, F8 dudx, F8 dvdx, F8 dudy
 template <unsigned kCh>
 void sample_lanes_of(const LaneTexture& t, int n, const Texture::Batch& b) {
   using namespace texture_lanes;
-  for (int first = 0; first < n; first += 8) {
-    const int m = n - first < 8 ? n - first : 8;
+  for (int first = 0; first < n; first += kL) {
+    const int m = n - first < kL ? n - first : kL;
     const float* in[6] = {b.u + first, b.v + first, b.dudx + first, b.dvdx + first, b.dudy + first, b.dvdy + first};
-    F8 lanes[6];
+    FV lanes[6];
     for (int k = 0; k < 6; ++k) {
-      if (m == 8) {
-        std::memcpy(&lanes[k], in[k], sizeof(F8));
+      if (m == kL) {
+        std::memcpy(&lanes[k], in[k], sizeof(FV));
       } else {
-        lanes[k] = F8{};
+        lanes[k] = FV{};
         for (int i = 0; i < m; ++i) lanes[k][i] = in[k][i];
       }
     }
-    const Rgba8 c = sample8<kCh>(t, lanes[0], lanes[1], lanes[2], lanes[3], lanes[4], lanes[5]);
+    const RgbaV c = sample_v<kCh>(t, lanes[0], lanes[1], lanes[2], lanes[3], lanes[4], lanes[5]);
     float* out[4] = {b.r + first, b.g + first, b.b + first, b.a + first};
     for (int ch = 0; ch < 4; ++ch) {
       if (!(kCh >> ch & 1)) continue;
-      if (m == 8) {
-        std::memcpy(out[ch], &c.c[ch], sizeof(F8));
+      if (m == kL) {
+        std::memcpy(out[ch], &c.c[ch], sizeof(FV));
       } else {
         for (int i = 0; i < m; ++i) out[ch][i] = c.c[ch][i];
       }

@@ -168,7 +168,10 @@ class Texture {
   // Channel sets for Batch::channels and raster::sample.
   static constexpr unsigned kRed = 1, kGreen = 2, kBlue = 4, kAlpha = 8;
   static constexpr unsigned kRgb = kRed | kGreen | kBlue, kRgba = kRgb | kAlpha;
-  void sample_batch(const Sampler& s, int n, const Batch& batch) const;
+  void sample_batch(const Sampler& s, int n, const Batch& batch) const { sample_batch(s, n, batch, simd::cpu_isa()); }
+  // The same with the lane kernel for `isa` (which the CPU must support), where one runs:
+  // 16 lanes with Avx512, 8 with Avx2, the scalar lookup with Baseline. The same bits.
+  void sample_batch(const Sampler& s, int n, const Batch& batch, simd::Isa isa) const;
   void sample_lod_batch(const Sampler& s, int n, const Batch& batch) const;
 
  private:
