@@ -3,8 +3,9 @@
 //   bench_scenes [--benchmark_filter=gallery64_1080p] [--benchmark_min_time=0.5]
 //
 // Every scene of scenes.h (the paper's gallery at 64, 16 and 256 segments at 1920×1080
-// and at 512×512, the fill-rate scene, the textured scenes, the IBL gallery and the
-// fill scene with variants that split their time, the shared meshes when ../shared/models exists),
+// and at 512×512, the fill-rate scene, the textured scenes, the IBL gallery, and the IBL
+// gallery and fill scene again in variants that split their time, the shared meshes when
+// ../shared/models exists),
 // each at 1 and 2 renderer threads. One iteration is one frame of pbr::render(): clear,
 // 21 (or 8) draws with the PBR shader, end_frame() with each tile tone mapped to RGBA8
 // right after it is drawn (pbr::render_rgba8: the finished image). SOFTPBR_BENCH_MSAA=4

@@ -103,7 +103,7 @@ TEST_CASE("the 8- and 16-lane texture kernels return the scalar lookup's bits") 
 TEST_CASE("a batch that asks for some channels gets them with the bits of a full lookup") {
   const raster::Texture t(softpbr::test::random_image8(128, 64, 7), raster::ColorSpace::Srgb);
   std::mt19937 rng(5);
-  constexpr int kN = 19;  // two groups of eight and a partial one
+  constexpr int kN = 19;  // full groups of 8 or 16 lanes and a partial one
   std::vector<float> in[6], full[4], part[4];
   for (auto& v : in) v.resize(kN);
   for (int i = 0; i < kN; ++i) {

@@ -350,7 +350,7 @@ Texture::Texture(const image::ImageViewF& image, const TextureOptions& options, 
 // ---- Lookups ---------------------------------------------------------------------------
 
 namespace detail {
-// What the eight-lane kernel (texture-inl.h) reads: an 8-bit texture whose sides are powers
+// What the lane kernel (texture-inl.h) reads: an 8-bit texture whose sides are powers
 // of two, through a sampler that repeats both ways and filters linearly everywhere.
 struct LaneTexture {
   const std::uint8_t* texels;  // RGBA8, every level

@@ -25,8 +25,8 @@
 // Determinism: every lookup is computed out of line (texture.cpp), each value by the same
 // IEEE operations in the same order whatever the form, the lane width or the instruction
 // set: the packet form runs the scalar code per lane, or, on x86-64 CPUs with AVX2 and for
-// 8-bit textures with power-of-two sides through repeat, trilinear samplers, an eight-lane
-// kernel with those operations per lane (selects for branches, no FMA). So a texel value is
+// 8-bit textures with power-of-two sides through repeat, trilinear samplers, a lane
+// kernel (8 lanes with AVX2, 16 with AVX-512) with those operations per lane (selects for branches, no FMA). So a texel value is
 // the same bits at every width, with dispatch on or off. log₂ is computed from the float's
 // bits and a fixed polynomial (no libm). Mip chains are built with a fixed order of
 // operations per texel, so they do not depend on the thread count.
@@ -161,7 +161,7 @@ class Texture {
     float* b;
     float* a;
     // The channels the caller reads (bit c: channel c, r = 0 … a = 3): a lookup may skip
-    // decoding and filtering the others and leave their outputs unwritten (the eight-lane
+    // decoding and filtering the others and leave their outputs unwritten (the lane
     // kernel does, for rgb, gb and r; a metallic-roughness map needs two channels of four).
     unsigned channels = kRgba;
   };
