@@ -1,10 +1,11 @@
 // The texture lane kernels (raster/src/texture-inl.h, run by Texture::sample_batch on
 // CPUs with AVX2 (8 lanes) or AVX-512 (16 lanes) for 8-bit textures with power-of-two sides
 // through repeat, trilinear samplers) against the scalar lookup, bit for bit, on random
-// and hostile inputs: each kernel the CPU runs, every batch size from 1 to 17 (partial
-// groups of 8 and 16), anisotropy 1 to 16, LOD biases and limits that put lanes in
-// magnification, between levels and on the last level, and coordinates and derivatives
-// that are zero, subnormal, huge, infinite or NaN. Elsewhere (no AVX2, other textures or
+// and hostile inputs: each kernel the CPU runs (AVX-512 with and without VBMI's byte
+// permutes), every batch size from 1 to 17 (partial groups of 8 and 16), anisotropy 1 to
+// 16, LOD biases and limits that put lanes in magnification, between levels and on the
+// last level, and coordinates and derivatives that are zero, subnormal, huge, infinite
+// or NaN. Elsewhere (no AVX2, other textures or
 // samplers) sample_batch runs the scalar code and this passes trivially.
 #include <doctest/doctest.h>
 
@@ -12,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "softpbr/raster/texture.h"
@@ -43,9 +45,15 @@ float value(std::mt19937& rng, float scale) {
 }  // namespace
 
 TEST_CASE("the 8- and 16-lane texture kernels return the scalar lookup's bits") {
-  for (const auto isa : {softpbr::simd::Isa::Baseline, softpbr::simd::Isa::Avx2, softpbr::simd::Isa::Avx512}) {
-    if (!softpbr::simd::supported(isa)) continue;
+  using softpbr::simd::Isa;
+  // The AVX-512 kernel twice where the CPU has VBMI: its plain copy and its VBMI copy.
+  const std::pair<Isa, bool> kernels[] = {
+      {Isa::Baseline, false}, {Isa::Avx2, false}, {Isa::Avx512, false}, {Isa::Avx512, true}};
+  for (const auto& [isa, vbmi] : kernels) {
+    if (!softpbr::simd::supported(isa) || (vbmi && !softpbr::simd::cpu_has_avx512_vbmi())) continue;
     CAPTURE(static_cast<int>(isa));
+    CAPTURE(vbmi);
+    raster::detail::allow_texture_vbmi(vbmi);
     const raster::Texture textures[] = {
         raster::Texture(softpbr::test::random_image8(256, 256, 1), raster::ColorSpace::Srgb),
         raster::Texture(softpbr::test::random_image8(64, 16, 2), raster::ColorSpace::Linear),
@@ -98,6 +106,7 @@ TEST_CASE("the 8- and 16-lane texture kernels return the scalar lookup's bits") 
     CHECK(lookups > 10000);
     CHECK(mismatches == 0);
   }
+  raster::detail::allow_texture_vbmi(true);
 }
 
 TEST_CASE("a batch that asks for some channels gets them with the bits of a full lookup") {
@@ -119,16 +128,20 @@ TEST_CASE("a batch that asks for some channels gets them with the bits of a full
                    {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data(), nullptr,
                     out[0].data(), out[1].data(), out[2].data(), out[3].data(), channels});
   };
-  run(full, raster::Texture::kRgba);
-  for (const unsigned channels : {0x7u, 0x6u, 0x1u, 0x5u, 0x8u, 0xFu}) {
-    run(part, channels);
-    CAPTURE(channels);
-    int wrong = 0;
-    for (int c = 0; c < 4; ++c)
-      if (channels >> c & 1)
-        for (int i = 0; i < kN; ++i)
-          wrong += std::bit_cast<std::uint32_t>(part[c][i]) != std::bit_cast<std::uint32_t>(full[c][i]);
-    CHECK(wrong == 0);
+  for (const bool vbmi : {false, true}) {  // the AVX-512 kernel's two copies, on a VBMI CPU
+    CAPTURE(vbmi);
+    raster::detail::allow_texture_vbmi(vbmi);
+    run(full, raster::Texture::kRgba);
+    for (const unsigned channels : {0x7u, 0x6u, 0x1u, 0x5u, 0x8u, 0xFu}) {
+      run(part, channels);
+      CAPTURE(channels);
+      int wrong = 0;
+      for (int c = 0; c < 4; ++c)
+        if (channels >> c & 1)
+          for (int i = 0; i < kN; ++i)
+            wrong += std::bit_cast<std::uint32_t>(part[c][i]) != std::bit_cast<std::uint32_t>(full[c][i]);
+      CHECK(wrong == 0);
+    }
   }
   // The packet form returns the channels asked for and 0 for the others.
   using V8 = softpbr::simd::Vec<8>;

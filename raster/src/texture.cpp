@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -23,6 +24,9 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 struct DecodeTables {
   std::array<float, 256> srgb;
   std::array<float, 256> unorm;
+  // Each table's floats by byte: byte k of entry c at [256 k + c] (the lane kernel's
+  // byte-permute decode).
+  std::array<std::uint8_t, 1024> srgb_planes, unorm_planes;
 };
 
 DecodeTables make_tables() {
@@ -32,6 +36,14 @@ DecodeTables make_tables() {
     // to float.
     d.srgb[static_cast<std::size_t>(k)] = static_cast<float>(srgb_to_linear(k / 255.0));
     d.unorm[static_cast<std::size_t>(k)] = static_cast<float>(k) / 255.0f;
+  }
+  for (int c = 0; c < 256; ++c) {
+    const auto s = std::bit_cast<std::uint32_t>(d.srgb[static_cast<std::size_t>(c)]);
+    const auto u = std::bit_cast<std::uint32_t>(d.unorm[static_cast<std::size_t>(c)]);
+    for (int k = 0; k < 4; ++k) {
+      d.srgb_planes[static_cast<std::size_t>(256 * k + c)] = static_cast<std::uint8_t>(s >> (8 * k));
+      d.unorm_planes[static_cast<std::size_t>(256 * k + c)] = static_cast<std::uint8_t>(u >> (8 * k));
+    }
   }
   return d;
 }
@@ -350,6 +362,9 @@ Texture::Texture(const image::ImageViewF& image, const TextureOptions& options, 
 // ---- Lookups ---------------------------------------------------------------------------
 
 namespace detail {
+std::atomic<bool> texture_vbmi_allowed{true};
+void allow_texture_vbmi(bool allowed) { texture_vbmi_allowed.store(allowed, std::memory_order_relaxed); }
+
 // What the lane kernel (texture-inl.h) reads: an 8-bit texture whose sides are powers
 // of two, through a sampler that repeats both ways and filters linearly everywhere.
 struct LaneTexture {
@@ -361,6 +376,7 @@ struct LaneTexture {
   float width, height;         // level 0's sides
   float lod_bias, min_lod, max_lod;
   int max_anisotropy;
+  const std::uint8_t* planes;  // rgb's floats by byte: byte k of entry c at [256 k + c]
 };
 }  // namespace detail
 
@@ -371,6 +387,34 @@ struct LaneTexture {
 // it, else the AVX2 copy (8 lanes): the same bits.
 #define SOFTPBR_TARGET_FILE "texture-inl.h"
 #include "softpbr/simd/foreach_target.h"
+
+// detail::avx512vbmi::sample_lanes(): the AVX-512 kernel with its table lookups done by
+// VBMI's byte permutes, run in place of detail::avx512's where the CPU has VBMI. Pure
+// data movement: the same bits (tests/test_texture_lanes.cpp runs both).
+#if SOFTPBR_SIMD_X86_TARGETS
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt"))), \
+                             apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt")
+#endif
+#define SOFTPBR_TARGET_NS avx512vbmi
+#define SOFTPBR_ISA ::softpbr::simd::Isa::Avx512
+#define SOFTPBR_TARGET_AVX 1
+#define SOFTPBR_TARGET_AVX512 1
+#define SOFTPBR_TEXTURE_VBMI 1
+#include "texture-inl.h"
+#undef SOFTPBR_TARGET_NS
+#undef SOFTPBR_ISA
+#undef SOFTPBR_TARGET_AVX
+#undef SOFTPBR_TARGET_AVX512
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#endif  // SOFTPBR_SIMD_X86_TARGETS
 
 namespace softpbr::raster {
 
@@ -658,10 +702,14 @@ void Texture::sample_batch(const Sampler& s, int n, const Batch& b, [[maybe_unus
                                 s.lod_bias,
                                 s.min_lod,
                                 s.max_lod,
-                                s.max_anisotropy};
-    // 16 lanes at once with AVX-512 (the kernel's arithmetic in half the instructions; the
-    // texel fetch stays one texel at a time), else 8.
-    if (isa == simd::Isa::Avx512) detail::avx512::sample_lanes(t, n, b);
+                                s.max_anisotropy,
+                                space_ == ColorSpace::Srgb ? tables().srgb_planes.data() : tables().unorm_planes.data()};
+    // 16 lanes at once with AVX-512 (with VBMI where the CPU has it and tests allow),
+    // else 8.
+    if (isa == simd::Isa::Avx512 && detail::texture_vbmi_allowed.load(std::memory_order_relaxed) &&
+        simd::cpu_has_avx512_vbmi())
+      detail::avx512vbmi::sample_lanes(t, n, b);
+    else if (isa == simd::Isa::Avx512) detail::avx512::sample_lanes(t, n, b);
     else detail::avx2::sample_lanes(t, n, b);
     return;
   }

@@ -188,6 +188,13 @@ class Texture {
   const float* rgb_table_ = nullptr;   // 8-bit colour code → linear (sRGB or /255)
 };
 
+namespace detail {
+// For tests: whether Texture::sample_batch's AVX-512 kernel may run its VBMI copy where the
+// CPU has VBMI (the default); false runs the plain AVX-512 copy, so that a test on a VBMI
+// CPU checks both. The same bits either way.
+void allow_texture_vbmi(bool allowed);
+}  // namespace detail
+
 // The mip chain's level count for a base of w × h: ⌊log₂ max(w, h)⌋ + 1 (level l is
 // max(1, ⌊w / 2^l⌋) × max(1, ⌊h / 2^l⌋), as GL).
 int mip_level_count(int width, int height);

@@ -52,6 +52,22 @@ inline Isa cpu_isa() {
 #endif
 }
 
+// Whether this CPU has AVX-512 VBMI (byte permutes across a 512-bit register: Ice Lake,
+// Zen 4 and later; not Skylake-X or Cascade Lake). Not a target of its own: a kernel
+// that gains from it (the texture lane kernel's table lookups) compiles an extra copy
+// and picks it at run time within Avx512. Decided once, on first call.
+inline bool cpu_has_avx512_vbmi() {
+#if SOFTPBR_SIMD_X86
+  static const bool vbmi = [] {
+    __builtin_cpu_init();
+    return cpu_isa() == Isa::Avx512 && __builtin_cpu_supports("avx512vbmi");
+  }();
+  return vbmi;
+#else
+  return false;
+#endif
+}
+
 // Whether a kernel compiled for `isa` may run here.
 inline bool supported(Isa isa) { return static_cast<int>(isa) <= static_cast<int>(cpu_isa()); }
 
