@@ -9,7 +9,9 @@
 // each at 1 and 2 renderer threads. One iteration is one frame of pbr::render(): clear,
 // 21 (or 8) draws with the PBR shader, end_frame() with each tile tone mapped to RGBA8
 // right after it is drawn (pbr::render_rgba8: the finished image). SOFTPBR_BENCH_MSAA=4
-// (or 8) renders into a multisampled target; SOFTPBR_BENCH_LANES=N picks the packet width.
+// (or 8) renders into a multisampled target; SOFTPBR_BENCH_LANES=N picks the packet width;
+// SOFTPBR_BENCH_TEXTURE_VBMI=0 runs the texture lane kernel's plain AVX-512 copy on a CPU
+// with VBMI (the one Skylake-X and Cascade Lake run).
 // Counters:
 //   ms/frame   wall-clock time per frame
 //   Mpix/s     shaded pixels (covered pixels × the scene's overdraw) per second
@@ -91,6 +93,8 @@ void run_scene(benchmark::State& state, const bench::BenchScene* s) {
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  if (const char* env = std::getenv("SOFTPBR_BENCH_TEXTURE_VBMI"); env != nullptr && std::atoi(env) == 0)
+    raster::detail::allow_texture_vbmi(false);
   static const std::vector<bench::BenchScene> scenes = [] {
     std::vector<bench::BenchScene> all = bench::all_scenes(bench::default_shared_models());
     for (bench::BenchScene& s : bench::ibl_gallery_variants(1920, 1080)) all.push_back(std::move(s));
