@@ -49,7 +49,9 @@ TEST_CASE("the 8- and 16-lane texture kernels return the scalar lookup's bits") 
   // The AVX-512 kernel twice where the CPU has VBMI: its plain copy and its VBMI copy.
   const std::pair<Isa, bool> kernels[] = {
       {Isa::Baseline, false}, {Isa::Avx2, false}, {Isa::Avx512, false}, {Isa::Avx512, true}};
-  for (const auto& [isa, vbmi] : kernels) {
+  for (const auto& kernel : kernels) {
+    const Isa isa = kernel.first;  // not a structured binding: CAPTURE's lambda (Clang 15)
+    const bool vbmi = kernel.second;
     if (!softpbr::simd::supported(isa) || (vbmi && !softpbr::simd::cpu_has_avx512_vbmi())) continue;
     CAPTURE(static_cast<int>(isa));
     CAPTURE(vbmi);
