@@ -539,3 +539,75 @@ TEST_CASE("alpha-tested draws test and write depth per sample after shading") {
           }
     }
 }
+
+TEST_CASE("alpha to coverage keeps sample s where alpha >= ref + (s + 1/2)/N - 1/2, writes depth there only and alpha 1, N = 1 is the alpha test") {
+  constexpr int kW = 40, kH = 4;
+  // A quad over the target at window depth `depth`, colour from `left` to `right` along x.
+  const auto quad = [](float depth, glm::vec4 left, glm::vec4 right) {
+    const FlatShader::Vertex a = at(0, 0, kW, kH, depth, left), b = at(kW, 0, kW, kH, depth, right),
+                             c = at(kW, kH, kW, kH, depth, right), d = at(0, kH, kW, kH, depth, left);
+    return std::vector<FlatShader::Vertex>{a, b, c, a, c, d};
+  };
+  // Red, its alpha from −0.25 to 1.25: none to all samples along the row.
+  const auto red = quad(0.25f, {1, 0, 0, -0.25f}, {1, 0, 0, 1.25f});
+  const auto green = quad(0.75f, {0, 1, 0, 1}, {0, 1, 0, 1});
+  const auto white = quad(0.5f, {1, 1, 1, 1}, {1, 1, 1, 1});
+  raster::DrawState a2c;
+  a2c.alpha_to_coverage = true;  // implies the alpha test, alpha_ref 0.5
+  // The alpha each pixel is shaded with: the red quad drawn plainly, its alpha read back.
+  raster::Target probe(kW, kH);
+  {
+    raster::Renderer r({.threads = 1});
+    r.begin_frame(probe, raster::ClearValues{{0, 0, 0, 0}, 1.0f});
+    r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(red));
+    r.end_frame();
+  }
+  struct Config {
+    unsigned threads;
+    int tile, lanes;
+    bool dispatch;
+  };
+  for (const int n : {1, 4, 8}) {
+    CAPTURE(n);
+    std::uint64_t hash = 0;
+    std::set<int> counts;
+    for (const Config& c : {Config{1, 8, 1, false}, Config{2, 16, 4, true}, Config{1, 32, 8, true}, Config{2, 8, 16, true}}) {
+      CAPTURE(c.lanes);
+      CAPTURE(c.tile);
+      raster::Target t(kW, kH, n);
+      raster::Renderer r({.threads = c.threads, .tile_size = c.tile, .lanes = c.lanes, .dispatch = c.dispatch});
+      r.begin_frame(t, raster::ClearValues{{0, 0, 1, 0}, 1.0f});
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(green));
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(red), a2c);
+      // Behind red, in front of green: it shows exactly where red kept no sample (no depth).
+      r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(white));
+      r.end_frame();
+      const raster::Target resolved = raster::resolve_box(t);
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+          CAPTURE(x);
+          const float alpha = probe.color(x, y).a;
+          int kept = 0;
+          for (int s = 0; s < n; ++s) {
+            CAPTURE(s);
+            const bool keep = alpha >= 0.5f + ((static_cast<float>(s) + 0.5f) / static_cast<float>(n) - 0.5f);
+            // The kept samples are the first k of the pattern.
+            if (keep) {
+              CHECK(s == kept);
+              ++kept;
+            }
+            CHECK(t.sample_color(x, y, s) == (keep ? glm::vec4(1, 0, 0, 1) : glm::vec4(1, 1, 1, 1)));
+            CHECK(t.sample_depth(x, y, s) == (keep ? 0.25f : 0.5f));
+          }
+          counts.insert(kept);
+          // k of n samples red, the rest white: green resolves to exactly (n − k) / n.
+          CHECK(resolved.color(x, y).g == static_cast<float>(n - kept) / static_cast<float>(n));
+          if (n == 1) CHECK((kept == 1) == (alpha >= 0.5f));  // the alpha test
+        }
+      if (hash == 0) hash = raster::hash_colors(t);
+      CHECK(raster::hash_colors(t) == hash);
+    }
+    // Every count from none to all occurs along the ramp.
+    CHECK(counts.size() == static_cast<std::size_t>(n + 1));
+  }
+}

@@ -2,6 +2,7 @@
 // dispatch. The goldens were committed after looking at them: no seam at the wrap, no
 // shimmer between mip levels, the floor's checkers fading evenly into grey at the horizon
 // (sharper there with anisotropic filtering), holes cut cleanly by the alpha mask.
+#include <algorithm>
 #include <functional>
 #include <string>
 
@@ -23,6 +24,7 @@ struct TexturedScene {
   std::string name;
   int width, height;
   std::function<pbr::Scene()> build;
+  int samples = 1;  // MSAA
 };
 
 std::vector<TexturedScene> textured_scenes() {
@@ -31,6 +33,8 @@ std::vector<TexturedScene> textured_scenes() {
       {"textured_floor_aniso16", 320, 180, [] { return test::textured_floor(16); }},
       {"textured_spheres", 320, 200, test::textured_spheres},
       {"alpha_modes", 320, 200, test::alpha_modes},
+      // The fence's MASK material with alpha to coverage: holes with smooth rims.
+      {"msaa4_alpha_modes", 320, 200, test::alpha_modes, 4},
   };
 }
 
@@ -40,7 +44,7 @@ TEST_CASE("golden textured images: every scene hashes to its committed golden, b
   raster::Renderer renderer({.threads = 0, .tile_size = 64});
   for (const TexturedScene& g : textured_scenes()) {
     CAPTURE(g.name);
-    raster::Target target(g.width, g.height);
+    raster::Target target(g.width, g.height, g.samples);
     pbr::render(g.build(), renderer, target);
     CHECK_RENDER_MATCHES(target, pbr::tone_map_to_rgba8(target, pbr::gallery_output()), "goldens/" + g.name);
   }
@@ -53,15 +57,62 @@ TEST_CASE("textured scenes have the same bits for every thread count, tile size,
     // The reference: one thread, the scalar fragment() path (lanes = 1 calls the packet
     // code with F = float), the build's own code.
     raster::Renderer reference_renderer({.threads = 1, .tile_size = 64, .lanes = 1, .dispatch = false});
-    raster::Target reference(g.width - 7, g.height - 3);  // partial edge tiles
+    raster::Target reference(g.width - 7, g.height - 3, g.samples);  // partial edge tiles
     pbr::render(scene, reference_renderer, reference);
     const std::uint64_t color = raster::hash_colors(reference), depth = raster::hash_depths(reference);
     test::for_spread_of_render_configs(3, 0, [&](const raster::RendererOptions& options) {
       raster::Renderer r(options);
-      raster::Target t(g.width - 7, g.height - 3);
+      raster::Target t(g.width - 7, g.height - 3, g.samples);
       pbr::render(scene, r, t);
       CHECK(raster::hash_colors(t) == color);
       CHECK(raster::hash_depths(t) == depth);
     });
+  }
+}
+
+TEST_CASE("alpha to coverage (MASK at 4x and 8x): the holes' rims get partial coverage, uniform pixels are the 1x image's") {
+  const pbr::Scene scene = test::alpha_modes();
+  constexpr int kW = 320, kH = 200;
+  raster::Renderer renderer({.threads = 2, .tile_size = 32});
+  raster::Target one(kW, kH);
+  pbr::render(scene, renderer, one);
+  // The fence's cream (r ≥ g ≥ b, g and b not far below): no other object has it.
+  const auto cream = [](glm::vec4 c) { return c.g <= c.r && c.g > 0.8f * c.r && c.b < c.g && c.b > 0.4f * c.g && c.r > 0.05f; };
+  // The fence's box at 1x, less 3 pixels: its pane's silhouette lies outside.
+  int x0 = kW, y0 = kH, x1 = -1, y1 = -1;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      if (cream(one.color(x, y))) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+  REQUIRE(x1 - x0 > 40);
+  REQUIRE(y1 - y0 > 40);
+  x0 += 3, y0 += 3, x1 -= 3, y1 -= 3;
+  int rims_at_1x = 0;  // pixels of the box whose 4-neighbourhood has both fence and hole
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if (cream(one.color(x, y)) != cream(one.color(x + 1, y)) || cream(one.color(x, y)) != cream(one.color(x, y + 1))) ++rims_at_1x;
+  for (const int n : {4, 8}) {
+    CAPTURE(n);
+    raster::Target multi(kW, kH, n);
+    pbr::render(scene, renderer, multi);
+    int partial = 0, differ = 0;
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        bool same = true;
+        int fence = 0;
+        for (int s = 0; s < n; ++s) {
+          same = same && multi.sample_color(x, y, s) == multi.sample_color(x, y, 0);
+          fence += cream(multi.sample_color(x, y, s)) ? 1 : 0;
+        }
+        // Every sample kept (sharpened alpha ≥ the last threshold, so alpha ≥ cutoff) or
+        // none (alpha < cutoff): what the alpha test gives at 1x.
+        if (same && !(multi.sample_color(x, y, 0) == one.color(x, y))) ++differ;
+        // Inside the pane a pixel partly fence, partly hole is on a hole's rim.
+        if (x >= x0 && x <= x1 && y >= y0 && y <= y1 && fence > 0 && fence < n) ++partial;
+      }
+    MESSAGE(n << "x: " << partial << " partly covered pixels inside the fence (" << rims_at_1x
+              << " rim pixels at 1x), " << differ << " uniform pixels differ from 1x");
+    // The 1x image cuts each rim hard; here most rim pixels are partly covered.
+    CHECK(partial > rims_at_1x / 2);
+    CHECK(differ == 0);
   }
 }

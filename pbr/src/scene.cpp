@@ -173,6 +173,8 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       case AlphaMode::Mask:
         d.state.alpha_test = true;  // the shader's alpha is 1 (kept) or 0
         d.state.alpha_ref = 0.5f;
+        // With MSAA the shader's alpha is sharpened around the cutoff and becomes samples.
+        d.state.alpha_to_coverage = s.alpha_to_coverage = target.samples() > 1;
         break;
       case AlphaMode::Blend: {
         d.state.blend = raster::Blend::Over;

@@ -17,7 +17,9 @@
 //            T the interpolated tangent made orthogonal to N, B = w · (N × T)
 // Back faces of a double-sided material flip N, T and B. An unlit material
 // (KHR_materials_unlit) outputs base and alpha without lighting. Output: opaque → alpha 1; mask →
-// alpha 1 where alpha ≥ alpha_cutoff, else 0 (the draw's alpha test discards it); blend →
+// alpha 1 where alpha ≥ alpha_cutoff, else 0 (the draw's alpha test discards it), or with
+// alpha_to_coverage (render() sets it on multisampled targets) (alpha − cutoff) /
+// fwidth(alpha) + 0.5, which the draw's alpha to coverage turns into samples; blend →
 // premultiplied (rgb · alpha, alpha).
 #pragma once
 
@@ -108,6 +110,10 @@ struct TexturedPbrShader {
   std::shared_ptr<const TexturedMaterial> material;
   std::shared_ptr<const std::vector<PreparedLight>> lights;
   const PreparedEnvironment* environment = nullptr;  // as PbrShader's
+  // MASK on a multisampled target: alpha is sharpened for the draw's alpha to coverage
+  // (raster::DrawState::alpha_to_coverage) instead of cut to 0 or 1. render() sets both.
+  bool alpha_to_coverage = false;
+  static constexpr float kMinAlphaWidth = 1.0f / 1024.0f;  // fwidth(alpha)'s floor
 
   glm::vec4 vertex(const Vertex& in, Varyings& out) const {
     const glm::vec4 world = model * glm::vec4(in.position, 1.0f);
@@ -146,7 +152,9 @@ struct TexturedPbrShader {
     const TexturedMaterial& m = *material;
 
     // `channels`: the ones read below (Texture::kRed …); the lane kernel skips the rest.
-    auto lookup = [&](const PreparedSlot& slot, unsigned channels) {
+    // `step` 1 or 2: the lookup one pixel to the right or below (uv + its derivative, the
+    // same LOD), for alpha's screen derivatives.
+    auto lookup = [&](const PreparedSlot& slot, unsigned channels, int step = 0) {
       const int k = kUv[slot.uv_set];
       F u = p.v[k], v = p.v[k + 1];
       F dudx = p.ddx[k], dvdx = p.ddx[k + 1], dudy = p.ddy[k], dvdy = p.ddy[k + 1];
@@ -157,20 +165,31 @@ struct TexturedPbrShader {
         const F tdudy = F(slot.a) * dudy + F(slot.b) * dvdy, tdvdy = F(slot.d) * dudy + F(slot.e) * dvdy;
         u = tu, v = tv, dudx = tdudx, dvdx = tdvdx, dudy = tdudy, dvdy = tdvdy;
       }
+      if (step == 1) u = u + dudx, v = v + dvdx;
+      if (step == 2) u = u + dudy, v = v + dvdy;
       return raster::sample(*slot.texture, slot.sampler, u, v, dudx, dvdx, dudy, dvdy, channels);
     };
 
     // Base colour and alpha.
     Vec3L<F> base = lanes<F>(m.base.albedo) * Vec3L<F>(p.v[kColor], p.v[kColor + 1], p.v[kColor + 2]);
     F alpha = F(m.alpha) * p.v[kColor + 3];
+    F alpha_width(0.0f);  // fwidth(alpha), for alpha to coverage
     if (m.base_color.texture != nullptr) {
       // Alpha only where the alpha mode reads it.
       const unsigned channels = m.alpha_mode == AlphaMode::Opaque ? raster::Texture::kRgb : raster::Texture::kRgba;
       const raster::Color<F> c = lookup(m.base_color, channels);
       base = base * Vec3L<F>(c.r, c.g, c.b);
+      if (alpha_to_coverage && m.alpha_mode == AlphaMode::Mask) {
+        // |∂α/∂x| + |∂α/∂y| by forward differences, as a GPU's quad gives fwidth: the
+        // texture's alpha one pixel to the right and one below, times the factors here.
+        const F dx = lookup(m.base_color, raster::Texture::kAlpha, 1).a - c.a;
+        const F dy = lookup(m.base_color, raster::Texture::kAlpha, 2).a - c.a;
+        const F zero(0.0f);
+        alpha_width = (simd::max(dx, zero - dx) + simd::max(dy, zero - dy)) * simd::max(alpha, zero - alpha);
+      }
       alpha = alpha * c.a;
     }
-    if (m.unlit) return output(m, base, alpha);
+    if (m.unlit) return output(m, base, alpha, alpha_width);
     // Metallic and roughness.
     F metallic(m.base.metallic), roughness(m.roughness_factor);
     if (m.metallic_roughness.texture != nullptr) {
@@ -221,16 +240,20 @@ struct TexturedPbrShader {
       const Vec3L<F> mapped = t * x + b * y + n * z;
       n = normalize_or(mapped, n);
     }
-    return output(m, shade(ml, *lights, ambient, position, n, v, environment), alpha);
+    return output(m, shade(ml, *lights, ambient, position, n, v, environment), alpha, alpha_width);
   }
 
  private:
   // The colour and alpha written for the material's alpha mode.
   // One result object written in place (see sample_light: no copies of temporaries).
   template <class F>
-  static raster::Color<F> output(const TexturedMaterial& m, const Vec3L<F>& c, F alpha) {
+  raster::Color<F> output(const TexturedMaterial& m, const Vec3L<F>& c, F alpha, F alpha_width) const {
     raster::Color<F> out{c.x, c.y, c.z, F(1.0f)};
-    if (m.alpha_mode == AlphaMode::Mask) {
+    if (m.alpha_mode == AlphaMode::Mask && alpha_to_coverage) {
+      // Sharpened to a ramp one pixel wide around the cutoff (Filament's masked alpha),
+      // for the draw's alpha to coverage (alpha_ref 0.5).
+      out.a = (alpha - F(m.alpha_cutoff)) / simd::max(alpha_width, F(kMinAlphaWidth)) + F(0.5f);
+    } else if (m.alpha_mode == AlphaMode::Mask) {
       out.a = simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
     } else if (m.alpha_mode == AlphaMode::Blend) {
       const F a = simd::clamp(alpha, F(0.0f), F(1.0f));

@@ -132,6 +132,7 @@ class Renderer {
     auto call = std::make_unique<TypedDrawCall<S>>(shader);
     call->geometry = take_geometry();
     call->geometry.state = state;
+    if (state.alpha_to_coverage) call->geometry.state.alpha_test = true;
     run_vertex_stage(pool_, call->shader, vertices, Viewport{grid_.width, grid_.height}, call->geometry.vertices);
     assemble_triangles(pool_, indices, grid_, call->geometry);
     pending_bytes_ += call->geometry.bytes();

@@ -153,6 +153,15 @@ struct DrawState {
   // shading, in submission order. glTF's alphaMode MASK is this test.
   bool alpha_test = false;
   float alpha_ref = 0.5f;
+  // Alpha to coverage (implies the alpha test; docs/design.md, MSAA): on a target of N
+  // samples a pixel keeps sample s (of those covered and passing depth) when
+  //   alpha ≥ alpha_ref + (s + 0.5) / N − 0.5,
+  // so alpha_ref ± 0.5 spans none to all of them (k = ⌊N·(alpha − alpha_ref) + N/2 + 0.5⌋
+  // samples, the first k of the pattern's order) and N = 1 is exactly the alpha test. The
+  // kept samples are written with alpha 1 (the coverage carries the alpha: Vulkan's
+  // alphaToOne). A shader sharpens its alpha for it, as (alpha − cutoff) / fwidth(alpha)
+  // + 0.5 (TexturedPbrShader does for glTF's MASK on multisampled targets).
+  bool alpha_to_coverage = false;
 };
 
 }  // namespace softpbr::raster

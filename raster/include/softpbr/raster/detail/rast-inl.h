@@ -31,19 +31,39 @@ inline glm::vec4 blend(Blend mode, glm::vec4 src, glm::vec4 dst) {
   return {src.r + dst.r * k, src.g + dst.g * k, src.b + dst.b * k, src.a + dst.a * k};
 }
 
+// Alpha to coverage (DrawState::alpha_to_coverage): the samples of kMs that `alpha` keeps,
+// sample s when alpha ≥ alpha_ref + ((s + 0.5) / kMs − 0.5) (the offset exact in float;
+// for kMs = 1 it is 0, the alpha test). NaN keeps none.
+template <int kMs>
+inline unsigned alpha_coverage(float alpha, float alpha_ref) {
+  unsigned mask = 0;
+  for (int s = 0; s < kMs; ++s) {
+    constexpr float kInv = 1.0f / static_cast<float>(kMs);
+    const float offset = (static_cast<float>(s) + 0.5f) * kInv - 0.5f;
+    if (alpha >= alpha_ref + offset) mask |= 1u << s;
+  }
+  return mask;
+}
+
 // MSAA: writes a pixel's colour `src` into its samples in `mask` (bit s: sample s) — for an
 // alpha-tested draw, those whose depth `sample_depth` still passes (it writes them too).
 template <int kMs>
 inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned mask, const float* sample_depth,
                           std::size_t idx, const TargetPixels& target) {
   if (state.alpha_test) {
-    if (!(src.a >= state.alpha_ref)) return;
+    glm::vec4 c = src;
+    if (state.alpha_to_coverage) {
+      mask &= alpha_coverage<kMs>(src.a, state.alpha_ref);
+      c.a = 1.0f;
+    } else if (!(src.a >= state.alpha_ref)) {
+      return;
+    }
     for (int s = 0; s < kMs; ++s) {
       if (!(mask & (1u << s))) continue;
       const std::size_t i = static_cast<std::size_t>(s) * target.plane + idx;
       if (!depth_passes(state.depth_test, sample_depth[s], target.depths[i])) continue;
       if (state.depth_write) target.depths[i] = sample_depth[s];
-      target.colors[i] = blend(state.blend, src, target.colors[i]);
+      target.colors[i] = blend(state.blend, c, target.colors[i]);
     }
     return;
   }
@@ -258,7 +278,9 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
       const float z = get_lane(p.depth, lane);
       if (!depth_passes(state.depth_test, z, depths[idx])) continue;
       if (state.depth_write) depths[idx] = z;
-      colors[idx] = blend(state.blend, color(lane), colors[idx]);
+      glm::vec4 c = color(lane);
+      if (state.alpha_to_coverage) c.a = 1.0f;  // one sample: the alpha test, then alpha to one
+      colors[idx] = blend(state.blend, c, colors[idx]);
     }
   } else if (state.blend == Blend::Replace) {
     for (int lane = 0; lane < b.count; ++lane) colors[b.index[lane]] = color(lane);
@@ -639,11 +661,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
             for (int s = 0; s < kMs; ++s) zs[s] = sample_z[s][j];
             write_samples<kMs>(state, src, lane_samples[j], zs, idx, target);
           } else {
+            glm::vec4 c = src;
             if (state.alpha_test) {
               if (!(src.a >= state.alpha_ref)) continue;
               if (depth_write) depths[idx] = z[j];
+              if (state.alpha_to_coverage) c.a = 1.0f;  // one sample: the alpha test, then alpha to one
             }
-            colors[idx] = blend(state.blend, src, colors[idx]);
+            colors[idx] = blend(state.blend, c, colors[idx]);
           }
         }
       } else {
