@@ -176,12 +176,14 @@ TEST_CASE("multisampled targets: every lanes kernel resolves (tone-mapped) and e
   const std::vector<float> values = test_values();
   for (int samples : {4, 8}) {
     // Samples of one pixel differ (each from its own place in the list) or agree (every
-    // third pixel: its samples are one colour, the case of a pixel inside a surface).
+    // third pixel, and every pixel of the first three rows, so that whole sets of lanes
+    // agree: the case of pixels inside a surface, which the kernels tone map once).
     raster::Target target(53, 9, samples);
     const std::size_t plane = static_cast<std::size_t>(target.width()) * target.height();
     for (std::size_t i = 0; i < plane; ++i)
       for (int s = 0; s < samples; ++s) {
-        const std::size_t j = (i * 2654435761u + (i % 3 == 0 ? 0 : static_cast<std::size_t>(s) * 7919)) % values.size();
+        const bool agree = i % 3 == 0 || i < 3 * 53;
+        const std::size_t j = (i * 2654435761u + (agree ? 0 : static_cast<std::size_t>(s) * 7919)) % values.size();
         target.colors()[static_cast<std::size_t>(s) * plane + i] = {
             values[j], values[(j + 1) % values.size()], values[(j + 2) % values.size()],
             values[(j + 3) % values.size()]};
@@ -208,6 +210,51 @@ TEST_CASE("multisampled targets: every lanes kernel resolves (tone-mapped) and e
           }
         }
     CHECK(kernels_run >= static_cast<int>(std::size(kOps)) * 2 * 2 * 3);
+  }
+}
+
+TEST_CASE("the tone-mapped resolve of pixels whose samples agree is their pairwise mean, computed (4v overflows past FLT_MAX/4)") {
+  const float big = std::numeric_limits<float>::max();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<float> values = {0.0f, -0.0f, 0.25f, 1.0f, 7.24f, 1e30f, 8.5e37f, 9e37f, 1e38f, big, inf,
+                                     std::numeric_limits<float>::denorm_min(), -1e38f,
+                                     std::numeric_limits<float>::quiet_NaN()};
+  for (int samples : {4, 8}) {
+    CAPTURE(samples);
+    // 64 pixels a row (whole sets of every lane width), all samples of a pixel equal.
+    raster::Target target(64, static_cast<int>(values.size()), samples);
+    const std::size_t plane = static_cast<std::size_t>(target.width()) * target.height();
+    for (std::size_t i = 0; i < plane; ++i) {
+      const float v = values[i / 64];
+      for (int s = 0; s < samples; ++s) target.colors()[static_cast<std::size_t>(s) * plane + i] = {v, v, v, v};
+    }
+    // No exposure; ToneMap::None only clamps colour to [0, 1] (alpha is never tone mapped):
+    // the resolve is the box mean of the clamped v, and of v itself for alpha.
+    const pbr::ToneMapper mapper({0.0f, pbr::ToneMap::None, 2.2f});
+    std::vector<glm::vec4> out(plane);
+    mapper.resolve(target, 0, 0, target.width(), target.height(), out.data(), 64);
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      const float v = values[k];
+      const auto mean = [&](float x) {
+        const float quad = (x + x) + (x + x);
+        return samples == 4 ? quad * 0.25f : (quad + quad) * 0.125f;
+      };
+      const float want_rgb = mean(std::min(std::max(v, 0.0f), 1.0f)), want_a = mean(v);
+      CAPTURE(v);
+      // The cases a shortcut to the sample itself would get wrong.
+      if (v == 1e38f || v == -1e38f) CHECK(std::isinf(want_a));
+      if (v == 7.24f) CHECK(want_a == v);
+      for (int x = 0; x < 64; ++x) {
+        const glm::vec4 got = out[k * 64 + static_cast<std::size_t>(x)];
+        if (std::isnan(v)) {  // a NaN's payload is the CPU's business
+          CHECK(std::isnan(got.r));
+          CHECK(std::isnan(got.a));
+          continue;
+        }
+        CHECK(std::memcmp(&got.r, &want_rgb, sizeof want_rgb) == 0);
+        CHECK(std::memcmp(&got.a, &want_a, sizeof want_a) == 0);
+      }
+    }
   }
 }
 
