@@ -166,7 +166,7 @@ TEST_CASE("validate(): an orthographic camera's ymag, xmag, near and far") {
 }
 
 TEST_CASE("orthographic camera: parallel rays — the image does not change with the camera's distance") {
-  const pbr::GltfScene g = pbr::load_gltf(write_file("ortho.gltf", camera_gltf(kOrtho)));
+  const pbr::GltfScene g = pbr::load_gltf(write_file("ortho_distance.gltf", camera_gltf(kOrtho)));
   pbr::Scene s;
   s.objects = g.objects;
   s.camera.orthographic = true;
