@@ -249,12 +249,12 @@ struct TexturedPbrShader {
   template <class F>
   raster::Color<F> output(const TexturedMaterial& m, const Vec3L<F>& c, F alpha, F alpha_width) const {
     raster::Color<F> out{c.x, c.y, c.z, F(1.0f)};
-    if (m.alpha_mode == AlphaMode::Mask && alpha_to_coverage) {
-      // Sharpened to a ramp one pixel wide around the cutoff (Filament's masked alpha),
-      // for the draw's alpha to coverage (alpha_ref 0.5).
-      out.a = (alpha - F(m.alpha_cutoff)) / simd::max(alpha_width, F(kMinAlphaWidth)) + F(0.5f);
-    } else if (m.alpha_mode == AlphaMode::Mask) {
-      out.a = simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
+    if (m.alpha_mode == AlphaMode::Mask) {
+      // With alpha to coverage (the draw's alpha_ref 0.5), sharpened to a ramp one pixel
+      // wide around the cutoff (Filament's masked alpha); else kept (1) or discarded (0).
+      out.a = alpha_to_coverage
+                  ? (alpha - F(m.alpha_cutoff)) / simd::max(alpha_width, F(kMinAlphaWidth)) + F(0.5f)
+                  : simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
     } else if (m.alpha_mode == AlphaMode::Blend) {
       const F a = simd::clamp(alpha, F(0.0f), F(1.0f));
       out = {c.x * a, c.y * a, c.z * a, a};
