@@ -3,6 +3,7 @@
 // sample by additive counting, per-sample depth, the box resolve, clears and fast clears of
 // multisampled targets, and shading once per pixel.
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <set>
 #include <utility>
@@ -610,4 +611,88 @@ TEST_CASE("alpha to coverage keeps sample s where alpha >= ref + (s + 1/2)/N - 1
     // Every count from none to all occurs along the ramp.
     CHECK(counts.size() == static_cast<std::size_t>(n + 1));
   }
+}
+
+TEST_CASE("tile blocks: a cleared frame gives the bits of the same draws over a target cleared beforehand, in any state") {
+  // In the pass that clears the frame, a multisampled tile is rasterized in a block of the
+  // thread's own and written back (renderer.cpp); drawing over a target cleared
+  // beforehand uses no block. Layers of large triangles (whole pixels) and small ones
+  // (partly covered pixels), replaced, blended over, alpha tested and alpha to coverage,
+  // with colours of every alpha, must give the same samples, depths and resolve either
+  // way — the resolve of the tile callback's pixels (the block) included.
+  constexpr int kW = 70, kH = 44;
+  const raster::ClearValues clear{{0.1f, 0.2f, 0.3f, 0.4f}, 1.0f};
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  struct Layer {
+    std::vector<FlatShader::Vertex> v;
+    raster::DrawState state;
+  };
+  for (const int n : {4, 8})
+    for (int rep = 0; rep < 8; ++rep) {
+      CAPTURE(n);
+      CAPTURE(rep);
+      std::vector<Layer> layers;
+      for (int k = 0; k < 7; ++k) {
+        Layer layer;
+        const bool large = rng() % 2 == 0;
+        const int triangles = 1 + static_cast<int>(rng() % 5);
+        for (int t = 0; t < 3 * triangles; ++t) {
+          const double spread = large ? 60.0 : 6.0;
+          const double cx = unit(rng) * kW, cy = unit(rng) * kH;
+          layer.v.push_back(at(cx + (unit(rng) - 0.5) * spread, cy + (unit(rng) - 0.5) * spread, kW, kH,
+                               0.1f + 0.8f * unit(rng), {unit(rng), unit(rng), unit(rng), unit(rng)}));
+        }
+        switch (rng() % 5) {
+          case 1: layer.state.blend = raster::Blend::Over; break;
+          case 2: layer.state.alpha_test = true; break;
+          case 3: layer.state.alpha_to_coverage = true; break;
+          case 4:
+            layer.state.blend = raster::Blend::Over;
+            layer.state.depth_test = raster::DepthTest::LessEqual;
+            layer.state.depth_write = false;
+            break;
+          default: break;
+        }
+        layers.push_back(std::move(layer));
+      }
+      const auto draw_all = [&](raster::Renderer& r) {
+        for (const Layer& layer : layers) r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(layer.v), layer.state);
+      };
+      raster::Target reference(kW, kH, n);
+      reference.clear(clear.color, clear.depth);
+      {
+        raster::Renderer r({.threads = 1, .tile_size = 16});
+        r.begin_frame(reference);  // no clear: drawn in the target itself
+        draw_all(r);
+        r.end_frame();
+      }
+      std::vector<glm::vec4> want(static_cast<std::size_t>(kW) * kH);
+      raster::resolve_box(reference, 0, 0, kW, kH, want.data(), kW);
+      struct Config {
+        unsigned threads;
+        int tile, lanes;
+      };
+      for (const Config& c : {Config{1, 16, 16}, Config{2, 8, 4}, Config{2, 32, 1}, Config{1, 64, 8}}) {
+        CAPTURE(c.tile);
+        CAPTURE(c.lanes);
+        raster::Target t(kW, kH, n);
+        raster::Renderer r({.threads = c.threads, .tile_size = c.tile, .lanes = c.lanes});
+        r.begin_frame(t, clear);
+        draw_all(r);
+        // The tiles' resolve from what the callback gets (the blocks).
+        std::vector<glm::vec4> got(want.size());
+        r.end_frame([&](const raster::TileRect& rect, bool only_clear, const raster::TargetPixels& px) {
+          if (only_clear) {
+            for (int y = rect.y0; y < rect.y1; ++y)
+              for (int x = rect.x0; x < rect.x1; ++x) got[static_cast<std::size_t>(y) * kW + x] = clear.color;
+            return;
+          }
+          raster::resolve_box(px, rect.x0, rect.y0, rect.x1, rect.y1, got.data() + rect.y0 * kW + rect.x0, kW);
+        });
+        CHECK(raster::hash_colors(t) == raster::hash_colors(reference));
+        CHECK(raster::hash_depths(t) == raster::hash_depths(reference));
+        CHECK(std::memcmp(got.data(), want.data(), want.size() * sizeof(glm::vec4)) == 0);
+      }
+    }
 }
