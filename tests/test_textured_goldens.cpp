@@ -3,6 +3,7 @@
 // shimmer between mip levels, the floor's checkers fading evenly into grey at the horizon
 // (sharper there with anisotropic filtering), holes cut cleanly by the alpha mask.
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <string>
 
@@ -114,5 +115,40 @@ TEST_CASE("alpha to coverage (MASK at 4x and 8x): the holes' rims get partial co
     // The 1x image cuts each rim hard; here most rim pixels are partly covered.
     CHECK(partial > rims_at_1x / 2);
     CHECK(differ == 0);
+  }
+}
+
+TEST_CASE("alpha to coverage of a constant alpha (no alpha texture) keeps all samples or none, as 1x does, even at the cutoff") {
+  // glTF: alpha ≥ alphaCutoff renders opaque. A MASK material without a base colour texture
+  // has one alpha over each pixel (no edge to smooth), so at 4× and 8× it must keep every
+  // sample or none, like the 1× alpha test — also at alpha exactly the cutoff (glTF's
+  // default 0.5 with a factor of 0.5) and a hair either side of it, where a ramp around
+  // the cutoff would keep about half of each pixel's samples. So the frame must be, bit
+  // for bit, the frame with the pane at alpha 1 (alpha ≥ cutoff) or without it (below).
+  constexpr int kW = 160, kH = 100;
+  raster::Renderer renderer({.threads = 2, .tile_size = 32});
+  pbr::Scene scene = test::alpha_modes();
+  REQUIRE(scene.objects[1].material.alpha_mode == pbr::AlphaMode::Mask);
+  scene.objects[1].material.base_color_texture = {};
+  scene.objects[1].material.alpha_cutoff = 0.5f;
+  scene.objects[1].material.alpha = 1.0f;
+  pbr::Scene without = scene;
+  without.objects.erase(without.objects.begin() + 1);
+  for (const int n : {1, 4, 8}) {
+    CAPTURE(n);
+    raster::Target with_pane(kW, kH, n), without_pane(kW, kH, n);
+    pbr::render(scene, renderer, with_pane);
+    pbr::render(without, renderer, without_pane);
+    REQUIRE(raster::hash_colors(with_pane) != raster::hash_colors(without_pane));
+    for (const float alpha : {0.5f, std::nextafter(0.5f, 1.0f), 0.5001f, std::nextafter(0.5f, 0.0f), 0.4999f, 0.25f}) {
+      INFO("alpha ", static_cast<double>(alpha));
+      pbr::Scene s = scene;
+      s.objects[1].material.alpha = alpha;
+      raster::Target t(kW, kH, n);
+      pbr::render(s, renderer, t);
+      const raster::Target& expected = alpha >= 0.5f ? with_pane : without_pane;
+      CHECK(raster::hash_colors(t) == raster::hash_colors(expected));
+      CHECK(raster::hash_depths(t) == raster::hash_depths(expected));
+    }
   }
 }

@@ -18,8 +18,9 @@
 // Back faces of a double-sided material flip N, T and B. An unlit material
 // (KHR_materials_unlit) outputs base and alpha without lighting. Output: opaque → alpha 1; mask →
 // alpha 1 where alpha ≥ alpha_cutoff, else 0 (the draw's alpha test discards it), or with
-// alpha_to_coverage (render() sets it on multisampled targets) (alpha − cutoff) /
-// fwidth(alpha) + 0.5, which the draw's alpha to coverage turns into samples; blend →
+// alpha_to_coverage (render() sets it on multisampled targets), where alpha varies across
+// the pixel, (alpha − cutoff) / fwidth(alpha) + 0.5, which the draw's alpha to coverage
+// turns into samples; blend →
 // premultiplied (rgb · alpha, alpha).
 #pragma once
 
@@ -250,11 +251,18 @@ struct TexturedPbrShader {
   raster::Color<F> output(const TexturedMaterial& m, const Vec3L<F>& c, F alpha, F alpha_width) const {
     raster::Color<F> out{c.x, c.y, c.z, F(1.0f)};
     if (m.alpha_mode == AlphaMode::Mask) {
-      // With alpha to coverage (the draw's alpha_ref 0.5), sharpened to a ramp one pixel
-      // wide around the cutoff (Filament's masked alpha); else kept (1) or discarded (0).
-      out.a = alpha_to_coverage
-                  ? (alpha - F(m.alpha_cutoff)) / simd::max(alpha_width, F(kMinAlphaWidth)) + F(0.5f)
-                  : simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
+      // Kept (1) or discarded (0) by the cutoff, as glTF says (alpha ≥ cutoff: opaque). With
+      // alpha to coverage (the draw's alpha_ref 0.5), where alpha varies across the pixel
+      // (a width above 0), sharpened to a ramp one pixel wide around the cutoff instead
+      // (Filament's masked alpha). Where it does not (a constant alpha, no alpha texture)
+      // there is no edge to smooth: the cut keeps all samples or none, as at 1×, even for
+      // alpha at or within 1/2048 of the cutoff, which the ramp would split.
+      const F cut = simd::select(alpha >= F(m.alpha_cutoff), F(1.0f), F(0.0f));
+      out.a = alpha_to_coverage ? simd::select(alpha_width > F(0.0f),
+                                               (alpha - F(m.alpha_cutoff)) / simd::max(alpha_width, F(kMinAlphaWidth)) +
+                                                   F(0.5f),
+                                               cut)
+                                : cut;
     } else if (m.alpha_mode == AlphaMode::Blend) {
       const F a = simd::clamp(alpha, F(0.0f), F(1.0f));
       out = {c.x * a, c.y * a, c.z * a, a};
