@@ -177,7 +177,7 @@ TEST_CASE("multisampled targets: every lanes kernel resolves (tone-mapped) and e
   for (int samples : {4, 8}) {
     // Samples of one pixel differ (each from its own place in the list) or agree (every
     // third pixel, and every pixel of the first three rows, so that whole sets of lanes
-    // agree: the case of pixels inside a surface, which the kernels tone map once).
+    // agree: the case of pixels inside a surface).
     raster::Target target(53, 9, samples);
     const std::size_t plane = static_cast<std::size_t>(target.width()) * target.height();
     for (std::size_t i = 0; i < plane; ++i)
