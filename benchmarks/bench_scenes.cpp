@@ -10,6 +10,8 @@
 // 21 (or 8) draws with the PBR shader, end_frame() with each tile tone mapped to RGBA8
 // right after it is drawn (pbr::render_rgba8: the finished image). SOFTPBR_BENCH_MSAA=4
 // (or 8) renders into a multisampled target; SOFTPBR_BENCH_LANES=N picks the packet width;
+// SOFTPBR_BENCH_TRANSIENT=1 makes that target transient (raster::SampleStorage: its
+// samples live in the renderer's tile blocks only, nothing is written back);
 // SOFTPBR_BENCH_TEXTURE_VBMI=0 runs the texture lane kernel's plain AVX-512 copy on a CPU
 // with VBMI (the one Skylake-X and Cascade Lake run).
 // Counters:
@@ -62,15 +64,31 @@ int bench_msaa() {
   return raster::valid_sample_count(n) ? n : 1;
 }
 
+// SOFTPBR_BENCH_TRANSIENT=1: a multisampled target keeps no samples (SampleStorage::Transient).
+raster::SampleStorage bench_storage() {
+  const char* env = std::getenv("SOFTPBR_BENCH_TRANSIENT");
+  return env != nullptr && std::atoi(env) != 0 ? raster::SampleStorage::Transient : raster::SampleStorage::Kept;
+}
+
 void run_scene(benchmark::State& state, const bench::BenchScene* s) {
   const unsigned threads = static_cast<unsigned>(state.range(0));
-  raster::Renderer renderer({.threads = threads, .tile_size = 64, .lanes = bench_lanes()});
+  raster::RendererOptions options{.threads = threads, .tile_size = 64, .lanes = bench_lanes()};
+  if (const char* env = std::getenv("SOFTPBR_BENCH_BUDGET_MIB"); env != nullptr)
+    options.geometry_budget = static_cast<std::size_t>(std::atoll(env)) << 20;
+  raster::Renderer renderer(options);
   bench::reset_heap_peak();
   const std::size_t before = bench::heap_in_use();
-  raster::Target target(s->width, s->height, bench_msaa());
+  raster::Target target(s->width, s->height, bench_msaa(), nullptr, bench_storage());
   raster::Image8 image;
+  double shaded = 0.0;
+  if (target.transient()) {  // no samples to count: a kept target's frame counts them
+    raster::Target kept(s->width, s->height, bench_msaa());
+    pbr::render_rgba8(s->scene, renderer, kept, s->output, image);
+    shaded = static_cast<double>(covered_pixels(kept)) * s->overdraw;
+    bench::reset_heap_peak();
+  }
   pbr::render_rgba8(s->scene, renderer, target, s->output, image);  // warm-up: buffers reach their size
-  const double shaded = static_cast<double>(covered_pixels(target)) * s->overdraw;
+  if (!target.transient()) shaded = static_cast<double>(covered_pixels(target)) * s->overdraw;
   const raster::ShadeCounts shading = renderer.frame_shading();
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) pbr::render_rgba8(s->scene, renderer, target, s->output, image);

@@ -1,6 +1,6 @@
 // compare_llvmpipe — softpbr against Mesa's llvmpipe on the same scenes, in the same run.
 //
-//   compare_llvmpipe [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8] [--tile-size N]
+//   compare_llvmpipe [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8] [--transient] [--tile-size N]
 //
 // For each thread count N a child process sets LP_NUM_THREADS=N before it creates its GL
 // context (llvmpipe reads it once per process), then for every scene of scenes.h renders
@@ -20,6 +20,8 @@
 // and encoded per tile inside render_rgba8), llvmpipe into a multisampled framebuffer
 // object resolved by glBlitFramebuffer before glFinish, both inside the timed region (llvmpipe
 // with at most its GL_MAX_SAMPLES, 4 on Mesa 22: --msaa 8 compares softpbr 8x with its 4x).
+// --transient makes softpbr's multisampled target transient (raster::SampleStorage: the
+// samples live in tile blocks only and are not written back; llvmpipe keeps its FBO's).
 // --images DIR writes both images of every scene as PNGs (NAME_softpbr.png,
 // NAME_llvmpipe.png) to look at the differences.
 #include <sys/wait.h>
@@ -58,6 +60,7 @@ struct Options {
   std::string filter;
   std::string images;
   int msaa = 1;
+  bool transient = false;
   int tile_size = 64;
 };
 
@@ -106,7 +109,8 @@ void run_child(const Options& o, unsigned threads) {
   for (const bench::BenchScene& s : bench::all_scenes(bench::default_shared_models())) {
     if (!o.filter.empty() && s.name.find(o.filter) == std::string::npos) continue;
     raster::Renderer renderer({.threads = threads, .tile_size = o.tile_size});
-    raster::Target target(s.width, s.height, o.msaa);
+    raster::Target target(s.width, s.height, o.msaa, nullptr,
+                          o.transient ? raster::SampleStorage::Transient : raster::SampleStorage::Kept);
     // llvmpipe's GL_MAX_SAMPLES may be below --msaa (4 on Mesa 22): it then runs with 4.
     int gl_samples = o.msaa;
     std::unique_ptr<bench::LlvmpipeRenderer> gl_owner;
@@ -178,6 +182,8 @@ bool parse(int argc, char** argv, Options& o) {
     } else if (a == "--msaa" && has_value) {
       o.msaa = std::atoi(argv[++i]);
       if (!raster::valid_sample_count(o.msaa)) return false;
+    } else if (a == "--transient") {
+      o.transient = true;
     } else if (a == "--tile-size" && has_value) {
       o.tile_size = std::atoi(argv[++i]);
       if (!raster::valid_tile_size(o.tile_size)) return false;
@@ -195,7 +201,7 @@ bool parse(int argc, char** argv, Options& o) {
 int main(int argc, char** argv) {
   Options o;
   if (!parse(argc, argv, o)) {
-    std::fprintf(stderr, "usage: %s [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8] [--tile-size N]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s [--threads 1,2] [--seconds S] [--filter TEXT] [--images DIR] [--msaa 1|4|8] [--transient] [--tile-size N]\n", argv[0]);
     return 2;
   }
   std::printf("softpbr vs llvmpipe: median ms per frame to an RGBA8 image; ratio = softpbr / llvmpipe\n");

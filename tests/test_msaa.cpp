@@ -6,6 +6,7 @@
 #include <cstring>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -694,5 +695,135 @@ TEST_CASE("tile blocks: a cleared frame gives the bits of the same draws over a 
         CHECK(raster::hash_depths(t) == raster::hash_depths(reference));
         CHECK(std::memcmp(got.data(), want.data(), want.size() * sizeof(glm::vec4)) == 0);
       }
+      // A transient target (SampleStorage::Transient) keeps nothing: its tile callback sees
+      // every sample's colour and depth exactly as the kept reference holds them, drawn in
+      // blocks alone (no planes allocated), or in planes when tiles are too large for a
+      // block (128 × 128 × 4 samples). A geometry budget of 1 byte does not split the
+      // frame: on a transient target it holds up to the bytes its planes would take.
+      struct TransientConfig {
+        unsigned threads;
+        int tile;
+        std::size_t budget;
+        bool planes;  // whether the frame needs the target's planes
+      };
+      for (const TransientConfig& c : {TransientConfig{1, 16, 0, false}, TransientConfig{2, 8, 0, false},
+                                       TransientConfig{2, 64, 0, false},
+                                       TransientConfig{2, 128, 0, true}, TransientConfig{2, 16, 1, false}}) {
+        CAPTURE(c.threads);
+        CAPTURE(c.tile);
+        CAPTURE(c.budget);
+        raster::Target t(kW, kH, n, nullptr, raster::SampleStorage::Transient);
+        REQUIRE(t.transient());
+        raster::Renderer r({.threads = c.threads, .tile_size = c.tile, .geometry_budget = c.budget});
+        const std::size_t count = static_cast<std::size_t>(kW) * kH * static_cast<std::size_t>(n);
+        std::vector<glm::vec4> colors(count, glm::vec4(-1.0f));
+        std::vector<float> depths(count, -1.0f);
+        int cleared_without_pixels = 0, cleared_with_pixels = 0;
+        for (int frame = 0; frame < 2; ++frame) {  // the second frame over the first's blocks (or planes)
+          r.begin_frame(t, clear);
+          draw_all(r);
+          r.end_frame([&](const raster::TileRect& rect, bool only_clear, const raster::TargetPixels& px) {
+            if (only_clear) ++(px.colors == nullptr ? cleared_without_pixels : cleared_with_pixels);
+            for (int s = 0; s < n; ++s)
+              for (int y = rect.y0; y < rect.y1; ++y)
+                for (int x = rect.x0; x < rect.x1; ++x) {
+                  const std::size_t at = static_cast<std::size_t>(s) * kW * kH + static_cast<std::size_t>(y) * kW + x;
+                  if (only_clear && px.colors == nullptr) {
+                    colors[at] = clear.color, depths[at] = clear.depth;
+                  } else {
+                    const std::size_t i = static_cast<std::size_t>(s) * px.plane +
+                                          static_cast<std::size_t>(y) * static_cast<std::size_t>(px.width) + x - px.origin;
+                    colors[at] = px.colors[i], depths[at] = px.depths[i];
+                  }
+                }
+          });
+          CHECK(std::memcmp(colors.data(), std::as_const(reference).colors().data(), count * sizeof(glm::vec4)) == 0);
+          CHECK(std::memcmp(depths.data(), std::as_const(reference).depths().data(), count * sizeof(float)) == 0);
+          CHECK((t.allocated_bytes() != 0) == c.planes);
+        }
+        // Without planes an untouched tile has no pixels to show; with them it has.
+        if (c.planes) CHECK(cleared_without_pixels == 0);
+        else CHECK(cleared_with_pixels == 0);
+        CHECK_THROWS_AS((void)std::as_const(t).colors(), std::logic_error);
+      }
     }
+}
+
+TEST_CASE("a transient target's frame over its geometry budget runs in passes over planes made for it, the same samples") {
+  // 16 × 16 × 4 samples take 20 480 bytes: with a budget of 1 the frame may hold that much
+  // geometry, and four draws of 60 small triangles each hold more, so it splits.
+  constexpr int kW = 16, kH = 16, kN = 4;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<std::vector<FlatShader::Vertex>> draws(4);
+  for (auto& d : draws)
+    for (int t = 0; t < 3 * 60; ++t)
+      d.push_back(at(unit(rng) * kW, unit(rng) * kH, kW, kH, unit(rng), {unit(rng), unit(rng), unit(rng), 1.0f}));
+  const raster::ClearValues clear{{0.5f, 0.25f, 0.0f, 1.0f}, 1.0f};
+  raster::Target reference(kW, kH, kN);
+  {
+    raster::Renderer r({.threads = 1, .tile_size = 8, .geometry_budget = 0});
+    r.begin_frame(reference, clear);
+    for (const auto& d : draws) r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(d));
+    r.end_frame();
+  }
+  raster::Target t(kW, kH, kN, nullptr, raster::SampleStorage::Transient);
+  raster::Renderer r({.threads = 2, .tile_size = 8, .geometry_budget = 1});
+  for (int frame = 0; frame < 2; ++frame) {
+    r.begin_frame(t, clear);
+    for (const auto& d : draws) r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(d));
+    bool same = true;
+    int tiles = 0;
+    r.end_frame([&](const raster::TileRect& rect, bool, const raster::TargetPixels& px) {
+      REQUIRE(px.colors != nullptr);
+      ++tiles;
+      for (int s = 0; s < kN; ++s)
+        for (int y = rect.y0; y < rect.y1; ++y)
+          for (int x = rect.x0; x < rect.x1; ++x) {
+            const std::size_t i = static_cast<std::size_t>(s) * px.plane + static_cast<std::size_t>(y) * px.width + x - px.origin;
+            same = same && std::memcmp(&px.colors[i], &reference.sample_color(x, y, s), sizeof(glm::vec4)) == 0 &&
+                   std::memcmp(&px.depths[i], &std::as_const(reference).depths()[static_cast<std::size_t>(s) * kW * kH +
+                                                                                 static_cast<std::size_t>(y) * kW + x],
+                               sizeof(float)) == 0;
+          }
+    });
+    CHECK(tiles == 4);
+    CHECK(same);
+    CHECK(t.allocated_bytes() == raster::Target::bytes(kW, kH, kN));
+  }
+}
+
+TEST_CASE("a transient multisampled target keeps no samples: reading, clearing or drawing over it throws") {
+  raster::Target t(40, 30, 4, nullptr, raster::SampleStorage::Transient);
+  CHECK(t.transient());
+  CHECK(t.samples() == 4);
+  CHECK(t.allocated_bytes() == 0);
+  CHECK_THROWS_AS((void)std::as_const(t).colors(), std::logic_error);
+  CHECK_THROWS_AS((void)std::as_const(t).depths(), std::logic_error);
+  CHECK_THROWS_AS((void)t.colors(), std::logic_error);
+  CHECK_THROWS_AS((void)t.color(1, 2), std::logic_error);
+  CHECK_THROWS_AS((void)t.sample_depth(1, 2, 3), std::logic_error);
+  CHECK_THROWS_AS(t.clear(), std::logic_error);
+  CHECK_THROWS_AS((void)raster::hash_colors(t), std::logic_error);
+  CHECK_THROWS_AS((void)raster::resolve_box(t), std::logic_error);
+  raster::Renderer r({.threads = 1});
+  CHECK_THROWS_AS(r.begin_frame(t), std::logic_error);  // nothing to draw over
+  // The renderer has no frame open after refusing: a cleared frame works.
+  const std::vector<FlatShader::Vertex> v = {at(2, 2, 40, 30, 0.5f, {1, 0, 0, 1}), at(38, 4, 40, 30, 0.5f, {1, 0, 0, 1}),
+                                             at(5, 28, 40, 30, 0.5f, {1, 0, 0, 1})};
+  r.begin_frame(t, raster::ClearValues{});
+  r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(v));
+  int touched = 0;
+  r.end_frame([&](const raster::TileRect&, bool only_clear, const raster::TargetPixels& px) {
+    touched += !only_clear;
+    if (!only_clear) CHECK(px.colors != nullptr);
+  });
+  CHECK(touched > 0);
+  CHECK(t.allocated_bytes() == 0);
+  CHECK(r.frame_shading().invocations > 0);
+  // One sample a pixel: the target is the image, so it is kept whatever was asked.
+  raster::Target one(40, 30, 1, nullptr, raster::SampleStorage::Transient);
+  CHECK_FALSE(one.transient());
+  CHECK(one.allocated_bytes() == raster::Target::bytes(40, 30));
+  CHECK(std::as_const(one).colors().size() == 40u * 30u);
 }

@@ -118,6 +118,20 @@ TEST_CASE("MSAA gallery: the same bits with 1, 2, 3 and 8 threads, tile sizes 8 
       CHECK(raster::hash_colors(target) == color);
       CHECK(raster::hash_depths(target) == depth);
       CHECK(image.rgba == reference_image.rgba);
+      // A transient target (no samples kept, none written back): the same bytes. The
+      // gallery's 169k triangles go over the default geometry budget (several passes, so
+      // the target's planes are made); without a budget the frame is one pass, drawn in
+      // blocks alone unless a tile is too large for one.
+      for (const std::size_t budget : {raster::RendererOptions{}.geometry_budget, std::size_t{0}}) {
+        CAPTURE(budget);
+        raster::Renderer r({.threads = c.threads, .tile_size = c.tile, .lanes = c.lanes, .dispatch = c.dispatch,
+                            .geometry_budget = budget});
+        raster::Target transient(kW, kH, n, nullptr, raster::SampleStorage::Transient);
+        raster::Image8 transient_image;
+        pbr::render_rgba8(scene, r, transient, pbr::gallery_output(), transient_image);
+        CHECK(transient_image.rgba == reference_image.rgba);
+        CHECK((transient.allocated_bytes() == 0) == (budget == 0 && c.tile * c.tile * n <= 64 * 64 * 8));
+      }
     }
     // A frame rasterized in several passes (a geometry budget of 1 byte flushes every
     // draw): each later pass loads a tile's samples back from the target into the block.
@@ -130,6 +144,11 @@ TEST_CASE("MSAA gallery: the same bits with 1, 2, 3 and 8 threads, tile sizes 8 
       CHECK(raster::hash_colors(target) == color);
       CHECK(raster::hash_depths(target) == depth);
       CHECK(image.rgba == reference_image.rgba);
+      // A transient target's frame in several passes keeps its samples in planes made for it.
+      raster::Target transient(kW, kH, n, nullptr, raster::SampleStorage::Transient);
+      pbr::render_rgba8(scene, renderer, transient, pbr::gallery_output(), image);
+      CHECK(image.rgba == reference_image.rgba);
+      CHECK(transient.allocated_bytes() == raster::Target::bytes(kW, kH, n));
     }
   }
 }

@@ -123,8 +123,19 @@ void tile_order(const TileGrid& grid, unsigned threads, std::vector<std::uint32_
 }  // namespace
 
 void Renderer::begin_frame(Target& target) {
+  if (!target_ && target.transient())
+    throw std::logic_error("Renderer::begin_frame: a transient target holds nothing to draw over; clear it "
+                           "(begin_frame(target, clear))");
+  open_frame(target);
+}
+
+void Renderer::open_frame(Target& target) {
   if (target_) throw std::logic_error("Renderer::begin_frame: a frame is already open");
   target_ = &target;
+  frame_budget_ = geometry_budget_;
+  if (geometry_budget_ != 0 && target.transient())
+    frame_budget_ = std::max<std::size_t>(
+        geometry_budget_, static_cast<std::size_t>(Target::bytes(target.width(), target.height(), target.samples())));
   grid_ = TileGrid(target.width(), target.height(), tile_size_);
   grid_.sample_reach = sample_reach(target.samples());
   draws_.clear();
@@ -142,7 +153,7 @@ void Renderer::begin_frame(Target& target) {
 }
 
 void Renderer::begin_frame(Target& target, const ClearValues& clear) {
-  begin_frame(target);
+  open_frame(target);
   clear_ = clear;
 }
 
@@ -163,7 +174,7 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   if (!target_) throw std::logic_error("Renderer::end_frame: no frame is open");
   Target& target = *target_;
   target_ = nullptr;
-  rasterize_pending(target, after_tile ? &after_tile : nullptr);
+  rasterize_pending(target, after_tile ? &after_tile : nullptr, true);
   if (cancelled_.load(std::memory_order_relaxed)) {
     // Skipped tiles hold anything: the target knows of no cleared tile.
     cancelled_.store(false, std::memory_order_relaxed);
@@ -174,7 +185,9 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   // Tell the target which tiles hold only clear values now: the untouched ones, if this
   // frame cleared (to its values), else those that did before and stayed untouched.
   detail::ClearedTiles& known = known_clear_;
-  if (clear_) {
+  if (target.transient() && !planes_written_) {
+    known = {};  // drawn in blocks alone: the planes, if any, hold an older frame
+  } else if (clear_) {
     known.tile_size = tile_size_;
     known.color = clear_->color;
     known.depth = clear_->depth;
@@ -188,12 +201,21 @@ void Renderer::end_frame(const TileCallback& after_tile) {
   clear_.reset();
 }
 
-void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile) {
+void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile, bool last_pass) {
   const bool clear_now = clear_ && !cleared_;
   // Tiles that hold the clear values already (the target's last frame cleared to the same
   // bits and left them untouched) are not cleared again: the same pixels, no writes.
   const bool reuse = clear_now && !known_clear_.tiles.empty() &&
                      same_bits(known_clear_.color, known_clear_.depth, clear_->color, clear_->depth);
+  // A transient target (SampleStorage::Transient) is drawn in blocks alone when the frame
+  // is one pass that clears and every tile fits a block: nothing reaches its planes, not
+  // even the clear of untouched tiles. Otherwise its planes are allocated and the frame
+  // runs as for a kept target (a later pass draws over what the first left there).
+  const std::size_t tile_samples = static_cast<std::size_t>(tile_size_) * static_cast<std::size_t>(tile_size_) *
+                                   static_cast<std::size_t>(target.samples());
+  const bool blocks_only = target.transient() && clear_now && last_pass && tile_samples <= kMaxBlockSamples;
+  if (target.transient() && !blocks_only) detail::FrameAccess::allocate_planes(target);
+  planes_written_ = !blocks_only;
   const TargetPixels pixels = detail::FrameAccess::pixels(target);
   if (!draws_.empty() || clear_now || after_tile) {
     pool_.parallel_for(grid_.count(), [&](std::size_t i) {
@@ -209,7 +231,7 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
                             static_cast<std::size_t>(rect.x1 - rect.x0) * static_cast<std::size_t>(rect.y1 - rect.y0) *
                                     static_cast<std::size_t>(pixels.samples) <=
                                 kMaxBlockSamples;
-      if (clear_now && !in_block && !(reuse && known_clear_.tiles[tile] != 0 && !touched))
+      if (clear_now && !in_block && !blocks_only && !(reuse && known_clear_.tiles[tile] != 0 && !touched))
         clear_tile(pixels, rect, *clear_, !touched);
       thread_local TileBlock block;
       TargetPixels tile_pixels = pixels;  // what the callback reads: the block or the target
@@ -220,7 +242,7 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile)
         std::fill(tile_pixels.colors, tile_pixels.colors + n, clear_->color);
         std::fill(tile_pixels.depths, tile_pixels.depths + n, clear_->depth);
         for (const auto& draw : draws_) shaded += draw->raster(tile, rect, tile_pixels, lanes_, isa_);
-        store_tile(tile_pixels, rect, pixels);
+        if (!blocks_only) store_tile(tile_pixels, rect, pixels);
         touched_[tile] = 1;  // one writer per tile
       } else if (touched) {
         SOFTPBR_DCHECK(tile < touched_.size());

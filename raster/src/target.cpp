@@ -38,7 +38,7 @@ int sample_reach(int samples) {
   return reach * 16;
 }
 
-Target::Target(int width, int height, int samples, ThreadPool* pool)
+Target::Target(int width, int height, int samples, ThreadPool* pool, SampleStorage storage)
     : width_(width), height_(height), samples_(samples) {
   if (width < 1 || height < 1 || width > kMaxTargetSize || height > kMaxTargetSize)
     throw std::invalid_argument("Target: size " + std::to_string(width) + "x" + std::to_string(height) +
@@ -46,6 +46,10 @@ Target::Target(int width, int height, int samples, ThreadPool* pool)
                                 std::to_string(kMaxTargetSize));
   if (!valid_sample_count(samples))
     throw std::invalid_argument("Target: " + std::to_string(samples) + " samples a pixel: expected 1, 4 or 8");
+  if (storage == SampleStorage::Transient && samples > 1) {
+    transient_ = true;
+    return;  // no planes (allocate_planes(), when a frame needs them)
+  }
   const std::size_t n =
       static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(samples);
   color_.resize(n);
@@ -64,6 +68,18 @@ Target::Target(int width, int height, int samples, ThreadPool* pool)
   } else {
     for (std::size_t k = 0; k < pieces; ++k) fill(k);
   }
+}
+
+void Target::throw_transient() {
+  throw std::logic_error(
+      "Target: a transient multisampled target keeps no samples to read or clear "
+      "(SampleStorage::Transient: read the frame in Renderer::end_frame's tile callback)");
+}
+
+void Target::allocate_planes() {
+  const std::size_t n =
+      static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * static_cast<std::size_t>(samples_);
+  if (color_.size() != n) color_.resize(n), depth_.resize(n);
 }
 
 void Target::clear(glm::vec4 color, float depth) {

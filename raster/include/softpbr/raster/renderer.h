@@ -48,6 +48,9 @@ struct RendererOptions {
   // may hold: past it, draw() rasterizes the draws so far into the tiles and recycles
   // their memory, so peak memory stays bounded however many triangles a frame has. The
   // same bits either way (each tile still applies every draw in order). 0: no limit.
+  // A frame on a transient target (SampleStorage::Transient) may hold at least as many
+  // bytes as that target's samples would take (Target::bytes; 166 MB at 1080p 4×): a
+  // second pass would have to allocate them, so its peak stays below a kept target's.
   std::size_t geometry_budget = std::size_t{8} << 20;
   // Polled before each tile of a frame is rasterized, on the thread about to draw it (so
   // calls may run at the same time): once it returns true, the frame's remaining tiles are
@@ -114,8 +117,8 @@ class Renderer {
   ThreadPool& pool() { return pool_; }
 
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
-  // if a frame is already open. The first form draws over the target's contents; the
-  // second clears it (each tile just before it is rasterized, in parallel: cheaper than
+  // if a frame is already open. The first form draws over the target's contents (and
+  // throws std::logic_error for a transient target, which has none); the second clears it (each tile just before it is rasterized, in parallel: cheaper than
   // Target::clear()). A tile that the target's last frame left holding only the same clear
   // values (bit for bit), untouched since (see Target), is not written again.
   void begin_frame(Target& target);
@@ -137,7 +140,7 @@ class Renderer {
     assemble_triangles(pool_, indices, grid_, call->geometry);
     pending_bytes_ += call->geometry.bytes();
     draws_.push_back(std::move(call));
-    if (geometry_budget_ != 0 && pending_bytes_ > geometry_budget_) rasterize_pending(*target_, nullptr);
+    if (frame_budget_ != 0 && pending_bytes_ > frame_budget_) rasterize_pending(*target_, nullptr, false);
   }
 
   // Draws vertices 3k, 3k+1, 3k+2 as triangle k; the count must be a multiple of 3.
@@ -162,6 +165,9 @@ class Renderer {
   // the target with streaming stores, so the block is still in cache and the target's
   // copy is not); it is valid during the call only. Calls for different tiles may run at
   // the same time; each tile's pixels belong to its call alone until end_frame() returns.
+  // A transient target (SampleStorage::Transient) is read here or nowhere; when its frame
+  // is drawn in blocks alone, an only_clear tile has no pixels anywhere (pixels.colors and
+  // pixels.depths are null): the clear values are its contents.
   using TileCallback = std::function<void(const TileRect& rect, bool only_clear, const TargetPixels& pixels)>;
   void end_frame(const TileCallback& after_tile);
 
@@ -198,7 +204,11 @@ class Renderer {
   DrawGeometry take_geometry();
   // Rasterizes the pending draws into every tile (clearing first if the frame clears and
   // has not cleared yet), calls after_tile if given, and recycles their geometry.
-  void rasterize_pending(Target& target, const TileCallback* after_tile);
+  // Draws the pending draws into `target`; last_pass: called by end_frame() (not by a
+  // draw over the geometry budget), so no later pass of the frame reads what it leaves.
+  void rasterize_pending(Target& target, const TileCallback* after_tile, bool last_pass);
+  void open_frame(Target& target);
+  bool planes_written_ = false;  // whether the last pass wrote the target's planes (not blocks alone)
 
   ThreadPool pool_;
   int tile_size_;
@@ -210,6 +220,9 @@ class Renderer {
   std::optional<ClearValues> clear_;
   std::vector<DrawGeometry> spare_;  // geometry of past draws, kept for their memory
   std::size_t geometry_budget_;
+  // This frame's: geometry_budget_, or for a transient target at least the bytes of the
+  // sample planes a second pass would make it allocate (Target::bytes).
+  std::size_t frame_budget_ = 0;
   std::function<bool()> cancel_;
   std::atomic<bool> cancelled_{false};  // the frame's cancel_ returned true (set by any tile's thread)
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
