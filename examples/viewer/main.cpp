@@ -67,7 +67,7 @@ class Viewer {
     const auto start = Clock::now();
     const int w = viewer::scaled_size(window_.width(), divisor), h = viewer::scaled_size(window_.height(), divisor);
     if (!target_ || target_->width() != w || target_->height() != h || target_->samples() != state_.msaa)
-      target_.emplace(w, h, state_.msaa);
+      target_.emplace(w, h, state_.msaa, nullptr, raster::SampleStorage::Transient);  // only the image is shown
     const raster::Image8 image = viewer::render_view(state_, meshes_, renderer_, *target_, environments_);
     window_.draw(image);
     shown_divisor_ = divisor;

@@ -129,8 +129,11 @@ pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& m
 
 raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes, raster::Renderer& renderer,
                            raster::Target& target, const Environments& environments) {
-  pbr::render(build_scene(state, meshes, environments), renderer, target);
-  return pbr::tone_map_to_rgba8(target, pbr::gallery_output());
+  // Each tile tone mapped right after it is drawn: the bytes of render() then
+  // tone_map_to_rgba8(), and a transient target (main.cpp, with MSAA) needs nothing more.
+  raster::Image8 image;
+  pbr::render_rgba8(build_scene(state, meshes, environments), renderer, target, pbr::gallery_output(), image);
+  return image;
 }
 
 std::string material_label(const ViewerState& state) {

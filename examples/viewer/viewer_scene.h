@@ -64,7 +64,8 @@ Environments load_environments(const std::vector<std::filesystem::path>& files, 
 softpbr::pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes,
                                 const Environments& environments = {});
 
-// Renders the state's scene into `target` and tone maps it to RGBA8.
+// Renders the state's scene into `target` and tone maps it to RGBA8 (pbr::render_rgba8: a
+// transient multisampled target works, a kept one holds the frame afterwards).
 softpbr::raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes,
                                     softpbr::raster::Renderer& renderer, softpbr::raster::Target& target,
                                     const Environments& environments = {});
