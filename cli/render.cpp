@@ -311,6 +311,7 @@ struct Job {
   bool batch = false;                       // several inputs
   std::optional<raster::Renderer> renderer;  // a batch's (RendererOptions from --threads, --tile-size)
   std::optional<raster::Target> target;
+  std::optional<raster::Target> resolved;  // with MSAA: the frame's linear box resolve
 };
 
 // The scene of `input` with the command's overrides.
@@ -409,9 +410,16 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
   raster::Renderer& renderer = job.renderer ? *job.renderer : *own_renderer;
   if (!job.target || job.target->width() != s.width || job.target->height() != s.height || job.target->samples() != s.msaa) {
     job.target.reset();  // the old one's memory first
-    job.target.emplace(s.width, s.height, s.msaa, &renderer.pool());
+    job.resolved.reset();
+    // With MSAA the samples are not kept (a transient target: each tile's are tone mapped
+    // and resolved while in cache, never written back); `resolved` holds the linear box
+    // resolve the hash, the non-finite count and .hdr/.exr read.
+    job.target.emplace(s.width, s.height, s.msaa, &renderer.pool(), raster::SampleStorage::Transient);
+    if (s.msaa > 1) job.resolved.emplace(s.width, s.height, 1, &renderer.pool());
   }
   raster::Target& target = *job.target;
+  raster::Target* const resolved = job.resolved ? &*job.resolved : nullptr;
+  const raster::Target& linear = resolved != nullptr ? *resolved : target;  // one colour a pixel
   std::size_t done = 0, skipped = 0;
   for (long j = 0; j < frame_count; ++j) {
     const long frame = shard_frame(range, shard, j);
@@ -435,10 +443,12 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     const auto png_at = std::find(job.formats.begin(), job.formats.end(), Format::Png);
     const bool png = png_at != job.formats.end();
     raster::Image8 rgba;
-    if (png) pbr::render_rgba8(pbr::animate(file, frame), renderer, target, s.output, rgba);
+    if (png || resolved != nullptr)
+      pbr::render_outputs(pbr::animate(file, frame), renderer, target, s.output, png ? &rgba : nullptr, resolved);
     else pbr::render(pbr::animate(file, frame), renderer, target);
-    // Then three independent jobs on the renderer's threads: the hash (XXH3, about 10 ms for
-    // a 4x MSAA 1080p target), the count of non-finite pixels, the PNG encoding.
+    // Then three independent jobs on the renderer's threads: the hash (XXH3 of the linear
+    // colour, one a pixel: the resolve with MSAA), the count of non-finite pixels, the PNG
+    // encoding.
     const float scale = exposure_scale(s.output.exposure);
     std::uint64_t hash = 0;
     std::size_t non_finite = 0;
@@ -447,11 +457,11 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     const std::string& png_name = png ? paths[static_cast<std::size_t>(png_at - job.formats.begin())] : paths[0];
     renderer.pool().parallel_for(3, [&](std::size_t job_index) {
       if (job_index == 0) {
-        hash = raster::hash_colors(target);
+        hash = raster::hash_colors(linear);
       } else if (job_index == 1 && !a.quiet) {
         // Not silent: a colour beyond float (emissive or lights near 1e30 summed, or scaled
         // by --exposure) is stored as 0 by .hdr and .exr while the PNG shows it white.
-        for (const glm::vec4& c : target.colors()) {
+        for (const glm::vec4& c : linear.colors()) {
           const glm::vec3 v = glm::vec3(c) * scale;
           non_finite += !(std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b));
         }
@@ -471,18 +481,12 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     image::OutputFiles files;
     try {
       if (png_error) std::rethrow_exception(png_error);
-      // .hdr and .exr hold one linear colour a pixel: a multisampled target's samples are
-      // averaged first (the box resolve of linear radiance, as pbr::write_exr does).
-      std::optional<raster::Target> resolved;
-      auto linear = [&]() -> const raster::Target& {
-        if (target.samples() == 1) return target;
-        if (!resolved) resolved.emplace(raster::resolve_box(target));
-        return *resolved;
-      };
+      // .hdr and .exr hold one linear colour a pixel: with MSAA the box resolve of linear
+      // radiance (as pbr::write_exr does), made per tile by render_outputs.
       for (std::size_t i = 0; i < paths.size(); ++i) {
         if (job.formats[i] == Format::Png) files.add(paths[i], png_bytes);
-        else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(linear()), paths[i], scale));
-        else files.add(paths[i], image::encode_exr(colour_view(linear()), paths[i], scale));
+        else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(linear), paths[i], scale));
+        else files.add(paths[i], image::encode_exr(colour_view(linear), paths[i], scale));
       }
       files.commit();
     } catch (const std::bad_alloc&) {

@@ -5,7 +5,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "softpbr/golden/doctest_checks.h"
@@ -150,6 +153,43 @@ TEST_CASE("MSAA gallery: the same bits with 1, 2, 3 and 8 threads, tile sizes 8 
       CHECK(image.rgba == reference_image.rgba);
       CHECK(transient.allocated_bytes() == raster::Target::bytes(kW, kH, n));
     }
+  }
+}
+
+TEST_CASE("render_outputs: the PNG bytes and the linear box resolve of a kept or transient target, per tile") {
+  const pbr::Scene scene = pbr::make_gallery();
+  constexpr int kW = 200, kH = 120;
+  for (const int n : {1, 4, 8}) {
+    CAPTURE(n);
+    raster::Renderer reference_renderer({.threads = 1, .tile_size = 64});
+    raster::Target kept(kW, kH, n);
+    pbr::render(scene, reference_renderer, kept);
+    const raster::Target want = raster::resolve_box(kept);  // a copy at n = 1
+    const raster::Image8 want_image = pbr::tone_map_to_rgba8(kept, pbr::gallery_output());
+    for (const int tile : {16, 64, 256})
+      for (const raster::SampleStorage storage : {raster::SampleStorage::Kept, raster::SampleStorage::Transient}) {
+        CAPTURE(tile);
+        CAPTURE(static_cast<int>(storage));
+        raster::Renderer r({.threads = 2, .tile_size = tile, .geometry_budget = 0});
+        raster::Target target(kW, kH, n, nullptr, storage);
+        raster::Target linear(kW, kH);
+        raster::Image8 image;
+        pbr::render_outputs(scene, r, target, pbr::gallery_output(), &image, &linear);
+        CHECK(image.rgba == want_image.rgba);
+        CHECK(raster::hash_colors(linear) == raster::hash_colors(want));
+        CHECK(raster::hash_depths(linear) == raster::hash_depths(want));
+        raster::Target only_linear(kW, kH);
+        pbr::render_outputs(scene, r, target, pbr::gallery_output(), nullptr, &only_linear);
+        CHECK(raster::hash_colors(only_linear) == raster::hash_colors(want));
+        // Tiles no triangle reaches (tile 16: the gallery's corners) are the background's resolve.
+        CHECK(std::memcmp(&std::as_const(linear).color(0, 0), &want.color(0, 0), sizeof(glm::vec4)) == 0);
+      }
+    raster::Target wrong(kW, kH - 1);
+    CHECK_THROWS_AS(pbr::render_outputs(scene, reference_renderer, kept, pbr::gallery_output(), nullptr, &wrong),
+                    std::invalid_argument);
+    raster::Target multisampled(kW, kH, 4);
+    CHECK_THROWS_AS(pbr::render_outputs(scene, reference_renderer, kept, pbr::gallery_output(), nullptr, &multisampled),
+                    std::invalid_argument);
   }
 }
 

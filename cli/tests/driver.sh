@@ -97,6 +97,16 @@ scenes)
     && pass "--msaa 4 writes the resolved .exr and .hdr" || fail "--msaa 4 -o msaa.exr -o msaa.hdr failed"
   "$softpbr" render "$scenes/lights.json" -o msaa1.exr --msaa 4 --width 64 --height 40 --threads 1 --tile-size 8 -q
   cmp -s msaa.exr msaa1.exr && pass "the resolved .exr is identical for other threads/tiles" || fail "the --msaa 4 .exr differs with --threads 1 --tile-size 8"
+  # The printed hash with --msaa is the resolved image's: the same whether the PNG is
+  # written too (tone mapped per tile from the same blocks) or not, for any threads and
+  # tiles, for tiles too large for a block (planes) and different from the 1x hash.
+  h_exr=$("$softpbr" render "$scenes/lights.json" -o h.exr --msaa 4 --width 64 --height 40 | sed -n 's/.*hash //p')
+  h_png=$("$softpbr" render "$scenes/lights.json" -o h.png -o h2.exr --msaa 4 --width 64 --height 40 --threads 1 --tile-size 8 | sed -n '1s/.*hash //p')
+  h_big=$("$softpbr" render "$scenes/lights.json" -o h3.png --msaa 4 --width 64 --height 40 --tile-size 256 | sed -n 's/.*hash //p')
+  h_one=$("$softpbr" render "$scenes/lights.json" -o h4.png --width 64 --height 40 | sed -n 's/.*hash //p')
+  [ -n "$h_exr" ] && [ "$h_exr" = "$h_png" ] && [ "$h_exr" = "$h_big" ] && [ "$h_exr" != "$h_one" ] && cmp -s h.exr h2.exr && cmp -s h.exr msaa.exr \
+    && pass "--msaa 4 prints the resolved image's hash, alike with and without a PNG, for any threads and tiles" \
+    || fail "--msaa 4 hashes: exr $h_exr, png $h_png, 256-pixel tiles $h_big, 1x $h_one"
   ;;
 
 errors)

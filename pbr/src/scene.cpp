@@ -38,14 +38,51 @@ void render(const Scene& scene, raster::Renderer& renderer, raster::Target& targ
 
 void render_rgba8(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const OutputSettings& output, raster::Image8& image) {
+  render_outputs(scene, renderer, target, output, &image, nullptr);
+}
+
+void render_outputs(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
+                    const OutputSettings& output, raster::Image8* image, raster::Target* linear) {
+  if (linear != nullptr && (linear->samples() != 1 || linear->width() != target.width() ||
+                            linear->height() != target.height()))
+    throw std::invalid_argument("render_outputs: the linear target must have 1 sample and the target's size");
   const ToneMapper mapper(output);
-  image.width = target.width();
-  image.height = target.height();
-  image.rgba.resize(static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()) * 4);
+  if (image != nullptr) {
+    image->width = target.width();
+    image->height = target.height();
+    image->rgba.resize(static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()) * 4);
+  }
+  // Taken once, before the frame: the tiles write disjoint rectangles of them.
+  glm::vec4* const linear_colors = linear != nullptr ? linear->colors().data() : nullptr;
+  float* const linear_depths = linear != nullptr ? linear->depths().data() : nullptr;
+  const std::size_t width = static_cast<std::size_t>(target.width());
+  // What resolve_box makes of samples that all hold the background: the same sums (so a
+  // background near FLT_MAX overflows as it would there).
+  const glm::vec4 b = scene.background;
+  const glm::vec4 cleared = target.samples() == 1   ? b
+                            : target.samples() == 4 ? ((b + b) + (b + b)) * 0.25f
+                                                    : (((b + b) + (b + b)) + ((b + b) + (b + b))) * 0.125f;
   render_frame(scene, renderer, target, [&](const raster::TileRect& r, bool only_clear, const raster::TargetPixels& px) {
-    if (only_clear) mapper.encode_uniform(scene.background, r.x0, r.y0, r.x1, r.y1, image);
-    else if (px.samples > 1) mapper.encode(px, r.x0, r.y0, r.x1, r.y1, image);  // the tile's samples, in cache
-    else mapper.encode(target, r.x0, r.y0, r.x1, r.y1, image);
+    if (image != nullptr) {
+      if (only_clear) mapper.encode_uniform(scene.background, r.x0, r.y0, r.x1, r.y1, *image);
+      else if (px.samples > 1) mapper.encode(px, r.x0, r.y0, r.x1, r.y1, *image);  // the tile's samples, in cache
+      else mapper.encode(target, r.x0, r.y0, r.x1, r.y1, *image);
+    }
+    if (linear_colors == nullptr) return;
+    const std::size_t at = static_cast<std::size_t>(r.y0) * width + static_cast<std::size_t>(r.x0);
+    const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
+    for (int y = r.y0; y < r.y1; ++y) {
+      const std::size_t row = at + static_cast<std::size_t>(y - r.y0) * width;
+      if (only_clear) {  // every sample holds the clear values (a transient target's: nowhere)
+        std::fill_n(linear_colors + row, n, cleared);
+        std::fill_n(linear_depths + row, n, 1.0f);
+      } else {
+        const std::size_t from = static_cast<std::size_t>(y) * static_cast<std::size_t>(px.width) +
+                                 static_cast<std::size_t>(r.x0) - px.origin;  // sample 0's plane
+        std::copy_n(px.depths + from, n, linear_depths + row);
+      }
+    }
+    if (!only_clear) raster::resolve_box(px, r.x0, r.y0, r.x1, r.y1, linear_colors + at, width);
   });
 }
 

@@ -166,11 +166,16 @@ py::array_t<std::uint8_t> render(const PyScene& s, const Overrides& o) {
 py::array_t<float> render_hdr(const PyScene& s, const Overrides& o) {
   const pbr::RenderSettings r = settings_for(s, o);
   const pbr::Scene scene = pbr::animate(s.file, o.frame);
-  auto target = std::make_unique<raster::Target>(r.width, r.height, r.msaa);
+  auto target = std::make_unique<raster::Target>(r.width, r.height);  // one linear colour a pixel
   run_released(r, [&](raster::Renderer& renderer) {
-    pbr::render(scene, renderer, *target);
-    // MSAA: the box filter's linear average, as .hdr and .exr output (pbr::write_exr).
-    if (target->samples() > 1) target = std::make_unique<raster::Target>(raster::resolve_box(*target));
+    if (r.msaa == 1) {
+      pbr::render(scene, renderer, *target);
+    } else {
+      // MSAA: the box filter's linear average, as .hdr and .exr output (pbr::write_exr),
+      // made per tile from samples that are not kept (a transient target).
+      raster::Target samples(r.width, r.height, r.msaa, &renderer.pool(), raster::SampleStorage::Transient);
+      pbr::render_outputs(scene, renderer, samples, r.output, nullptr, target.get());
+    }
     // × 2^exposure on RGB, as .hdr and .exr output (pbr::write_exr).
     const auto scale = static_cast<float>(dmath::exp2(r.output.exposure));
     if (scale != 1.0f)

@@ -58,4 +58,15 @@ void render(const Scene& scene, raster::Renderer& renderer, raster::Target& targ
 void render_rgba8(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const OutputSettings& output, raster::Image8& image);
 
+// render(), and for each tile, by the thread that drew it while its samples are in cache:
+// the output transform into `image` when it is not null (as render_rgba8), and the linear
+// colour into `linear` when it is not null — a 1-sample target of the target's size, given
+// raster::resolve_box's values (a copy at one sample; depth: sample 0's), so that .hdr and
+// .exr output of it is that of the target. With a transient multisampled target
+// (raster::SampleStorage::Transient) this is how a frame is kept: `linear` takes a fifth
+// of a 4× target's memory (a ninth at 8×). Throws as render(), and std::invalid_argument
+// when `linear` is not 1-sample or not the target's size.
+void render_outputs(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
+                    const OutputSettings& output, raster::Image8* image, raster::Target* linear);
+
 }  // namespace softpbr::pbr
