@@ -2,6 +2,7 @@
 // every sample, against the independent reference of raster_helpers.h), watertightness per
 // sample by additive counting, per-sample depth, the box resolve, clears and fast clears of
 // multisampled targets, and shading once per pixel.
+#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <random>
@@ -698,8 +699,8 @@ TEST_CASE("tile blocks: a cleared frame gives the bits of the same draws over a 
       // A transient target (SampleStorage::Transient) keeps nothing: its tile callback sees
       // every sample's colour and depth exactly as the kept reference holds them, drawn in
       // blocks alone (no planes allocated), or in planes when tiles are too large for a
-      // block (128 × 128 × 4 samples). A geometry budget of 1 byte does not split the
-      // frame: on a transient target it holds up to the bytes its planes would take.
+      // block (128 × 128 × 4 samples) or the frame runs in passes (a budget of 1 byte: a
+      // transient target's first pass may hold 4 bytes).
       struct TransientConfig {
         unsigned threads;
         int tile;
@@ -708,7 +709,7 @@ TEST_CASE("tile blocks: a cleared frame gives the bits of the same draws over a 
       };
       for (const TransientConfig& c : {TransientConfig{1, 16, 0, false}, TransientConfig{2, 8, 0, false},
                                        TransientConfig{2, 64, 0, false},
-                                       TransientConfig{2, 128, 0, true}, TransientConfig{2, 16, 1, false}}) {
+                                       TransientConfig{2, 128, 0, true}, TransientConfig{2, 16, 1, true}}) {
         CAPTURE(c.threads);
         CAPTURE(c.tile);
         CAPTURE(c.budget);
@@ -718,7 +719,7 @@ TEST_CASE("tile blocks: a cleared frame gives the bits of the same draws over a 
         const std::size_t count = static_cast<std::size_t>(kW) * kH * static_cast<std::size_t>(n);
         std::vector<glm::vec4> colors(count, glm::vec4(-1.0f));
         std::vector<float> depths(count, -1.0f);
-        int cleared_without_pixels = 0, cleared_with_pixels = 0;
+        std::atomic<int> cleared_without_pixels{0}, cleared_with_pixels{0};  // tiles run on two threads
         for (int frame = 0; frame < 2; ++frame) {  // the second frame over the first's blocks (or planes)
           r.begin_frame(t, clear);
           draw_all(r);
@@ -750,8 +751,9 @@ TEST_CASE("tile blocks: a cleared frame gives the bits of the same draws over a 
 }
 
 TEST_CASE("a transient target's frame over its geometry budget runs in passes over planes made for it, the same samples") {
-  // 16 × 16 × 4 samples take 20 480 bytes: with a budget of 1 the frame may hold that much
-  // geometry, and four draws of 60 small triangles each hold more, so it splits.
+  // 16 × 16 × 4 samples take 20 480 bytes; with a budget of 4096 a transient target's first
+  // pass may hold 16 384, and four draws of 60 small triangles each hold more, so it
+  // splits (and the passes after it hold 4096).
   constexpr int kW = 16, kH = 16, kN = 4;
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
@@ -768,29 +770,58 @@ TEST_CASE("a transient target's frame over its geometry budget runs in passes ov
     r.end_frame();
   }
   raster::Target t(kW, kH, kN, nullptr, raster::SampleStorage::Transient);
-  raster::Renderer r({.threads = 2, .tile_size = 8, .geometry_budget = 1});
+  raster::Renderer r({.threads = 2, .tile_size = 8, .geometry_budget = 4096});
   for (int frame = 0; frame < 2; ++frame) {
     r.begin_frame(t, clear);
     for (const auto& d : draws) r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(d));
-    bool same = true;
-    int tiles = 0;
+    std::atomic<bool> same{true};  // tiles run on two threads
+    std::atomic<int> tiles{0};
     r.end_frame([&](const raster::TileRect& rect, bool, const raster::TargetPixels& px) {
-      REQUIRE(px.colors != nullptr);
+      if (px.colors == nullptr) {
+        same = false;
+        return;
+      }
       ++tiles;
       for (int s = 0; s < kN; ++s)
         for (int y = rect.y0; y < rect.y1; ++y)
           for (int x = rect.x0; x < rect.x1; ++x) {
             const std::size_t i = static_cast<std::size_t>(s) * px.plane + static_cast<std::size_t>(y) * px.width + x - px.origin;
-            same = same && std::memcmp(&px.colors[i], &reference.sample_color(x, y, s), sizeof(glm::vec4)) == 0 &&
-                   std::memcmp(&px.depths[i], &std::as_const(reference).depths()[static_cast<std::size_t>(s) * kW * kH +
+            const bool match =
+                std::memcmp(&px.colors[i], &reference.sample_color(x, y, s), sizeof(glm::vec4)) == 0 &&
+                std::memcmp(&px.depths[i], &std::as_const(reference).depths()[static_cast<std::size_t>(s) * kW * kH +
                                                                                  static_cast<std::size_t>(y) * kW + x],
                                sizeof(float)) == 0;
+            if (!match) same = false;
           }
     });
     CHECK(tiles == 4);
     CHECK(same);
     CHECK(t.allocated_bytes() == raster::Target::bytes(kW, kH, kN));
   }
+  // Geometry over the budget, told to begin_frame, under 4 times it (and under a 64 × 64 × 4
+  // target's 327 680 bytes of samples) is one pass on a transient target: no planes. Told
+  // nothing, or more than 4 times the budget, the frame splits (planes).
+  const std::size_t total = 4 * raster::draw_geometry_bytes(180, 60, 4);
+  for (const std::size_t told : {total, std::size_t{0}, 3 * total}) {
+    CAPTURE(told);
+    raster::Target big(64, 64, kN, nullptr, raster::SampleStorage::Transient);
+    raster::Renderer one_pass({.threads = 2, .tile_size = 16, .geometry_budget = total / 2});
+    one_pass.begin_frame(big, clear, told);
+    for (const auto& d : draws) one_pass.draw(FlatShader{}, std::span<const FlatShader::Vertex>(d));
+    one_pass.end_frame([](const raster::TileRect&, bool, const raster::TargetPixels&) {});
+    CHECK((big.allocated_bytes() == 0) == (told == total));
+  }
+  raster::Target kept_big(64, 64, kN);  // a kept target splits at the budget (nothing to see but the same bits)
+  raster::Renderer one_pass_kept({.threads = 2, .tile_size = 16, .geometry_budget = 0});
+  one_pass_kept.begin_frame(kept_big, clear);
+  for (const auto& d : draws) one_pass_kept.draw(FlatShader{}, std::span<const FlatShader::Vertex>(d));
+  one_pass_kept.end_frame();
+  raster::Target split(64, 64, kN);
+  raster::Renderer splitting({.threads = 2, .tile_size = 16, .geometry_budget = total / 2});
+  splitting.begin_frame(split, clear);
+  for (const auto& d : draws) splitting.draw(FlatShader{}, std::span<const FlatShader::Vertex>(d));
+  splitting.end_frame();
+  CHECK(raster::hash_colors(split) == raster::hash_colors(kept_big));
 }
 
 TEST_CASE("a transient multisampled target keeps no samples: reading, clearing or drawing over it throws") {
@@ -813,7 +844,7 @@ TEST_CASE("a transient multisampled target keeps no samples: reading, clearing o
                                              at(5, 28, 40, 30, 0.5f, {1, 0, 0, 1})};
   r.begin_frame(t, raster::ClearValues{});
   r.draw(FlatShader{}, std::span<const FlatShader::Vertex>(v));
-  int touched = 0;
+  std::atomic<int> touched{0};
   r.end_frame([&](const raster::TileRect&, bool only_clear, const raster::TargetPixels& px) {
     touched += !only_clear;
     if (!only_clear) CHECK(px.colors != nullptr);

@@ -233,7 +233,14 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   std::stable_sort(blended.begin(), blended.end(),
                    [](const ObjectDraw& a, const ObjectDraw& b) { return a.distance2 > b.distance2; });
 
-  renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f});
+  // What the draws will bin, so that a transient target's frame that fits is one pass.
+  std::size_t geometry = raster::draw_geometry_bytes(3, 1, raster::kVaryingCount<BackgroundShader::Varyings>);
+  for (const auto* list : {&opaque, &blended})
+    for (const ObjectDraw& d : *list)
+      geometry += raster::draw_geometry_bytes(
+          d.textured ? d.vertices.size() : d.mesh->vertices.size(), d.mesh->indices.size() / 3,
+          d.textured ? raster::kVaryingCount<TexturedPbrShader::Varyings> : raster::kVaryingCount<PbrShader::Varyings>);
+  renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f}, geometry);
   try {
     const auto draw_objects = [&](const std::vector<ObjectDraw>& list) {
       for (const ObjectDraw& d : list) {

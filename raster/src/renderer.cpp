@@ -133,9 +133,6 @@ void Renderer::open_frame(Target& target) {
   if (target_) throw std::logic_error("Renderer::begin_frame: a frame is already open");
   target_ = &target;
   frame_budget_ = geometry_budget_;
-  if (geometry_budget_ != 0 && target.transient())
-    frame_budget_ = std::max<std::size_t>(
-        geometry_budget_, static_cast<std::size_t>(Target::bytes(target.width(), target.height(), target.samples())));
   grid_ = TileGrid(target.width(), target.height(), tile_size_);
   grid_.sample_reach = sample_reach(target.samples());
   draws_.clear();
@@ -152,9 +149,16 @@ void Renderer::open_frame(Target& target) {
   if (known_clear_.tile_size != tile_size_ || known_clear_.tiles.size() != grid_.count()) known_clear_.tiles.clear();
 }
 
-void Renderer::begin_frame(Target& target, const ClearValues& clear) {
+void Renderer::begin_frame(Target& target, const ClearValues& clear) { begin_frame(target, clear, 0); }
+
+void Renderer::begin_frame(Target& target, const ClearValues& clear, std::size_t geometry) {
   open_frame(target);
   clear_ = clear;
+  if (geometry_budget_ != 0 && target.transient() && geometry > geometry_budget_) {
+    const auto planes = static_cast<std::size_t>(Target::bytes(target.width(), target.height(), target.samples()));
+    const std::size_t one_pass = std::min(planes, kTransientBudgetFactor * geometry_budget_);
+    if (geometry <= one_pass) frame_budget_ = one_pass;
+  }
 }
 
 DrawGeometry Renderer::take_geometry() {

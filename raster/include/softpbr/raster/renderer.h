@@ -48,9 +48,8 @@ struct RendererOptions {
   // may hold: past it, draw() rasterizes the draws so far into the tiles and recycles
   // their memory, so peak memory stays bounded however many triangles a frame has. The
   // same bits either way (each tile still applies every draw in order). 0: no limit.
-  // A frame on a transient target (SampleStorage::Transient) may hold at least as many
-  // bytes as that target's samples would take (Target::bytes; 166 MB at 1080p 4×): a
-  // second pass would have to allocate them, so its peak stays below a kept target's.
+  // A frame on a transient target (SampleStorage::Transient) told its geometry may be
+  // drawn in one pass of up to 4 times as much (see begin_frame).
   std::size_t geometry_budget = std::size_t{8} << 20;
   // Polled before each tile of a frame is rasterized, on the thread about to draw it (so
   // calls may run at the same time): once it returns true, the frame's remaining tiles are
@@ -123,6 +122,13 @@ class Renderer {
   // values (bit for bit), untouched since (see Target), is not written again.
   void begin_frame(Target& target);
   void begin_frame(Target& target, const ClearValues& clear);
+  // The same, told the bytes of geometry the frame's draws will bin (draw_geometry_bytes
+  // summed over them). For a transient target, a frame over the geometry budget that will
+  // hold at most 4 times it, and no more than the target's samples would take
+  // (Target::bytes), is drawn in one pass, so the target needs no planes. Other targets,
+  // and frames that hold more (where one larger pass measured slower than passes over
+  // planes), pass at the budget as usual. An estimate off either way changes no bit.
+  void begin_frame(Target& target, const ClearValues& clear, std::size_t geometry);
 
   // Draws indexed triangles (three indices each). Throws std::logic_error outside a
   // frame, std::invalid_argument if indices.size() is not a multiple of 3 and
@@ -140,7 +146,10 @@ class Renderer {
     assemble_triangles(pool_, indices, grid_, call->geometry);
     pending_bytes_ += call->geometry.bytes();
     draws_.push_back(std::move(call));
-    if (frame_budget_ != 0 && pending_bytes_ > frame_budget_) rasterize_pending(*target_, nullptr, false);
+    if (frame_budget_ != 0 && pending_bytes_ > frame_budget_) {
+      rasterize_pending(*target_, nullptr, false);
+      frame_budget_ = geometry_budget_;  // the target's planes exist now: the usual passes (if raised)
+    }
   }
 
   // Draws vertices 3k, 3k+1, 3k+2 as triangle k; the count must be a multiple of 3.
@@ -220,9 +229,10 @@ class Renderer {
   std::optional<ClearValues> clear_;
   std::vector<DrawGeometry> spare_;  // geometry of past draws, kept for their memory
   std::size_t geometry_budget_;
-  // This frame's: geometry_budget_, or for a transient target at least the bytes of the
-  // sample planes a second pass would make it allocate (Target::bytes).
+  // This frame's pass: geometry_budget_, or for a transient target's frame told it fits, up
+  // to kTransientBudgetFactor times as much (begin_frame's geometry).
   std::size_t frame_budget_ = 0;
+  static constexpr std::size_t kTransientBudgetFactor = 4;
   std::function<bool()> cancel_;
   std::atomic<bool> cancelled_{false};  // the frame's cancel_ returned true (set by any tile's thread)
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
