@@ -56,12 +56,16 @@ void render_outputs(const Scene& scene, raster::Renderer& renderer, raster::Targ
   glm::vec4* const linear_colors = linear != nullptr ? linear->colors().data() : nullptr;
   float* const linear_depths = linear != nullptr ? linear->depths().data() : nullptr;
   const std::size_t width = static_cast<std::size_t>(target.width());
-  // What resolve_box makes of samples that all hold the background: the same sums (so a
-  // background near FLT_MAX overflows as it would there).
-  const glm::vec4 b = scene.background;
-  const glm::vec4 cleared = target.samples() == 1   ? b
-                            : target.samples() == 4 ? ((b + b) + (b + b)) * 0.25f
-                                                    : (((b + b) + (b + b)) + ((b + b) + (b + b))) * 0.125f;
+  // What resolve_box makes of a pixel whose samples all hold the background (a tile that
+  // only holds the clear values may have no pixels to resolve).
+  glm::vec4 cleared;
+  {
+    std::array<glm::vec4, raster::kMaxSamples> colors;
+    std::array<float, raster::kMaxSamples> depths{};
+    colors.fill(scene.background);
+    raster::resolve_box(raster::TargetPixels{colors.data(), depths.data(), 1, 1, target.samples(), 1, 0}, 0, 0, 1, 1,
+                        &cleared, 1);
+  }
   render_frame(scene, renderer, target, [&](const raster::TileRect& r, bool only_clear, const raster::TargetPixels& px) {
     if (image != nullptr) {
       if (only_clear) mapper.encode_uniform(scene.background, r.x0, r.y0, r.x1, r.y1, *image);

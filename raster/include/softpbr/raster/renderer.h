@@ -117,8 +117,8 @@ class Renderer {
 
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
   // if a frame is already open. The first form draws over the target's contents (and
-  // throws std::logic_error for a transient target, which has none); the second clears it (each tile just before it is rasterized, in parallel: cheaper than
-  // Target::clear()). A tile that the target's last frame left holding only the same clear
+  // throws std::logic_error for a transient target, which has none); the second clears it
+  // (each tile just before it is rasterized, in parallel: cheaper than Target::clear()). A tile that the target's last frame left holding only the same clear
   // values (bit for bit), untouched since (see Target), is not written again.
   void begin_frame(Target& target);
   void begin_frame(Target& target, const ClearValues& clear);
@@ -213,11 +213,10 @@ class Renderer {
   DrawGeometry take_geometry();
   // Rasterizes the pending draws into every tile (clearing first if the frame clears and
   // has not cleared yet), calls after_tile if given, and recycles their geometry.
-  // Draws the pending draws into `target`; last_pass: called by end_frame() (not by a
-  // draw over the geometry budget), so no later pass of the frame reads what it leaves.
+  // last_pass: called by end_frame() (not by a draw over the geometry budget), so no later
+  // pass of the frame reads what it leaves.
   void rasterize_pending(Target& target, const TileCallback* after_tile, bool last_pass);
   void open_frame(Target& target);
-  bool planes_written_ = false;  // whether the last pass wrote the target's planes (not blocks alone)
 
   ThreadPool pool_;
   int tile_size_;
@@ -233,6 +232,7 @@ class Renderer {
   // to kTransientBudgetFactor times as much (begin_frame's geometry).
   std::size_t frame_budget_ = 0;
   static constexpr std::size_t kTransientBudgetFactor = 4;
+  bool planes_written_ = false;  // whether the last pass wrote the target's planes (not blocks alone)
   std::function<bool()> cancel_;
   std::atomic<bool> cancelled_{false};  // the frame's cancel_ returned true (set by any tile's thread)
   std::size_t pending_bytes_ = 0;       // geometry held by draws_
