@@ -70,9 +70,17 @@ raster::SampleStorage bench_storage() {
   return env != nullptr && std::atoi(env) != 0 ? raster::SampleStorage::Transient : raster::SampleStorage::Kept;
 }
 
+// RendererOptions::tile_size from SOFTPBR_BENCH_TILE (unset or invalid: 64), to compare
+// tile sizes (the same bits) on one machine.
+int bench_tile() {
+  const char* env = std::getenv("SOFTPBR_BENCH_TILE");
+  const int n = env != nullptr ? std::atoi(env) : 64;
+  return raster::valid_tile_size(n) ? n : 64;
+}
+
 void run_scene(benchmark::State& state, const bench::BenchScene* s) {
   const unsigned threads = static_cast<unsigned>(state.range(0));
-  raster::RendererOptions options{.threads = threads, .tile_size = 64, .lanes = bench_lanes()};
+  raster::RendererOptions options{.threads = threads, .tile_size = bench_tile(), .lanes = bench_lanes()};
   if (const char* env = std::getenv("SOFTPBR_BENCH_BUDGET_MIB"); env != nullptr)
     options.geometry_budget = static_cast<std::size_t>(std::atoll(env)) << 20;
   raster::Renderer renderer(options);

@@ -68,12 +68,19 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
     return;
   }
   if (state.blend == Blend::Replace) {
-    if (mask == (1u << kMs) - 1) {  // the common case, every sample: unrolled stores
-      for (int s = 0; s < kMs; ++s) target.colors[static_cast<std::size_t>(s) * target.plane + idx] = src;
-      return;
+    // Every sample written, an uncovered one with its own bits: a select per sample, no
+    // branch on the mask (along edges it changes from pixel to pixel, and mispredicted).
+    using I4 = simd::native_t<std::int32_t, 4>;
+    I4 bits;
+    __builtin_memcpy(&bits, &src, sizeof bits);
+    for (int s = 0; s < kMs; ++s) {
+      glm::vec4* const sample = target.colors + static_cast<std::size_t>(s) * target.plane + idx;
+      I4 old;
+      __builtin_memcpy(&old, sample, sizeof old);
+      const I4 covered = I4{} - static_cast<std::int32_t>(mask >> s & 1u);  // all ones or zeros
+      const I4 value = (bits & covered) | (old & ~covered);
+      __builtin_memcpy(sample, &value, sizeof value);
     }
-    for (unsigned m = mask; m != 0; m &= m - 1)
-      target.colors[static_cast<std::size_t>(std::countr_zero(m)) * target.plane + idx] = src;
     return;
   }
   for (unsigned m = mask; m != 0; m &= m - 1) {
@@ -524,7 +531,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         const V4 old = V4::load(stored);
         if (depth_test == DepthTest::Less) lanes &= simd::SOFTPBR_TARGET_NS::mask_bits(zv < old);
         else if (depth_test == DepthTest::LessEqual) lanes &= simd::SOFTPBR_TARGET_NS::mask_bits(zv <= old);
-        if (early_depth_write && lanes != 0) {
+        if (early_depth_write) {  // also when none passed (no branch on it): the same bits
           simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits(lanes), zv, old).store(stored);
           __builtin_memcpy(plane_depths + quad_idx, stored, 2 * sizeof(float));
           __builtin_memcpy(plane_depths + quad_idx + width, stored + 2, 2 * sizeof(float));
@@ -581,7 +588,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
             passed = covered[g];
             if (depth_test == DepthTest::Less) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz < old);
             else if (depth_test == DepthTest::LessEqual) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz <= old);
-            if (early_depth_write && passed != 0) {
+            if (early_depth_write) {  // also when none passed (no branch on it): the same bits
               alignas(64) float merged[G::kLanes];
               simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits<G::kLanes>(passed), sz, old).store(merged);
               for (int s = 0; s < G::kSamples; ++s) {
