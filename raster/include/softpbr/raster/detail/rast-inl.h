@@ -70,6 +70,14 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
   if (state.blend == Blend::Replace) {
     // Every sample written, an uncovered one with its own bits: a select per sample, no
     // branch on the mask (along edges it changes from pixel to pixel, and mispredicted).
+#if SOFTPBR_TARGET_AVX512
+    // AVX-512: a masked store each, all four floats or none (no load).
+    const __m128 value = _mm_loadu_ps(&src.r);
+    for (int s = 0; s < kMs; ++s) {
+      glm::vec4* const sample = target.colors + static_cast<std::size_t>(s) * target.plane + idx;
+      _mm_mask_storeu_ps(&sample->r, static_cast<__mmask8>(0xFu * (mask >> s & 1u)), value);
+    }
+#else
     using I4 = simd::native_t<std::int32_t, 4>;
     I4 bits;
     __builtin_memcpy(&bits, &src, sizeof bits);
@@ -81,6 +89,7 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
       const I4 value = (bits & covered) | (old & ~covered);
       __builtin_memcpy(sample, &value, sizeof value);
     }
+#endif
     return;
   }
   for (unsigned m = mask; m != 0; m &= m - 1) {
@@ -499,6 +508,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           covered[g] = ~outside & (in_tile * kEvery);
           any |= covered[g];
         }
+        if (any == 0) continue;  // before the fold to pixels: a shorter wait for the branch
         mask = pixels_of_sample_lanes(any);
       }
       if (mask == 0) continue;
