@@ -118,8 +118,9 @@ class Renderer {
   // Starts a frame on `target`, which must outlive end_frame(). Throws std::logic_error
   // if a frame is already open. The first form draws over the target's contents (and
   // throws std::logic_error for a transient target, which has none); the second clears it
-  // (each tile just before it is rasterized, in parallel: cheaper than Target::clear()). A tile that the target's last frame left holding only the same clear
-  // values (bit for bit), untouched since (see Target), is not written again.
+  // (each tile just before it is rasterized, in parallel: cheaper than Target::clear()).
+  // A tile that the target's last frame left holding only the same clear values (bit for
+  // bit), untouched since (see Target), is not written again.
   void begin_frame(Target& target);
   void begin_frame(Target& target, const ClearValues& clear);
   // The same, told the bytes of geometry the frame's draws will bin (draw_geometry_bytes

@@ -68,8 +68,8 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
     return;
   }
   if (state.blend == Blend::Replace) {
-    // Every sample written, an uncovered one with its own bits: a select per sample, no
-    // branch on the mask (along edges it changes from pixel to pixel, and mispredicted).
+    // No branch on the mask (along edges it changes from pixel to pixel, and was
+    // mispredicted): every sample is stored, an uncovered one keeping its own bits.
 #if SOFTPBR_TARGET_AVX512
     // AVX-512: a masked store each, all four floats or none (no load).
     const __m128 value = _mm_loadu_ps(&src.r);
@@ -78,6 +78,7 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
       _mm_mask_storeu_ps(&sample->r, static_cast<__mmask8>(0xFu * (mask >> s & 1u)), value);
     }
 #else
+    // Elsewhere: the stored colour read back and selected against the new one.
     using I4 = simd::native_t<std::int32_t, 4>;
     I4 bits;
     __builtin_memcpy(&bits, &src, sizeof bits);
