@@ -43,10 +43,12 @@ namespace raster = softpbr::raster;
 
 namespace {
 
-// Pixels whose sample 0 is covered (the first sample plane; with 1 sample, every pixel).
+// Pixels whose sample 0 is covered (with 1 sample, every pixel).
 std::size_t covered_pixels(const raster::Target& target) {
-  const auto d = target.depths().first(static_cast<std::size_t>(target.width()) * target.height());
-  return static_cast<std::size_t>(std::count_if(d.begin(), d.end(), [](float z) { return z < 1.0f; }));
+  std::size_t covered = 0;
+  for (int y = 0; y < target.height(); ++y)
+    for (int x = 0; x < target.width(); ++x) covered += target.depth(x, y) < 1.0f;
+  return covered;
 }
 
 // RendererOptions::lanes from SOFTPBR_BENCH_LANES (1, 4, 8 or 16; unset: 0, the widest

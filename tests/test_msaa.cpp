@@ -149,14 +149,46 @@ TEST_CASE("MSAA sample patterns are the standard D3D/Vulkan 4x and 8x positions,
   CHECK_THROWS_AS(raster::Target(4, 4, 0), std::invalid_argument);
 }
 
+TEST_CASE("a multisampled target keeps its depths by 2x2 quads, sample by sample, and a 1-sample target row-major") {
+  // 1 sample: y · width + x.
+  CHECK(raster::depth_index(5, 1, 3, 2, 0) == 13u);
+  CHECK(raster::depth_count(5, 3, 1) == 15u);
+  // 4 samples, 5 pixels a row (3 quads a row): pixel (3, 2) is pixel 1 (top-right) of quad
+  // (1, 1) = quad 4; its sample 2 is at 4 · 16 + 4 · 2 + 1.
+  CHECK(raster::depth_index(5, 4, 3, 2, 2) == 73u);
+  CHECK(raster::depth_index(5, 4, 2, 3, 0) == 66u);  // bottom-left of quad 4, sample 0
+  CHECK(raster::depth_count(5, 3, 4) == 3u * 2u * 16u);
+  CHECK(raster::depth_count(6, 4, 8) == 3u * 2u * 32u);
+  // Every pixel's every sample has its own index, inside the count.
+  for (const int n : {4, 8})
+    for (const auto [w, h] : {std::pair{5, 3}, std::pair{6, 4}, std::pair{1, 1}, std::pair{7, 2}}) {
+      std::vector<int> hits(raster::depth_count(w, h, n), 0);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          for (int s = 0; s < n; ++s) ++hits.at(raster::depth_index(w, n, x, y, s));
+      for (const int k : hits) CHECK(k <= 1);
+    }
+  // A target's accessors read there; a frame's depths land there.
+  raster::Target t(6, 4, 4);
+  raster::Renderer r({.threads = 1, .tile_size = 8});
+  r.begin_frame(t, raster::ClearValues{{0, 0, 0, 1}, 0.75f});
+  r.end_frame();
+  t.depths()[raster::depth_index(6, 4, 5, 3, 1)] = 0.25f;
+  CHECK(std::as_const(t).sample_depth(5, 3, 1) == 0.25f);
+  CHECK(std::as_const(t).sample_depth(5, 3, 0) == 0.75f);
+  t.depths()[raster::depth_index(6, 4, 4, 2, 0)] = 0.5f;
+  CHECK(std::as_const(t).depth(4, 2) == 0.5f);
+}
+
 TEST_CASE("a multisampled target holds a colour and a depth per sample, and clears and frames clear every sample") {
   for (const int n : {4, 8}) {
     CAPTURE(n);
     raster::Target t(5, 3, n);
     CHECK(t.samples() == n);
     CHECK(t.colors().size() == static_cast<std::size_t>(15 * n));
-    CHECK(t.depths().size() == static_cast<std::size_t>(15 * n));
-    CHECK(raster::Target::bytes(5, 3, n) == static_cast<std::uint64_t>(15 * n * 20));
+    // Depths by 2×2 quads: 5 × 3 pixels pad to 3 × 2 quads of 4 · n.
+    CHECK(t.depths().size() == static_cast<std::size_t>(24 * n));
+    CHECK(raster::Target::bytes(5, 3, n) == static_cast<std::uint64_t>(15 * n * 16 + 24 * n * 4));
     t.clear({0.25f, 0.5f, 0.75f, 1.0f}, 0.5f);
     for (const glm::vec4& c : t.colors()) CHECK(c == glm::vec4(0.25f, 0.5f, 0.75f, 1.0f));
     for (const float d : t.depths()) CHECK(d == 0.5f);
@@ -734,12 +766,20 @@ TEST_CASE("tile blocks: a cleared frame gives the bits of the same draws over a 
                   } else {
                     const std::size_t i = static_cast<std::size_t>(s) * px.plane +
                                           static_cast<std::size_t>(y) * static_cast<std::size_t>(px.width) + x - px.origin;
-                    colors[at] = px.colors[i], depths[at] = px.depths[i];
+                    colors[at] = px.colors[i], depths[at] = px.depths[px.depth_index(x, y, s)];
                   }
                 }
           });
           CHECK(std::memcmp(colors.data(), std::as_const(reference).colors().data(), count * sizeof(glm::vec4)) == 0);
-          CHECK(std::memcmp(depths.data(), std::as_const(reference).depths().data(), count * sizeof(float)) == 0);
+          bool same_depths = true;
+          for (int s = 0; s < n; ++s)
+            for (int y = 0; y < kH; ++y)
+              for (int x = 0; x < kW; ++x) {
+                const float d = depths[static_cast<std::size_t>(s) * kW * kH + static_cast<std::size_t>(y) * kW + x];
+                const float want = reference.sample_depth(x, y, s);
+                same_depths = same_depths && std::memcmp(&d, &want, sizeof d) == 0;
+              }
+          CHECK(same_depths);
           CHECK((t.allocated_bytes() != 0) == c.planes);
         }
         // Without planes an untouched tile has no pixels to show; with them it has.
@@ -788,9 +828,8 @@ TEST_CASE("a transient target's frame over its geometry budget runs in passes ov
             const std::size_t i = static_cast<std::size_t>(s) * px.plane + static_cast<std::size_t>(y) * px.width + x - px.origin;
             const bool match =
                 std::memcmp(&px.colors[i], &reference.sample_color(x, y, s), sizeof(glm::vec4)) == 0 &&
-                std::memcmp(&px.depths[i], &std::as_const(reference).depths()[static_cast<std::size_t>(s) * kW * kH +
-                                                                                 static_cast<std::size_t>(y) * kW + x],
-                               sizeof(float)) == 0;
+                std::memcmp(&px.depths[px.depth_index(x, y, s)],
+                            &std::as_const(reference).depths()[raster::depth_index(kW, kN, x, y, s)], sizeof(float)) == 0;
             if (!match) same = false;
           }
     });

@@ -81,9 +81,8 @@ void render_outputs(const Scene& scene, raster::Renderer& renderer, raster::Targ
         std::fill_n(linear_colors + row, n, cleared);
         std::fill_n(linear_depths + row, n, 1.0f);
       } else {
-        const std::size_t from = static_cast<std::size_t>(y) * static_cast<std::size_t>(px.width) +
-                                 static_cast<std::size_t>(r.x0) - px.origin;  // sample 0's plane
-        std::copy_n(px.depths + from, n, linear_depths + row);
+        for (int x = r.x0; x < r.x1; ++x)  // sample 0's (multisampled: kept by 2×2 quads, raster::depth_index)
+          linear_depths[row + static_cast<std::size_t>(x - r.x0)] = px.depths[px.depth_index(x, y, 0)];
       }
     }
     if (!only_clear) raster::resolve_box(px, r.x0, r.y0, r.x1, r.y1, linear_colors + at, width);

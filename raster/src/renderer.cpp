@@ -19,6 +19,16 @@ int checked_tile_size(int tile) {
                                 std::to_string(kMinTileSize) + ", " + std::to_string(kMaxTileSize) + "]");
   return tile;
 }
+// A tile's depths as runs of consecutive floats, fn(first, count): a row of pixels, or
+// with MSAA a row of 2×2 quads (raster::depth_index; tile origins are even).
+template <class Fn>
+void for_depth_runs(const TargetPixels& p, const TileRect& r, Fn&& fn) {
+  const std::size_t quads = static_cast<std::size_t>(r.x1 - r.x0 + 1) / 2;
+  const int step = p.samples == 1 ? 1 : 2;
+  const std::size_t count = p.samples == 1 ? static_cast<std::size_t>(r.x1 - r.x0)
+                                           : quads * 4 * static_cast<std::size_t>(p.samples);
+  for (int y = r.y0; y < r.y1; y += step) fn(p.depth_index(r.x0, y, 0), count);
+}
 // Clears a tile. A tile no triangle touches is written with streaming stores (simd.h):
 // nothing will read it soon, so it need not be fetched into the cache first.
 void clear_tile(const TargetPixels& target, const TileRect& r, const ClearValues& clear, bool streaming) {
@@ -26,7 +36,6 @@ void clear_tile(const TargetPixels& target, const TileRect& r, const ClearValues
   const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
   for (int s = 0; s < target.samples; ++s) {  // each sample plane (target.h)
     glm::vec4* colors = target.colors + static_cast<std::size_t>(s) * target.plane;
-    float* depths = target.depths + static_cast<std::size_t>(s) * target.plane;
     for (int y = r.y0; y < r.y1; ++y) {
       const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width);
       if (streaming) {
@@ -34,9 +43,11 @@ void clear_tile(const TargetPixels& target, const TileRect& r, const ClearValues
       } else {
         std::fill(colors + row + r.x0, colors + row + r.x1, clear.color);
       }
-      std::fill(depths + row + r.x0, depths + row + r.x1, clear.depth);
     }
   }
+  for_depth_runs(target, r, [&](std::size_t first, std::size_t count) {
+    std::fill_n(target.depths + first, count, clear.depth);
+  });
   if (streaming) simd::stream_fence();
 }
 // MSAA: in the pass that clears the frame, a touched tile's samples are rasterized in a
@@ -56,9 +67,11 @@ struct TileBlock {
 TargetPixels tile_block(TileBlock& block, const TargetPixels& target, const TileRect& r) {
   const std::size_t w = static_cast<std::size_t>(r.x1 - r.x0), h = static_cast<std::size_t>(r.y1 - r.y0);
   const std::size_t n = w * h * static_cast<std::size_t>(target.samples);
-  if (block.colors.size() < n) block.colors.resize(n), block.depths.resize(n);
+  const std::size_t depths = depth_count(static_cast<int>(w), static_cast<int>(h), target.samples);
+  if (block.colors.size() < n) block.colors.resize(n);
+  if (block.depths.size() < depths) block.depths.resize(depths);
   return {block.colors.data(), block.depths.data(), static_cast<int>(w), static_cast<int>(h), target.samples, w * h,
-          static_cast<std::size_t>(r.y0) * w + static_cast<std::size_t>(r.x0)};
+          static_cast<std::size_t>(r.y0) * w + static_cast<std::size_t>(r.x0), r.x0, r.y0};
 }
 // Writes a tile's block into the target's sample planes with streaming stores.
 void store_tile(const TargetPixels& block, const TileRect& r, const TargetPixels& target) {
@@ -70,8 +83,12 @@ void store_tile(const TargetPixels& block, const TileRect& r, const TargetPixels
                              static_cast<std::size_t>(r.x0);
       const std::size_t bt = static_cast<std::size_t>(s) * block.plane + static_cast<std::size_t>(y - r.y0) * n;
       simd::stream_copy(target.colors + at, block.colors + bt, n * sizeof(glm::vec4));
-      simd::stream_copy(target.depths + at, block.depths + bt, n * sizeof(float));
     }
+  // The depths a row of 2×2 quads at a time (target.h, depth_index): one run in each.
+  const std::size_t run = static_cast<std::size_t>(r.x1 - r.x0 + 1) / 2 * 4 * static_cast<std::size_t>(target.samples);
+  for (int y = r.y0; y < r.y1; y += 2)
+    simd::stream_copy(target.depths + target.depth_index(r.x0, y, 0), block.depths + block.depth_index(r.x0, y, 0),
+                      run * sizeof(float));
   simd::stream_fence();
 }
 int checked_lanes(int lanes, simd::Isa isa) {
@@ -244,7 +261,8 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile,
         tile_pixels = tile_block(block, pixels, rect);
         const std::size_t n = tile_pixels.plane * static_cast<std::size_t>(tile_pixels.samples);
         std::fill(tile_pixels.colors, tile_pixels.colors + n, clear_->color);
-        std::fill(tile_pixels.depths, tile_pixels.depths + n, clear_->depth);
+        std::fill_n(tile_pixels.depths, depth_count(tile_pixels.width, tile_pixels.height, tile_pixels.samples),
+                    clear_->depth);
         for (const auto& draw : draws_) shaded += draw->raster(tile, rect, tile_pixels, lanes_, isa_);
         if (!blocks_only) store_tile(tile_pixels, rect, pixels);
         touched_[tile] = 1;  // one writer per tile

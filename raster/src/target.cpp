@@ -52,16 +52,19 @@ Target::Target(int width, int height, int samples, ThreadPool* pool, SampleStora
   }
   const std::size_t n =
       static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(samples);
+  const std::size_t depths = depth_count(width, height, samples);  // n, or a little more (padding)
   color_.resize(n);
-  depth_.resize(n);
-  // Pieces of 2^18 samples (4 MiB of colour, 1 MiB of depth).
+  depth_.resize(depths);
+  // Pieces of 2^18 samples (4 MiB of colour, about 1 MiB of depth).
   constexpr std::size_t kPiece = std::size_t{1} << 18;
   const std::size_t pieces = (n + kPiece - 1) / kPiece;
   auto fill = [&](std::size_t k) {
     const std::size_t begin = k * kPiece, end = std::min(n, begin + kPiece);
     std::fill(color_.begin() + static_cast<std::ptrdiff_t>(begin), color_.begin() + static_cast<std::ptrdiff_t>(end),
               glm::vec4(0, 0, 0, 1));
-    std::fill(depth_.begin() + static_cast<std::ptrdiff_t>(begin), depth_.begin() + static_cast<std::ptrdiff_t>(end), 1.0f);
+    const std::size_t depth_begin = depths / pieces * k, depth_end = k + 1 == pieces ? depths : depth_begin + depths / pieces;
+    std::fill(depth_.begin() + static_cast<std::ptrdiff_t>(depth_begin),
+              depth_.begin() + static_cast<std::ptrdiff_t>(depth_end), 1.0f);
   };
   if (pool != nullptr && pieces > 1) {
     pool->parallel_for(pieces, fill);
@@ -79,7 +82,7 @@ void Target::throw_transient() {
 void Target::allocate_planes() {
   const std::size_t n =
       static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) * static_cast<std::size_t>(samples_);
-  if (color_.size() != n) color_.resize(n), depth_.resize(n);
+  if (color_.size() != n) color_.resize(n), depth_.resize(depth_count(width_, height_, samples_));
 }
 
 void Target::clear(glm::vec4 color, float depth) {
@@ -131,7 +134,11 @@ void resolve_box(const Target& source, int x0, int y0, int x1, int y1, glm::vec4
 Target resolve_box(const Target& source) {
   Target out(source.width(), source.height());
   resolve_box(source, 0, 0, source.width(), source.height(), out.colors().data(), static_cast<std::size_t>(source.width()));
-  std::copy_n(source.depths().begin(), out.depths().size(), out.depths().begin());
+  const std::span<float> depths = out.depths();
+  for (int y = 0; y < source.height(); ++y)
+    for (int x = 0; x < source.width(); ++x)
+      depths[static_cast<std::size_t>(y) * static_cast<std::size_t>(source.width()) + static_cast<std::size_t>(x)] =
+          source.sample_depth(x, y, 0);
   return out;
 }
 

@@ -60,11 +60,33 @@ struct ClearedTiles {
 };
 }  // namespace detail
 
+// Where a buffer of `width` × `height` pixels and `samples` samples a pixel keeps the
+// depth of sample s of pixel (x, y) (0 ≤ x < width, 0 ≤ y < height). With one sample,
+// row-major: y · width + x. A multisampled buffer keeps its depths by 2×2 quads of pixels
+// (the rasterizer tests a quad's samples as one vector: at 4× one 64-byte line, not eight
+// scattered pairs): quad (x / 2, y / 2) of ⌈width / 2⌉ a row holds 4 · samples depths in a
+// row, sample by sample, each sample's four pixels top-left, top-right, bottom-left,
+// bottom-right. An odd width or height pads the last quads (they keep the clear value).
+constexpr std::size_t depth_index(int width, int samples, int x, int y, int s) {
+  if (samples == 1) return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+  const std::size_t quad = static_cast<std::size_t>(y >> 1) * static_cast<std::size_t>((width + 1) / 2) +
+                           static_cast<std::size_t>(x >> 1);
+  return quad * 4 * static_cast<std::size_t>(samples) + static_cast<std::size_t>(4 * s + 2 * (y & 1) + (x & 1));
+}
+// The depths such a buffer holds (the padding included).
+constexpr std::size_t depth_count(int width, int height, int samples) {
+  if (samples == 1) return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  return static_cast<std::size_t>((width + 1) / 2) * static_cast<std::size_t>((height + 1) / 2) * 4 *
+         static_cast<std::size_t>(samples);
+}
+
 // The pixels of a target as the tile kernels write them: the renderer hands them out
 // while a frame owns the target. Pixel (x, y) is i = y · width + x − origin, and sample s
-// of pixel i is colors[s · plane + i]. A whole target has origin 0 and plane = width ×
-// height; a multisampled tile's samples held apart while it is rasterized (a block of
-// width × height pixels whose top-left pixel is (x0, y0)) has origin y0 · width + x0.
+// of pixel i is colors[s · plane + i]; its depth is depths[depth_index(x, y, s)] (the
+// layout of raster::depth_index, relative to the top-left pixel (x0, y0)). A whole target
+// has origin 0 and plane = width × height; a multisampled tile's samples held apart while
+// it is rasterized (a block of width × height pixels whose top-left pixel is (x0, y0),
+// both even) has origin y0 · width + x0.
 struct TargetPixels {
   glm::vec4* colors;
   float* depths;
@@ -73,6 +95,10 @@ struct TargetPixels {
   int samples = 1;
   std::size_t plane = 0;   // width × height
   std::size_t origin = 0;  // y0 · width + x0 (0 for a whole target)
+  int x0 = 0, y0 = 0;      // the top-left pixel
+  std::size_t depth_index(int x, int y, int s) const {
+    return raster::depth_index(width, samples, x - x0, y - y0, s);
+  }
 };
 
 // What a multisampled target keeps of a frame (GPUs call the second a transient or
@@ -120,7 +146,8 @@ class Target {
   // made before allocating one.
   static std::uint64_t bytes(int width, int height, int samples = 1) {
     return static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) *
-           static_cast<std::uint64_t>(samples) * (sizeof(glm::vec4) + sizeof(float));
+               static_cast<std::uint64_t>(samples) * sizeof(glm::vec4) +
+           static_cast<std::uint64_t>(depth_count(width, height, samples)) * sizeof(float);
   }
 
   // The accessors below and clear*() throw std::logic_error for a transient target.
@@ -129,8 +156,10 @@ class Target {
   void clear_depth(float depth);
 
   // Direct access to the pixels: index y * width() + x. A multisampled target stores its
-  // samples as planes: sample s of pixel i at index s * width() * height() + i, so the
-  // spans hold samples() planes and color(x, y)/depth(x, y) are sample 0's.
+  // colour samples as planes: sample s of pixel i at index s * width() * height() + i, so
+  // colors() holds samples() planes; its depths by 2×2 quads, sample s of pixel (x, y) at
+  // depth_index(width(), samples(), x, y, s) of depths(). color(x, y)/depth(x, y) are
+  // sample 0's.
   //
   // A target remembers which of its tiles a renderer's last frame left holding only the
   // frame's clear values; the next frame that clears to the same values leaves those
@@ -144,15 +173,15 @@ class Target {
   std::span<const float> depths() const { require_kept(); return depth_; }
   glm::vec4& color(int x, int y) { forget_cleared_tiles(); return color_[index(x, y)]; }
   const glm::vec4& color(int x, int y) const { require_kept(); return color_[index(x, y)]; }
-  float& depth(int x, int y) { forget_cleared_tiles(); return depth_[index(x, y)]; }
-  float depth(int x, int y) const { require_kept(); return depth_[index(x, y)]; }
+  float& depth(int x, int y) { forget_cleared_tiles(); return depth_[depth_at(x, y, 0)]; }
+  float depth(int x, int y) const { require_kept(); return depth_[depth_at(x, y, 0)]; }
   const glm::vec4& sample_color(int x, int y, int sample) const {
     require_kept();
     return color_[sample_index(x, y, sample)];
   }
   float sample_depth(int x, int y, int sample) const {
     require_kept();
-    return depth_[sample_index(x, y, sample)];
+    return depth_[depth_at(x, y, sample)];
   }
 
  private:
@@ -177,6 +206,7 @@ class Target {
     return static_cast<std::size_t>(sample) * static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_) +
            index(x, y);
   }
+  std::size_t depth_at(int x, int y, int sample) const { return depth_index(width_, samples_, x, y, sample); }
   int width_;
   int height_;
   int samples_;

@@ -46,10 +46,11 @@ inline unsigned alpha_coverage(float alpha, float alpha_ref) {
 }
 
 // MSAA: writes a pixel's colour `src` into its samples in `mask` (bit s: sample s) — for an
-// alpha-tested draw, those whose depth `sample_depth` still passes (it writes them too).
+// alpha-tested draw, those whose depth `sample_depth` still passes (it writes them too):
+// the stored depth of sample s is depth_at[4 · s] (its quad's, target.h depth_index).
 template <int kMs>
 inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned mask, const float* sample_depth,
-                          std::size_t idx, const TargetPixels& target) {
+                          std::size_t idx, float* depth_at, const TargetPixels& target) {
   if (state.alpha_test) {
     glm::vec4 c = src;
     if (state.alpha_to_coverage) {
@@ -61,8 +62,9 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
     for (int s = 0; s < kMs; ++s) {
       if (!(mask & (1u << s))) continue;
       const std::size_t i = static_cast<std::size_t>(s) * target.plane + idx;
-      if (!depth_passes(state.depth_test, sample_depth[s], target.depths[i])) continue;
-      if (state.depth_write) target.depths[i] = sample_depth[s];
+      float& stored = depth_at[4 * s];
+      if (!depth_passes(state.depth_test, sample_depth[s], stored)) continue;
+      if (state.depth_write) stored = sample_depth[s];
       target.colors[i] = blend(state.blend, c, target.colors[i]);
     }
     return;
@@ -186,9 +188,11 @@ struct Packet {
   int run_start = 0;
   std::size_t index[kW];  // pixel index in the target
   // MSAA: the samples of each lane's pixel that are covered and passed the depth test (bit
-  // s: sample s), and their depths (alpha-tested draws test and write them when flushing).
+  // s: sample s), and their depths and where its sample 0's is stored (alpha-tested draws
+  // test and write them when flushing).
   std::uint8_t sample_mask[kW];
   float sample_depth[kW][kMaxSamples];
+  float* depth_at[kW];
   int count = 0;
   ShadeCounts shaded;  // for the tile: flush_packet adds each packet (the scalar path each pixel)
 
@@ -286,7 +290,8 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
   };
   if constexpr (kMs > 1) {
     for (int lane = 0; lane < b.count; ++lane)
-      write_samples<kMs>(state, color(lane), b.sample_mask[lane], b.sample_depth[lane], b.index[lane], target);
+      write_samples<kMs>(state, color(lane), b.sample_mask[lane], b.sample_depth[lane], b.index[lane],
+                         state.alpha_test ? b.depth_at[lane] : nullptr, target);  // set for alpha tests only
   } else if (state.alpha_test) {  // the blend mode decided once per packet: replacing does not read the target
     // Lanes in submission order, each tested against the depths the lanes before it wrote.
     for (int lane = 0; lane < b.count; ++lane) {
@@ -467,8 +472,12 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
   // triangle when the triangle spans a few quads across the tile.
   const bool clip_rows = x1 - x0 >= kMinClippedSpan;
   const RowSpanEdges span_edges = clip_rows ? row_span_edges(t) : RowSpanEdges{};
+  // MSAA: a quad's 4 · kMs depths are consecutive (target.h, depth_index), its samples'
+  // rows of four at [4 · s]; quads_per_row of them a row.
+  [[maybe_unused]] const std::size_t quads_per_row = static_cast<std::size_t>(target.width + 1) / 2;
   for (int qy = y0; qy <= y1; qy += 2) {
     const std::int64_t sy = qy * kStep + kHalf;
+    [[maybe_unused]] const std::size_t row_quads = static_cast<std::size_t>((qy - target.y0) >> 1) * quads_per_row;
     // Lanes 2 and 3 (the quad's lower row) exist only inside the tile.
     const unsigned rows = qy + 1 < tile.y1 ? 0xFu : 0x3u;
     const std::int64_t row0 = t.b[0] * sy + t.c[0], row1 = t.b[1] * sy + t.c[1], row2 = t.b[2] * sy + t.c[2];
@@ -553,6 +562,8 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // written per sample; lane_samples[j] keeps the samples of lane j that passed.
       alignas(64) float sample_z[kSamples][4];  // [s][j]: group g's sample lanes at [g·kSamples]
       unsigned lane_samples[4] = {0, 0, 0, 0};
+      [[maybe_unused]] float* const quad_depths =
+          kMs == 1 ? depths : depths + (row_quads + static_cast<std::size_t>((qx - target.x0) >> 1)) * (4 * kSamples);
       if constexpr (kMs == 1) {
         if (whole_quad) {
           mask = test_quad(depths, zq, mask);
@@ -583,39 +594,24 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           sz.store(sample_z[g * G::kSamples]);
           unsigned passed;  // bit 4·s + j: sample g·kSamples + s of lane j passed
           if (whole_quad) {
-            // The samples' 2×2 depths from their planes as one vector: two 2-float rows per
-            // plane, compared at once and written back with the passing lanes replaced
-            // (the others keep their own bits; the tile has one writer).
-            using F4 = simd::native_t<float, 4>;
-            float* plane_depths[G::kSamples];
-            F4 rows[G::kSamples];
-            for (int s = 0; s < G::kSamples; ++s) {
-              plane_depths[s] = depths + static_cast<std::size_t>(g * G::kSamples + s) * target.plane + quad_idx;
-              __builtin_memcpy(&rows[s], plane_depths[s], 2 * sizeof(float));
-              __builtin_memcpy(reinterpret_cast<char*>(&rows[s]) + 2 * sizeof(float), plane_depths[s] + width,
-                               2 * sizeof(float));
-            }
-            const D old(G::join_all<4>(rows));
+            // The group's samples' 2×2 depths are consecutive in their quad: one vector,
+            // compared at once and written back with the passing lanes replaced (the
+            // others keep their own bits; the tile has one writer).
+            float* const group_depths = quad_depths + g * G::kLanes;
+            const D old = D::load(group_depths);
             passed = covered[g];
             if (depth_test == DepthTest::Less) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz < old);
             else if (depth_test == DepthTest::LessEqual) passed &= simd::SOFTPBR_TARGET_NS::mask_bits(sz <= old);
-            if (early_depth_write) {  // also when none passed (no branch on it): the same bits
-              alignas(64) float merged[G::kLanes];
-              simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits<G::kLanes>(passed), sz, old).store(merged);
-              for (int s = 0; s < G::kSamples; ++s) {
-                __builtin_memcpy(plane_depths[s], merged + 4 * s, 2 * sizeof(float));
-                __builtin_memcpy(plane_depths[s] + width, merged + 4 * s + 2, 2 * sizeof(float));
-              }
-            }
+            if (early_depth_write)  // also when none passed (no branch on it): the same bits
+              simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits<G::kLanes>(passed), sz, old).store(group_depths);
           } else {
             passed = 0;
             for (unsigned b = covered[g]; b != 0; b &= b - 1) {
-              const int k = std::countr_zero(b);
+              const int k = std::countr_zero(b);  // lane 4·s' + j of the group: sample g·kSamples + s'
+              float& stored = quad_depths[g * G::kLanes + k];
               const int s = g * G::kSamples + k / 4, j = k % 4;
-              float* const plane_depths = depths + static_cast<std::size_t>(s) * target.plane;
-              const std::size_t idx = pixel_index(j);
-              if (!depth_passes(depth_test, sample_z[s][j], plane_depths[idx])) continue;
-              if (early_depth_write) plane_depths[idx] = sample_z[s][j];
+              if (!depth_passes(depth_test, sample_z[s][j], stored)) continue;
+              if (early_depth_write) stored = sample_z[s][j];
               passed |= 1u << k;
             }
           }
@@ -677,7 +673,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           if constexpr (kMs > 1) {
             float zs[kMs];
             for (int s = 0; s < kMs; ++s) zs[s] = sample_z[s][j];
-            write_samples<kMs>(state, src, lane_samples[j], zs, idx, target);
+            write_samples<kMs>(state, src, lane_samples[j], zs, idx, quad_depths + j, target);
           } else {
             glm::vec4 c = src;
             if (state.alpha_test) {
@@ -700,8 +696,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           packet.index[lane] = pixel_index(j);
           if constexpr (kMs > 1) {
             packet.sample_mask[lane] = static_cast<std::uint8_t>(lane_samples[j]);
-            if (state.alpha_test)
+            if (state.alpha_test) {
               for (int s = 0; s < kMs; ++s) packet.sample_depth[lane][s] = sample_z[s][j];
+              packet.depth_at[lane] = quad_depths + j;
+            }
           }
         };
         if constexpr (W >= 4) {
