@@ -9,8 +9,25 @@
 #include <vector>
 
 #include "softpbr/check.h"
+#include "softpbr/simd/dispatch.h"
+#include "softpbr/simd/simd.h"
+
+// detail::{baseline, avx2, avx512}::fill_block().
+#define SOFTPBR_TARGET_FILE "renderer-inl.h"
+#include "softpbr/simd/foreach_target.h"
 
 namespace softpbr::raster {
+
+namespace detail {
+namespace {
+// A tile block's clear (renderer-inl.h) in the copy for `isa`.
+void fill_block(simd::Isa isa, const TargetPixels& block, const ClearValues& clear) {
+  SOFTPBR_DISPATCH(isa, fill_block)
+  (block.colors, block.plane * static_cast<std::size_t>(block.samples), clear.color, block.depths,
+   depth_count(block.width, block.height, block.samples), clear.depth);
+}
+}  // namespace
+}  // namespace detail
 
 namespace {
 int checked_tile_size(int tile) {
@@ -259,10 +276,7 @@ void Renderer::rasterize_pending(Target& target, const TileCallback* after_tile,
       ShadeCounts shaded;
       if (in_block) {
         tile_pixels = tile_block(block, pixels, rect);
-        const std::size_t n = tile_pixels.plane * static_cast<std::size_t>(tile_pixels.samples);
-        std::fill(tile_pixels.colors, tile_pixels.colors + n, clear_->color);
-        std::fill_n(tile_pixels.depths, depth_count(tile_pixels.width, tile_pixels.height, tile_pixels.samples),
-                    clear_->depth);
+        detail::fill_block(isa_, tile_pixels, *clear_);
         for (const auto& draw : draws_) shaded += draw->raster(tile, rect, tile_pixels, lanes_, isa_);
         if (!blocks_only) store_tile(tile_pixels, rect, pixels);
         touched_[tile] = 1;  // one writer per tile
