@@ -36,15 +36,15 @@ int checked_tile_size(int tile) {
                                 std::to_string(kMinTileSize) + ", " + std::to_string(kMaxTileSize) + "]");
   return tile;
 }
-// A tile's depths as runs of consecutive floats, fn(first, count): a row of pixels, or
-// with MSAA a row of 2×2 quads (raster::depth_index; tile origins are even).
+// A tile's depths as runs of consecutive floats, fn(y, count): the run starting at pixel
+// (r.x0, y) — a row of pixels, or with MSAA a row of 2×2 quads (raster::depth_index; tile
+// origins are even, so a block's runs and the target's cover the same pixels).
 template <class Fn>
-void for_depth_runs(const TargetPixels& p, const TileRect& r, Fn&& fn) {
-  const std::size_t quads = static_cast<std::size_t>(r.x1 - r.x0 + 1) / 2;
-  const int step = p.samples == 1 ? 1 : 2;
-  const std::size_t count = p.samples == 1 ? static_cast<std::size_t>(r.x1 - r.x0)
-                                           : quads * 4 * static_cast<std::size_t>(p.samples);
-  for (int y = r.y0; y < r.y1; y += step) fn(p.depth_index(r.x0, y, 0), count);
+void for_depth_runs(int samples, const TileRect& r, Fn&& fn) {
+  const std::size_t width = static_cast<std::size_t>(r.x1 - r.x0);
+  const int step = samples == 1 ? 1 : 2;
+  const std::size_t count = samples == 1 ? width : (width + 1) / 2 * 4 * static_cast<std::size_t>(samples);
+  for (int y = r.y0; y < r.y1; y += step) fn(y, count);
 }
 // Clears a tile. A tile no triangle touches is written with streaming stores (simd.h):
 // nothing will read it soon, so it need not be fetched into the cache first.
@@ -62,8 +62,8 @@ void clear_tile(const TargetPixels& target, const TileRect& r, const ClearValues
       }
     }
   }
-  for_depth_runs(target, r, [&](std::size_t first, std::size_t count) {
-    std::fill_n(target.depths + first, count, clear.depth);
+  for_depth_runs(target.samples, r, [&](int y, std::size_t count) {
+    std::fill_n(target.depths + target.depth_index(r.x0, y, 0), count, clear.depth);
   });
   if (streaming) simd::stream_fence();
 }
@@ -101,11 +101,10 @@ void store_tile(const TargetPixels& block, const TileRect& r, const TargetPixels
       const std::size_t bt = static_cast<std::size_t>(s) * block.plane + static_cast<std::size_t>(y - r.y0) * n;
       simd::stream_copy(target.colors + at, block.colors + bt, n * sizeof(glm::vec4));
     }
-  // The depths a row of 2×2 quads at a time (target.h, depth_index): one run in each.
-  const std::size_t run = static_cast<std::size_t>(r.x1 - r.x0 + 1) / 2 * 4 * static_cast<std::size_t>(target.samples);
-  for (int y = r.y0; y < r.y1; y += 2)
+  for_depth_runs(target.samples, r, [&](int y, std::size_t count) {
     simd::stream_copy(target.depths + target.depth_index(r.x0, y, 0), block.depths + block.depth_index(r.x0, y, 0),
-                      run * sizeof(float));
+                      count * sizeof(float));
+  });
   simd::stream_fence();
 }
 int checked_lanes(int lanes, simd::Isa isa) {
