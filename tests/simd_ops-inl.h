@@ -82,4 +82,14 @@ SOFTPBR_KERNEL inline void to_float_ops(const std::int64_t* in, float* out) {
   __builtin_memcpy(out, &f, sizeof f);
 }
 
+// out[4m + k] = lane k of compress4(x, m) for every mask m in [0, 16).
+SOFTPBR_KERNEL inline void compress_ops(const float* x_in, float* out) {
+  softpbr::simd::native_t<float, 4> x;
+  __builtin_memcpy(&x, x_in, sizeof x);
+  for (unsigned m = 0; m < 16; ++m) {
+    const softpbr::simd::native_t<float, 4> c = lanes::compress4(x, m);
+    __builtin_memcpy(out + 4 * m, &c, sizeof c);
+  }
+}
+
 }  // namespace simd_test::SOFTPBR_TARGET_NS

@@ -55,6 +55,11 @@ struct Native<16> {
   typedef std::int32_t i __attribute__((vector_size(64)));
   typedef std::uint32_t u __attribute__((vector_size(64)));
 };
+// compress4's table: for each 4-bit mask, the indices of its set bits in increasing order,
+// the rest 0 (lane 0 again: any lane would do, the caller ignores them).
+alignas(16) inline constexpr std::int32_t kCompress4[16][4] = {
+    {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0}, {1, 2, 0, 0}, {0, 1, 2, 0},
+    {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0}, {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
 }  // namespace detail
 
 // --- 32-bit unsigned integer lanes, for work on a float's bits (e.g. table lookups). ---

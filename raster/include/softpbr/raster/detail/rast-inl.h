@@ -494,8 +494,10 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       const int lane_x[4] = {qx, qx + 1, qx, qx + 1};
       const int lane_y[4] = {qy, qy, qy + 1, qy + 1};
       // Lane j's pixel in the target's arrays (TargetPixels: y · width + x − origin).
+      // Arithmetic on j, not the arrays: the append below indexes by a table entry.
+      const std::size_t quad_index = static_cast<std::size_t>(qy) * width + qx - origin;
       const auto pixel_index = [&](int j) {
-        return static_cast<std::size_t>(lane_y[j]) * width + lane_x[j] - origin;
+        return quad_index + static_cast<std::size_t>(j >> 1) * width + static_cast<std::size_t>(j & 1);
       };
       // A lane is inside when all three edge values are non-negative: the sign bit of
       // their OR is clear.
@@ -703,22 +705,37 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
           }
         };
         if constexpr (W >= 4) {
-          if (mask == 0xFu && packet.count + 4 <= W) {
-            // A whole quad into four consecutive lanes: one 4-float store per row.
+          if (packet.count + 4 <= W) {
+            // The quad's covered lanes into consecutive lanes from `count`, in their order:
+            // per row one permutation that moves them to the front (simd compress4; the
+            // identity for a whole quad) and one 4-float store. The lanes past the covered
+            // ones are written too, and written again by the next quad or the padding. No
+            // branch on the mask: along edges, and at MSAA on small triangles in most
+            // quads, the covered lanes change from quad to quad, and the branches of a
+            // per-lane append (or one for whole quads) were mispredicted.
             const int lane = packet.count;
-            packet.count += 4;
-            put_4_lanes(packet.b1, lane, weight1);
-            put_4_lanes(packet.b2, lane, weight2);
+            packet.count += std::popcount(mask);
+            const auto put_covered = [&](auto& lanes, const float* x) {
+              simd::native_t<float, 4> v;
+              __builtin_memcpy(&v, x, sizeof v);
+              v = simd::SOFTPBR_TARGET_NS::compress4(v, mask);
+              float covered_lanes[4];
+              __builtin_memcpy(covered_lanes, &v, sizeof v);
+              put_4_lanes(lanes, lane, covered_lanes);
+            };
+            put_covered(packet.b1, weight1);
+            put_covered(packet.b2, weight2);
             for (const int k : kDerivativeIndices<S>) {
               const float dx[4] = {ddx[k], ddx[k], ddx[k], ddx[k]};
               const float dy[4] = {ddy[k], ddy[k], ddy[k], ddy[k]};
               put_4_lanes(p.ddx[k], lane, dx);
               put_4_lanes(p.ddy[k], lane, dy);
             }
-            put_4_lanes(p.pos_x, lane, px);
-            put_4_lanes(p.pos_y, lane, py);
-            put_4_lanes(p.depth, lane, z);
-            for (int j = 0; j < 4; ++j) keep(lane + j, j);
+            put_covered(p.pos_x, px);
+            put_covered(p.pos_y, py);
+            put_covered(p.depth, z);
+            const std::int32_t* const order = simd::detail::kCompress4[mask];
+            for (int k = 0; k < 4; ++k) keep(lane + k, order[k]);
             if (packet.count == W) flush_packet<W, kMs>(shader, packet, state, target);
             continue;
           }

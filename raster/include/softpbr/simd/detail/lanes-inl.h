@@ -407,6 +407,25 @@ inline LaneMask<N, SOFTPBR_ISA> first_lanes(int n) {
   return LaneMask<N, SOFTPBR_ISA>(iota < (I{} + n));
 }
 
+// The lanes of x whose bit is set in `mask` (0 to 15), moved to the front in their order:
+// lane k of the result is lane detail::kCompress4[mask][k] of x, for k < popcount(mask)
+// (the others hold copies of x's lanes). A lane permutation, so the bits are kept: one
+// vpermilps with AVX, a table lookup (tbl) where GCC has a variable shuffle for the
+// target, else four loads by index.
+inline native_t<float, 4> compress4(native_t<float, 4> x, unsigned mask) {
+  const std::int32_t* const order = detail::kCompress4[mask & 0xFu];
+#if SOFTPBR_TARGET_AVX
+  return reinterpret_cast<native_t<float, 4>>(
+      _mm_permutevar_ps(reinterpret_cast<__m128>(x), _mm_load_si128(reinterpret_cast<const __m128i*>(order))));
+#elif defined(__GNUC__) && !defined(__clang__) && !defined(__SSE2__)
+  native_t<std::int32_t, 4> index;
+  __builtin_memcpy(&index, order, sizeof index);
+  return __builtin_shuffle(x, index);
+#else
+  return native_t<float, 4>{x[order[0]], x[order[1]], x[order[2]], x[order[3]]};
+#endif
+}
+
 // mask ? a : b per lane on the bits, for plain vectors of any element type (a mask lane
 // is all ones or all zeros, as vector comparisons give).
 template <class V, class M>
