@@ -495,7 +495,7 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       const int lane_y[4] = {qy, qy, qy + 1, qy + 1};
       // Lane j's pixel in the target's arrays (TargetPixels: y · width + x − origin).
       // Arithmetic on j, not the arrays: the append below indexes by a table entry.
-      const std::size_t quad_index = static_cast<std::size_t>(qy) * width + qx - origin;
+      const std::size_t quad_index = static_cast<std::size_t>(qy) * width + qx - origin;  // lane 0's, (qx, qy)
       const auto pixel_index = [&](int j) {
         return quad_index + static_cast<std::size_t>(j >> 1) * width + static_cast<std::size_t>(j & 1);
       };
@@ -545,18 +545,17 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
       // compared, and written back with the passing lanes replaced (the others keep their
       // own bits; the tile has one writer).
       const bool whole_quad = in_tile == 0xFu;
-      const std::size_t quad_idx = pixel_index(0);  // lane 0 is (qx, qy)
       const auto test_quad = [&](float* plane_depths, V4 zv, unsigned lanes) {
         alignas(16) float stored[4];
-        __builtin_memcpy(stored, plane_depths + quad_idx, 2 * sizeof(float));
-        __builtin_memcpy(stored + 2, plane_depths + quad_idx + width, 2 * sizeof(float));
+        __builtin_memcpy(stored, plane_depths + quad_index, 2 * sizeof(float));
+        __builtin_memcpy(stored + 2, plane_depths + quad_index + width, 2 * sizeof(float));
         const V4 old = V4::load(stored);
         if (depth_test == DepthTest::Less) lanes &= simd::SOFTPBR_TARGET_NS::mask_bits(zv < old);
         else if (depth_test == DepthTest::LessEqual) lanes &= simd::SOFTPBR_TARGET_NS::mask_bits(zv <= old);
         if (early_depth_write) {  // also when none passed (no branch on it): the same bits
           simd::select(simd::SOFTPBR_TARGET_NS::mask_from_bits(lanes), zv, old).store(stored);
-          __builtin_memcpy(plane_depths + quad_idx, stored, 2 * sizeof(float));
-          __builtin_memcpy(plane_depths + quad_idx + width, stored + 2, 2 * sizeof(float));
+          __builtin_memcpy(plane_depths + quad_index, stored, 2 * sizeof(float));
+          __builtin_memcpy(plane_depths + quad_index + width, stored + 2, 2 * sizeof(float));
         }
         return lanes;
       };
