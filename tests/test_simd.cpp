@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -122,6 +123,24 @@ using Kernel = void (*)(const float*, const float*, float*);
 Kernel chosen(simd::Isa isa) { return SOFTPBR_DISPATCH(isa, lane_ops<4>); }
 }  // namespace
 }  // namespace simd_test
+
+TEST_CASE("simd: SOFTPBR_MAX_ISA lowers the instruction set the kernels run, never raises it") {
+  using simd::Isa;
+  CHECK(simd::capped_isa(Isa::Avx512, nullptr) == Isa::Avx512);
+  CHECK(simd::capped_isa(Isa::Avx512, "avx2") == Isa::Avx2);
+  CHECK(simd::capped_isa(Isa::Avx512, "baseline") == Isa::Baseline);
+  CHECK(simd::capped_isa(Isa::Avx2, "baseline") == Isa::Baseline);
+  CHECK(simd::capped_isa(Isa::Avx2, "avx2") == Isa::Avx2);
+  CHECK(simd::capped_isa(Isa::Avx2, "avx512") == Isa::Avx2);
+  CHECK(simd::capped_isa(Isa::Baseline, "avx2") == Isa::Baseline);
+  CHECK(simd::capped_isa(Isa::Avx512, "AVX2") == Isa::Avx512);  // names are lower case
+  CHECK(simd::capped_isa(Isa::Avx512, "") == Isa::Avx512);
+  // This process: ctest's matrix_suites_avx2 runs the matrix suites with the cap set, and
+  // there cpu_isa(), which the renderer and every dispatch read, must not be AVX-512.
+  const char* cap = std::getenv("SOFTPBR_MAX_ISA");
+  if (cap != nullptr && std::string(cap) == "avx2") CHECK(simd::cpu_isa() != Isa::Avx512);
+  if (cap != nullptr && std::string(cap) == "baseline") CHECK(simd::cpu_isa() == Isa::Baseline);
+}
 
 TEST_CASE("simd: dispatch calls the copy of the kernel compiled for the instruction set asked for") {
   using simd::Isa;

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
 #include <string_view>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -34,17 +35,31 @@ namespace softpbr::simd {
 
 enum class Isa : std::uint8_t { Baseline, Avx2, Avx512 };
 
+// `found` lowered to the instruction set named by `cap` (SOFTPBR_MAX_ISA's value, or null)
+// where that is narrower: "baseline", "avx2"; anything else leaves `found` as it is. Never
+// raises it.
+inline Isa capped_isa(Isa found, const char* cap) {
+  const std::string_view name = cap != nullptr ? cap : "";
+  if (name == "baseline") return Isa::Baseline;
+  if (name == "avx2" && found == Isa::Avx512) return Isa::Avx2;
+  return found;
+}
+
 // The widest instruction set of this CPU (and OS) that a dispatched kernel can use
-// (Baseline off x86-64). Decided once, on first call.
+// (Baseline off x86-64), capped by the environment's SOFTPBR_MAX_ISA (capped_isa): the
+// AVX2 kernels benchmarked and tested on an AVX-512 CPU. The bits are the same either
+// way. Decided once, on first call.
 inline Isa cpu_isa() {
 #if SOFTPBR_SIMD_X86
   static const Isa isa = [] {
     __builtin_cpu_init();
+    Isa found = Isa::Baseline;
     if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
         __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw"))
-      return Isa::Avx512;
-    if (__builtin_cpu_supports("avx2")) return Isa::Avx2;
-    return Isa::Baseline;
+      found = Isa::Avx512;
+    else if (__builtin_cpu_supports("avx2"))
+      found = Isa::Avx2;
+    return capped_isa(found, std::getenv("SOFTPBR_MAX_ISA"));
   }();
   return isa;
 #else
