@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "softpbr/golden/doctest_checks.h"
 
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/pbr/textured_shading.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
 #include "texture_helpers.h"
@@ -149,6 +151,63 @@ TEST_CASE("alpha to coverage of a constant alpha (no alpha texture) keeps all sa
       const raster::Target& expected = alpha >= 0.5f ? with_pane : without_pane;
       CHECK(raster::hash_colors(t) == raster::hash_colors(expected));
       CHECK(raster::hash_depths(t) == raster::hash_depths(expected));
+    }
+  }
+}
+
+TEST_CASE("textured_streams: UV set 0 alone without a normal map, a second UV set or vertex colours") {
+  pbr::Material m;
+  m.base_color_texture.texture = test::srgb_texture(test::checker_image(8, 2));
+  m.occlusion_texture.texture = m.base_color_texture.texture;
+  m.emissive_texture.texture = m.base_color_texture.texture;
+  m.metallic_roughness_texture.texture = m.base_color_texture.texture;
+  m.base_color_texture.transform.rotation = 0.5f;
+  const auto streams = [](const pbr::Material& mat, bool colors) {
+    return pbr::textured_streams(pbr::prepare_textured_material(mat), colors);
+  };
+  CHECK(streams(m, false) == pbr::TexturedStreams::Uv0);
+  CHECK(streams(pbr::Material{}, false) == pbr::TexturedStreams::Uv0);
+  CHECK(streams(m, true) == pbr::TexturedStreams::All);
+  for (pbr::TextureSlot pbr::Material::*slot : {&pbr::Material::base_color_texture, &pbr::Material::metallic_roughness_texture,
+                                                 &pbr::Material::occlusion_texture, &pbr::Material::emissive_texture}) {
+    pbr::Material uv1 = m;
+    (uv1.*slot).uv_set = 1;
+    CHECK(streams(uv1, false) == pbr::TexturedStreams::All);
+    (uv1.*slot).texture = nullptr;  // an empty slot's UV set is not read
+    CHECK(streams(uv1, false) == pbr::TexturedStreams::Uv0);
+  }
+  pbr::Material normal = m;
+  normal.normal_texture.texture = m.base_color_texture.texture;
+  CHECK(streams(normal, false) == pbr::TexturedStreams::All);
+}
+
+TEST_CASE("the UV-set-0 textured shader gives the full shader's bits: each scene again with white vertex colours") {
+  // White vertex colours (factors × 1) change nothing in the image but make render() draw
+  // every textured object with TexturedPbrShader instead of TexturedUv0PbrShader.
+  for (const TexturedScene& g : textured_scenes()) {
+    CAPTURE(g.name);
+    const pbr::Scene scene = g.build();
+    pbr::Scene full = scene;
+    int textured = 0;
+    for (pbr::Object& o : full.objects) {
+      const pbr::Material& mat = o.material;
+      const bool uses_textured = mat.textured() || mat.alpha_mode != pbr::AlphaMode::Opaque || mat.double_sided || mat.unlit;
+      if (!uses_textured) continue;
+      REQUIRE(pbr::textured_streams(pbr::prepare_textured_material(mat), false) == pbr::TexturedStreams::Uv0);
+      auto mesh = std::make_shared<pbr::Mesh>(*o.mesh);
+      mesh->colors.assign(mesh->vertices.size(), glm::vec4(1.0f));
+      o.mesh = mesh;
+      ++textured;
+    }
+    REQUIRE(textured > 0);
+    for (const int lanes : {1, 8, 16}) {
+      CAPTURE(lanes);
+      raster::Renderer renderer({.threads = 2, .tile_size = 32, .lanes = lanes});
+      raster::Target lean(g.width, g.height, g.samples), all(g.width, g.height, g.samples);
+      pbr::render(scene, renderer, lean);
+      pbr::render(full, renderer, all);
+      CHECK(raster::hash_colors(lean) == raster::hash_colors(all));
+      CHECK(raster::hash_depths(lean) == raster::hash_depths(all));
     }
   }
 }

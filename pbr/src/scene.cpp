@@ -99,11 +99,13 @@ bool needs_textured_shader(const Object& o) {
 
 // One object's draw: its shader, the vertices it reads and its state.
 struct ObjectDraw {
+  enum class Kind { Plain, Textured, TexturedUv0 };
   std::size_t object = 0;
-  bool textured = false;
+  Kind kind = Kind::Plain;
   PbrShader plain;
-  TexturedPbrShader shader;
-  std::vector<TexturedVertex> vertices;  // textured only
+  TexturedPbrShader textured;
+  TexturedUv0PbrShader textured_uv0;   // mesh->vertices as they are
+  std::vector<TexturedVertex> vertices;  // Textured only
   const Mesh* mesh = nullptr;
   std::shared_ptr<const Mesh> generated;  // the mesh with MikkTSpace tangents, when it had none
   raster::DrawState state;
@@ -169,12 +171,10 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     d.object = i;
     d.mesh = o.mesh.get();
     d.state.cull = raster::Cull::Back;
-    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(o.transform)));
-    if (!needs_textured_shader(o)) {
-      PbrShader& s = d.plain;
-      s.material = with_context(where, [&] { return prepare_material(o.material); });
+    // What every shader of render() reads besides its material.
+    const auto set_up_frame = [&](auto& s) {
       s.model = o.transform;
-      s.normal_matrix = normal_matrix;
+      s.normal_matrix = glm::transpose(glm::inverse(glm::mat3(o.transform)));
       s.view_projection = view_projection;
       s.eye = scene.camera.position;
       s.orthographic = scene.camera.orthographic;
@@ -182,53 +182,54 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.ambient = scene.ambient;
       s.lights = lights;
       s.environment = env;
+    };
+    if (!needs_textured_shader(o)) {
+      d.plain.material = with_context(where, [&] { return prepare_material(o.material); });
+      set_up_frame(d.plain);
       opaque.push_back(std::move(d));
       continue;
     }
-    d.textured = true;
-    TexturedPbrShader& s = d.shader;
-    s.material = std::make_shared<const TexturedMaterial>(
+    auto material = std::make_shared<const TexturedMaterial>(
         with_context(where, [&] { return prepare_textured_material(o.material); }));
-    if (o.material.normal_texture && o.mesh->tangents.empty()) {
-      // A normal map needs tangents: MikkTSpace, as glTF prescribes (per frame here;
-      // loaders generate them once, when they build the mesh).
-      auto copy = std::make_shared<Mesh>(*o.mesh);
-      with_context(where, [&] { generate_tangents(*copy); });
-      d.generated = copy;
-      d.mesh = copy.get();
+    with_context(where, [&] { check_textured_streams(*o.mesh); });
+    bool alpha_to_coverage = false;
+    const auto set_up = [&](auto& s) {
+      set_up_frame(s);
+      s.material = material;
+      s.handedness = glm::determinant(glm::mat3(o.transform)) < 0.0f ? -1.0f : 1.0f;
+      s.alpha_to_coverage = alpha_to_coverage;
+    };
+    if (o.material.alpha_mode == AlphaMode::Mask) {
+      d.state.alpha_test = true;  // the shader's alpha is 1 (kept) or 0
+      d.state.alpha_ref = 0.5f;
+      // With MSAA the shader's alpha is sharpened around the cutoff and becomes samples.
+      d.state.alpha_to_coverage = alpha_to_coverage = target.samples() > 1;
     }
-    d.vertices = with_context(where, [&] { return textured_vertices(*d.mesh); });
-    s.model = o.transform;
-    s.normal_matrix = normal_matrix;
-    s.handedness = glm::determinant(glm::mat3(o.transform)) < 0.0f ? -1.0f : 1.0f;
-    s.view_projection = view_projection;
-    s.eye = scene.camera.position;
-    s.orthographic = scene.camera.orthographic;
-    s.view_direction = view_direction;
-    s.ambient = scene.ambient;
-    s.lights = lights;
-    s.environment = env;
-    if (o.material.double_sided) d.state.cull = raster::Cull::None;
-    switch (o.material.alpha_mode) {
-      case AlphaMode::Mask:
-        d.state.alpha_test = true;  // the shader's alpha is 1 (kept) or 0
-        d.state.alpha_ref = 0.5f;
-        // With MSAA the shader's alpha is sharpened around the cutoff and becomes samples.
-        d.state.alpha_to_coverage = s.alpha_to_coverage = target.samples() > 1;
-        break;
-      case AlphaMode::Blend: {
-        d.state.blend = raster::Blend::Over;
-        d.state.depth_write = false;
-        const Bounds b = bounds(*o.mesh);
-        const glm::vec3 centre = b.empty() ? glm::vec3(0.0f) : glm::vec3(o.transform * glm::vec4(b.centre(), 1.0f));
-        const glm::vec3 to_eye = centre - scene.camera.position;
-        // Orthographic: the distance along the view direction, farthest first as well.
-        d.distance2 = scene.camera.orthographic ? -glm::dot(to_eye, view_direction) : glm::dot(to_eye, to_eye);
-        break;
+    if (textured_streams(*material, !o.mesh->colors.empty()) == TexturedStreams::Uv0) {
+      d.kind = ObjectDraw::Kind::TexturedUv0;
+      set_up(d.textured_uv0);
+    } else {
+      d.kind = ObjectDraw::Kind::Textured;
+      if (o.material.normal_texture && o.mesh->tangents.empty()) {
+        // A normal map needs tangents: MikkTSpace, as glTF prescribes (per frame here;
+        // loaders generate them once, when they build the mesh).
+        auto copy = std::make_shared<Mesh>(*o.mesh);
+        with_context(where, [&] { generate_tangents(*copy); });
+        d.generated = copy;
+        d.mesh = copy.get();
       }
-      case AlphaMode::Opaque:
-      default:
-        break;
+      d.vertices = with_context(where, [&] { return textured_vertices(*d.mesh); });
+      set_up(d.textured);
+    }
+    if (o.material.double_sided) d.state.cull = raster::Cull::None;
+    if (o.material.alpha_mode == AlphaMode::Blend) {
+      d.state.blend = raster::Blend::Over;
+      d.state.depth_write = false;
+      const Bounds b = bounds(*o.mesh);
+      const glm::vec3 centre = b.empty() ? glm::vec3(0.0f) : glm::vec3(o.transform * glm::vec4(b.centre(), 1.0f));
+      const glm::vec3 to_eye = centre - scene.camera.position;
+      // Orthographic: the distance along the view direction, farthest first as well.
+      d.distance2 = scene.camera.orthographic ? -glm::dot(to_eye, view_direction) : glm::dot(to_eye, to_eye);
     }
     (o.material.alpha_mode == AlphaMode::Blend ? blended : opaque).push_back(std::move(d));
   }
@@ -240,17 +241,26 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   std::size_t geometry = raster::draw_geometry_bytes(3, 1, raster::kVaryingCount<BackgroundShader::Varyings>);
   for (const auto* list : {&opaque, &blended})
     for (const ObjectDraw& d : *list)
-      geometry += raster::draw_geometry_bytes(
-          d.textured ? d.vertices.size() : d.mesh->vertices.size(), d.mesh->indices.size() / 3,
-          d.textured ? raster::kVaryingCount<TexturedPbrShader::Varyings> : raster::kVaryingCount<PbrShader::Varyings>);
+      geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3,
+                                              d.kind == ObjectDraw::Kind::Textured ? raster::kVaryingCount<TexturedPbrShader::Varyings>
+                                              : d.kind == ObjectDraw::Kind::TexturedUv0
+                                                  ? raster::kVaryingCount<TexturedUv0PbrShader::Varyings>
+                                                  : raster::kVaryingCount<PbrShader::Varyings>);
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f}, geometry);
   try {
     const auto draw_objects = [&](const std::vector<ObjectDraw>& list) {
       for (const ObjectDraw& d : list) {
-        if (d.textured)
-          renderer.draw(d.shader, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, d.state);
-        else
-          renderer.draw(d.plain, d.mesh->vertices, d.mesh->indices, d.state);
+        switch (d.kind) {
+          case ObjectDraw::Kind::Textured:
+            renderer.draw(d.textured, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, d.state);
+            break;
+          case ObjectDraw::Kind::TexturedUv0:
+            renderer.draw(d.textured_uv0, d.mesh->vertices, d.mesh->indices, d.state);
+            break;
+          case ObjectDraw::Kind::Plain:
+            renderer.draw(d.plain, d.mesh->vertices, d.mesh->indices, d.state);
+            break;
+        }
       }
     };
     draw_objects(opaque);

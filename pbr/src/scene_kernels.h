@@ -4,7 +4,8 @@
 // A packet shader's tile kernels (raster::raster_tile<S>: every lane width and sample
 // count, per instruction set) are most of the library's build time. Declared here as
 // explicit instantiations (extern template), they are compiled in scene_kernels_pbr.cpp,
-// scene_kernels_textured.cpp and scene_kernels_background.cpp — in parallel, each once —
+// scene_kernels_textured.cpp, scene_kernels_textured_uv0.cpp and
+// scene_kernels_background.cpp — in parallel, each once —
 // and scene.cpp calls them. The code is the same as instantiating them in scene.cpp.
 #pragma once
 
@@ -65,4 +66,5 @@ struct BackgroundShader {
 
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::PbrShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::TexturedPbrShader);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::TexturedUv0PbrShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::BackgroundShader);

@@ -99,7 +99,14 @@ TexturedMaterial prepare_textured_material(const Material& m) {
   return t;
 }
 
-std::vector<TexturedVertex> textured_vertices(const Mesh& mesh) {
+TexturedStreams textured_streams(const TexturedMaterial& m, bool vertex_colors) {
+  if (vertex_colors || m.normal.texture != nullptr) return TexturedStreams::All;
+  for (const PreparedSlot* s : {&m.base_color, &m.metallic_roughness, &m.occlusion, &m.emissive})
+    if (s->texture != nullptr && s->uv_set != 0) return TexturedStreams::All;
+  return TexturedStreams::Uv0;
+}
+
+void check_textured_streams(const Mesh& mesh) {
   const std::size_t n = mesh.vertices.size();
   auto check = [&](std::size_t size, const char* name) {
     if (size != 0 && size != n)
@@ -109,6 +116,11 @@ std::vector<TexturedVertex> textured_vertices(const Mesh& mesh) {
   check(mesh.tangents.size(), "tangents");
   check(mesh.uv1.size(), "uv1");
   check(mesh.colors.size(), "colors");
+}
+
+std::vector<TexturedVertex> textured_vertices(const Mesh& mesh) {
+  check_textured_streams(mesh);
+  const std::size_t n = mesh.vertices.size();
   std::vector<TexturedVertex> out(n);
   for (std::size_t i = 0; i < n; ++i) {
     const MeshVertex& v = mesh.vertices[i];

@@ -6,7 +6,10 @@
 // opaque or double_sided, or whose mesh has vertex colours; every other object keeps
 // PbrShader, so an untextured material costs what it always did. Inside the shader an
 // empty slot is skipped by a branch on a uniform (once per packet of pixels, the same way
-// for every lane), never per pixel.
+// for every lane), never per pixel. The shader comes in two forms, chosen per draw the same
+// way: TexturedPbrShader carries every stream to the pixels (18 varyings: both UV sets,
+// the tangent, the vertex colour), TexturedUv0PbrShader only UV set 0 (8 varyings) for the
+// common case (no normal map, no second UV set, no vertex colours), with the same bits.
 //
 // Per pixel, with the factors of the material (glTF 2.0, §3.9):
 //   base   = base_color × vertex colour × texture.rgb     alpha = alpha × colour.a × texture.a
@@ -28,6 +31,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include <glm/mat3x3.hpp>
@@ -52,8 +56,11 @@ struct TexturedVertex {
   glm::vec4 color;
 };
 
-// The vertices of `mesh` for TexturedPbrShader. Throws std::invalid_argument when a
-// non-empty stream's length differs from the vertex count.
+// Throws std::invalid_argument when a non-empty optional stream of `mesh` (tangents, uv1,
+// colours) has a length other than the vertex count.
+void check_textured_streams(const Mesh& mesh);
+
+// The vertices of `mesh` for TexturedPbrShader (check_textured_streams first).
 std::vector<TexturedVertex> textured_vertices(const Mesh& mesh);
 
 // A texture slot ready for lookups: uv' = (a·u + b·v + c, d·u + e·v + f).
@@ -85,9 +92,26 @@ struct TexturedMaterial {
 // Throws std::invalid_argument naming the field.
 TexturedMaterial prepare_textured_material(const Material& m);
 
-struct TexturedPbrShader {
-  using Vertex = TexturedVertex;
-  struct Varyings {
+// Which vertex streams the textured shader carries to its pixels. Every varying costs
+// interpolation per pixel (and its derivatives, for the UVs): the full set is 18 floats,
+// UV set 0 alone 8.
+enum class TexturedStreams {
+  All,  // uv, uv1, tangent and colour: any material and mesh (TexturedPbrShader)
+  Uv0,  // uv only: every texture on UV set 0, no normal map, no vertex colours
+        // (TexturedUv0PbrShader, drawing MeshVertex as is)
+};
+
+// The streams `material` drawn on a mesh with or without vertex colours needs: Uv0 where
+// it suffices. render() draws each object with the shader this names; the two shaders give
+// the same bits where Uv0 applies (the colour and alpha factors times 1, the same UVs and
+// derivatives).
+TexturedStreams textured_streams(const TexturedMaterial& material, bool vertex_colors);
+
+template <TexturedStreams kStreams>
+struct BasicTexturedPbrShader {
+  static constexpr bool kAllStreams = kStreams == TexturedStreams::All;
+  using Vertex = std::conditional_t<kAllStreams, TexturedVertex, MeshVertex>;
+  struct AllVaryings {
     glm::vec3 world_position;
     glm::vec3 normal;
     glm::vec2 uv;
@@ -95,10 +119,16 @@ struct TexturedPbrShader {
     glm::vec4 tangent;
     glm::vec4 color;
   };
-  // Texture lookups need the derivatives of the UVs (both sets), and only those.
+  struct Uv0Varyings {
+    glm::vec3 world_position;
+    glm::vec3 normal;
+    glm::vec2 uv;
+  };
+  using Varyings = std::conditional_t<kAllStreams, AllVaryings, Uv0Varyings>;
+  // Texture lookups need the derivatives of the UVs (each set carried), and only those.
   static constexpr bool kUsesDerivatives = true;
   static constexpr std::uint32_t kDerivativeMask =
-      raster::varying_bits(offsetof(Varyings, uv), 2 * sizeof(glm::vec2));
+      raster::varying_bits(offsetof(Varyings, uv), (kAllStreams ? 2 : 1) * sizeof(glm::vec2));
 
   glm::mat4 model{1.0f};
   glm::mat3 normal_matrix{1.0f};
@@ -121,10 +151,12 @@ struct TexturedPbrShader {
     out.world_position = glm::vec3(world);
     out.normal = normal_matrix * in.normal;
     out.uv = in.uv;
-    out.uv1 = in.uv1;
-    // Tangents are directions on the surface: they transform with the model matrix.
-    out.tangent = glm::vec4(glm::mat3(model) * glm::vec3(in.tangent), in.tangent.w * handedness);
-    out.color = in.color;
+    if constexpr (kAllStreams) {
+      out.uv1 = in.uv1;
+      // Tangents are directions on the surface: they transform with the model matrix.
+      out.tangent = glm::vec4(glm::mat3(model) * glm::vec3(in.tangent), in.tangent.w * handedness);
+      out.color = in.color;
+    }
     return view_projection * world;
   }
 
@@ -147,16 +179,16 @@ struct TexturedPbrShader {
   raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
     constexpr int kPosition = offsetof(Varyings, world_position) / sizeof(float);
     constexpr int kNormal = offsetof(Varyings, normal) / sizeof(float);
-    constexpr int kUv[2] = {offsetof(Varyings, uv) / sizeof(float), offsetof(Varyings, uv1) / sizeof(float)};
-    constexpr int kTangent = offsetof(Varyings, tangent) / sizeof(float);
-    constexpr int kColor = offsetof(Varyings, color) / sizeof(float);
     const TexturedMaterial& m = *material;
 
     // `channels`: the ones read below (Texture::kRed …); the lane kernel skips the rest.
     // `step` 1 or 2: the lookup one pixel to the right or below (uv + its derivative, the
     // same LOD), for alpha's screen derivatives.
     auto lookup = [&](const PreparedSlot& slot, unsigned channels, int step = 0) {
-      const int k = kUv[slot.uv_set];
+      // UV set 1 exists only in the full set (Uv0: textured_streams() saw none).
+      constexpr int kUv0 = offsetof(Varyings, uv) / sizeof(float);
+      int k = kUv0;
+      if constexpr (kAllStreams) k = slot.uv_set == 0 ? kUv0 : int{offsetof(AllVaryings, uv1) / sizeof(float)};
       F u = p.v[k], v = p.v[k + 1];
       F dudx = p.ddx[k], dvdx = p.ddx[k + 1], dudy = p.ddy[k], dvdy = p.ddy[k + 1];
       if (slot.transformed) {
@@ -172,8 +204,13 @@ struct TexturedPbrShader {
     };
 
     // Base colour and alpha.
-    Vec3L<F> base = lanes<F>(m.base.albedo) * Vec3L<F>(p.v[kColor], p.v[kColor + 1], p.v[kColor + 2]);
-    F alpha = F(m.alpha) * p.v[kColor + 3];
+    Vec3L<F> base = lanes<F>(m.base.albedo);
+    F alpha(m.alpha);
+    if constexpr (kAllStreams) {
+      constexpr int kColor = offsetof(AllVaryings, color) / sizeof(float);
+      base = base * Vec3L<F>(p.v[kColor], p.v[kColor + 1], p.v[kColor + 2]);
+      alpha = alpha * p.v[kColor + 3];
+    }
     F alpha_width(0.0f);  // fwidth(alpha), for alpha to coverage
     if (m.base_color.texture != nullptr) {
       // Alpha only where the alpha mode reads it.
@@ -225,26 +262,35 @@ struct TexturedPbrShader {
     Vec3L<F> n(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
     const float facing = p.front_facing ? 1.0f : -1.0f;  // one facing per packet
     if (!p.front_facing) n = -n;
-    if (m.normal.texture != nullptr) {
-      n = normalize_or(n, v);
-      const raster::Color<F> c = lookup(m.normal, raster::Texture::kRgb);
-      const F scale(m.normal_scale);
-      const F x = (c.r * F(2.0f) - F(1.0f)) * scale, y = (c.g * F(2.0f) - F(1.0f)) * scale;
-      const F z = c.b * F(2.0f) - F(1.0f);
-      const Vec3L<F> t_in = Vec3L<F>(p.v[kTangent], p.v[kTangent + 1], p.v[kTangent + 2]) * F(facing);
-      // Gram–Schmidt: the interpolated tangent made orthogonal to the normal; where it
-      // degenerates (parallel to n or zero) the map is not applied.
-      const Vec3L<F> t_perp = t_in - n * simd::dot(n, t_in);
-      const Vec3L<F> t = normalize_or(t_perp, Vec3L<F>(F(0.0f)));
-      const F w = simd::select(p.v[kTangent + 3] < F(0.0f), F(-1.0f), F(1.0f));
-      const Vec3L<F> b = cross(n, t) * w;
-      const Vec3L<F> mapped = t * x + b * y + n * z;
-      n = normalize_or(mapped, n);
+    if constexpr (kAllStreams) {
+      if (m.normal.texture != nullptr) n = normal_mapped(m, p, lookup, n, v, facing);
     }
     return output(m, shade(ml, *lights, ambient, position, n, v, environment), alpha, alpha_width);
   }
 
  private:
+  // The normal map applied to the interpolated normal n (facing: −1 on a back face).
+  template <class F, class Lookup>
+  static Vec3L<F> normal_mapped(const TexturedMaterial& m, const raster::FragmentPacket<F, Varyings>& p,
+                                const Lookup& lookup, Vec3L<F> n, const Vec3L<F>& v, float facing) {
+    constexpr int kTangent = offsetof(AllVaryings, tangent) / sizeof(float);
+    n = normalize_or(n, v);
+    const raster::Color<F> c = lookup(m.normal, raster::Texture::kRgb);
+    const F scale(m.normal_scale);
+    const F x = (c.r * F(2.0f) - F(1.0f)) * scale, y = (c.g * F(2.0f) - F(1.0f)) * scale;
+    const F z = c.b * F(2.0f) - F(1.0f);
+    const Vec3L<F> t_in = Vec3L<F>(p.v[kTangent], p.v[kTangent + 1], p.v[kTangent + 2]) * F(facing);
+    // Gram–Schmidt: the interpolated tangent made orthogonal to the normal; where it
+    // degenerates (parallel to n or zero) the map is not applied.
+    const Vec3L<F> t_perp = t_in - n * simd::dot(n, t_in);
+    const Vec3L<F> t = normalize_or(t_perp, Vec3L<F>(F(0.0f)));
+    const F w = simd::select(p.v[kTangent + 3] < F(0.0f), F(-1.0f), F(1.0f));
+    const Vec3L<F> b = cross(n, t) * w;
+    const Vec3L<F> mapped = t * x + b * y + n * z;
+    n = normalize_or(mapped, n);
+    return n;
+  }
+
   // The colour and alpha written for the material's alpha mode.
   // One result object written in place (see sample_light: no copies of temporaries).
   template <class F>
@@ -275,5 +321,10 @@ struct TexturedPbrShader {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
   }
 };
+
+// The textured shader for any material and mesh.
+using TexturedPbrShader = BasicTexturedPbrShader<TexturedStreams::All>;
+// The same where textured_streams() says Uv0: 8 varyings instead of 18, MeshVertex drawn as is.
+using TexturedUv0PbrShader = BasicTexturedPbrShader<TexturedStreams::Uv0>;
 
 }  // namespace softpbr::pbr
