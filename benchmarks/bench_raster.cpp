@@ -8,6 +8,12 @@
 //   BM_SmallTriangles  triangles/s: 259,200 triangles of 8 pixels each, one draw
 //   BM_Fill            shaded pixels/s: 8 layers of full-screen quads, every layer shaded
 //   BM_LitSpheres      ms/frame of the scene of examples/spheres.cpp, at 1920×1080
+//   BM_TextureLookups  lookups/s of Texture::sample_batch alone, 16 at a time in 4×4 pixel
+//                      blocks as a 16-lane shader asks (RGB of a 2048² sRGB texture,
+//                      trilinear, repeat): "aniso:1" at λ ≈ 1.75 (two levels read, as
+//                      bench_scenes' fill8x_tex), "aniso:16" with 8 probes along u at
+//                      λ ≈ 0.58 (as fill8x_aniso16). One thread; where the textured
+//                      scenes' lookup time goes without the rest of the frame.
 //
 // One iteration is one frame: begin_frame() with a clear (the renderer clears each tile in
 // its parallel pass), the draws, end_frame(). The renderer, target and meshes are built
@@ -29,9 +35,11 @@
 #include "softpbr/pbr/camera.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/raster/raster.h"
+#include "softpbr/raster/texture.h"
 
 namespace raster = softpbr::raster;
 namespace pbr = softpbr::pbr;
+namespace image = softpbr::image;
 
 namespace {
 
@@ -268,6 +276,49 @@ void BM_LitSpheres(benchmark::State& state) {
   const double triangles = 15.0 * static_cast<double>(sphere.triangle_count());
   run_frames(state, renderer, target, draw_all, triangles, triangles, static_cast<double>(shaded));
 }
+
+// ---------------------------------------------------------------------------------------
+// Texture lookups alone: a 512×256 block of pixels per iteration, 16 lookups a call.
+
+void BM_TextureLookups(benchmark::State& state) {
+  constexpr int kSize = 2048, kBlockW = 512, kBlockH = 256;
+  static const raster::Texture texture = [] {
+    image::Image8 im;
+    im.width = im.height = kSize;
+    im.rgba.resize(std::size_t{kSize} * kSize * 4);
+    std::uint32_t x = 12345;
+    for (std::uint8_t& b : im.rgba) {
+      x = x * 1664525u + 1013904223u;
+      b = static_cast<std::uint8_t>(x >> 24);
+    }
+    return raster::Texture(im, raster::ColorSpace::Srgb);
+  }();
+  raster::Sampler sampler;
+  sampler.max_anisotropy = static_cast<int>(state.range(0));
+  const bool aniso = sampler.max_anisotropy > 1;
+  // Texels per pixel along x and y.
+  const float tx = aniso ? 12.0f : 3.36f, ty = aniso ? 1.6f : 3.36f;
+  const float su = tx / kSize, sv = ty / kSize;
+  alignas(64) float u[16], v[16], dudx[16], dvdx[16], dudy[16], dvdy[16], out[4][16];
+  for (int i = 0; i < 16; ++i) dudx[i] = su, dvdx[i] = 0.0f, dudy[i] = 0.0f, dvdy[i] = sv;
+  const raster::Texture::Batch batch{u, v, dudx, dvdx, dudy, dvdy, nullptr, out[0], out[1], out[2], out[3],
+                                     raster::Texture::kRgb};
+  float sum = 0.0f;
+  for (auto _ : state) {
+    for (int by = 0; by < kBlockH; by += 4)
+      for (int bx = 0; bx < kBlockW; bx += 4) {
+        for (int i = 0; i < 16; ++i) {
+          u[i] = (static_cast<float>(bx + i % 4) + 0.5f) * su;
+          v[i] = (static_cast<float>(by + i / 4) + 0.5f) * sv;
+        }
+        texture.sample_batch(sampler, 16, batch);
+        sum += out[0][0];
+      }
+  }
+  benchmark::DoNotOptimize(sum);
+  state.SetItemsProcessed(state.iterations() * kBlockW * kBlockH);
+}
+BENCHMARK(BM_TextureLookups)->ArgName("aniso")->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
 
 void configure(benchmark::internal::Benchmark* b) {
   b->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
