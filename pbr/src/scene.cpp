@@ -110,6 +110,15 @@ struct ObjectDraw {
   std::shared_ptr<const Mesh> generated;  // the mesh with MikkTSpace tangents, when it had none
   raster::DrawState state;
   float distance2 = 0.0f;  // blended objects: from the eye to the centre of their bounds
+
+  int varying_count() const {
+    switch (kind) {
+      case Kind::Textured: return raster::kVaryingCount<TexturedPbrShader::Varyings>;
+      case Kind::TexturedUv0: return raster::kVaryingCount<TexturedUv0PbrShader::Varyings>;
+      case Kind::Plain: break;
+    }
+    return raster::kVaryingCount<PbrShader::Varyings>;
+  }
 };
 
 using detail::BackgroundShader;
@@ -241,11 +250,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   std::size_t geometry = raster::draw_geometry_bytes(3, 1, raster::kVaryingCount<BackgroundShader::Varyings>);
   for (const auto* list : {&opaque, &blended})
     for (const ObjectDraw& d : *list)
-      geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3,
-                                              d.kind == ObjectDraw::Kind::Textured ? raster::kVaryingCount<TexturedPbrShader::Varyings>
-                                              : d.kind == ObjectDraw::Kind::TexturedUv0
-                                                  ? raster::kVaryingCount<TexturedUv0PbrShader::Varyings>
-                                                  : raster::kVaryingCount<PbrShader::Varyings>);
+      geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3, d.varying_count());
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f}, geometry);
   try {
     const auto draw_objects = [&](const std::vector<ObjectDraw>& list) {
