@@ -427,24 +427,25 @@ void sample_lanes_of(const LaneTexture& t, int n, const Texture::Batch& b) {
   for (int first = 0; first < n; first += kL) {
     const int m = n - first < kL ? n - first : kL;
     const float* in[6] = {b.u + first, b.v + first, b.dudx + first, b.dvdx + first, b.dudy + first, b.dvdy + first};
-    FV lanes[6];
-    for (int k = 0; k < 6; ++k) {
-      if (m == kL) {
-        std::memcpy(&lanes[k], in[k], sizeof(FV));
-      } else {
-        lanes[k] = FV{};
-        for (int i = 0; i < m; ++i) lanes[k][i] = in[k][i];
+    float* out[4] = {b.r + first, b.g + first, b.b + first, b.a + first};
+    // A partial group reads zeros beyond its m lanes and writes through a scratch copy, so
+    // that the kernel's result is only ever stored whole: indexed lane by lane, GCC keeps
+    // it in memory and copies it through the stack (zmm store-to-load chains on every call).
+    alignas(64) float scratch_in[6][kL], scratch_out[4][kL];
+    if (m < kL) {
+      for (int k = 0; k < 6; ++k) {
+        for (int i = 0; i < kL; ++i) scratch_in[k][i] = i < m ? in[k][i] : 0.0f;
+        in[k] = scratch_in[k];
       }
     }
+    FV lanes[6];
+    for (int k = 0; k < 6; ++k) std::memcpy(&lanes[k], in[k], sizeof(FV));
     const RgbaV c = sample_v<kCh, kAniso>(t, lanes[0], lanes[1], lanes[2], lanes[3], lanes[4], lanes[5]);
-    float* out[4] = {b.r + first, b.g + first, b.b + first, b.a + first};
     for (int ch = 0; ch < 4; ++ch) {
       if (!(kCh >> ch & 1)) continue;
-      if (m == kL) {
-        std::memcpy(out[ch], &c.c[ch], sizeof(FV));
-      } else {
-        for (int i = 0; i < m; ++i) out[ch][i] = c.c[ch][i];
-      }
+      std::memcpy(m < kL ? scratch_out[ch] : out[ch], &c.c[ch], sizeof(FV));
+      if (m < kL)
+        for (int i = 0; i < m; ++i) out[ch][i] = scratch_out[ch][i];
     }
   }
 }
