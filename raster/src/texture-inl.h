@@ -133,15 +133,20 @@ inline LevelLanes level_lanes(const LaneTexture& t, IV d) {
 }
 
 #if SOFTPBR_TARGET_AVX512
+// The lanes' indices stored to `at`, to be read back by plain loads: the empty asm keeps
+// GCC from taking each out of the vector register instead (vpextrd, two micro-ops on
+// Zen 4, against one for a load).
+inline void store_indices(std::int32_t (&at)[kL], IV index) {
+  std::memcpy(at, &index, sizeof at);
+  asm("" : "+m"(at));
+}
+
 // kL texel words (RGBA8, by index into the texel array): one load each, put together by
 // inserts (16 dword stores then one 64-byte load would wait for the stores to retire;
 // vpgatherdd measured 5% slower in fill8x_tex on Zen 4).
 inline __m512i texel_words(const LaneTexture& t, IV index) {
   alignas(64) std::int32_t at[kL];
-  std::memcpy(at, &index, sizeof at);
-  // Kept in memory, read back by plain loads: left to itself GCC takes each index out of
-  // the vector register (vpextrd, two micro-ops on Zen 4, against one for a load).
-  asm("" : "+m"(at));
+  store_indices(at, index);
   auto word = [&](int i) {
     std::int32_t x;
     std::memcpy(&x, t.texels + static_cast<std::size_t>(at[i]) * 4, 4);
@@ -170,8 +175,7 @@ inline __m512i texel_words(const LaneTexture& t, IV index) {
 // −12%.
 inline void texel_word_pairs(const LaneTexture& t, IV index, __m512i& first, __m512i& second) {
   alignas(64) std::int32_t at[kL];
-  std::memcpy(at, &index, sizeof at);
-  asm("" : "+m"(at));
+  store_indices(at, index);
   auto pair = [&](int i) {
     long long x;
     std::memcpy(&x, t.texels + static_cast<std::size_t>(at[i]) * 4, 8);
