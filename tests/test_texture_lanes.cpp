@@ -5,7 +5,8 @@
 // permutes), every batch size from 1 to 17 (partial groups of 8 and 16), anisotropy 1 to
 // 16, LOD biases and limits that put lanes in magnification, between levels and on the
 // last level, and coordinates and derivatives that are zero, subnormal, huge, infinite
-// or NaN. Elsewhere (no AVX2, other textures or
+// or NaN, and groups of ordinary lanes only (the kernels' fast paths); lookups through a
+// BoundTexture as well. Elsewhere (no AVX2, other textures or
 // samplers) sample_batch runs the scalar code and this passes trivially.
 #include <doctest/doctest.h>
 
@@ -25,10 +26,12 @@ namespace image = softpbr::image;
 namespace {
 
 
-// Mostly ordinary values of magnitude up to `scale`, sometimes the special ones.
-float value(std::mt19937& rng, float scale) {
+// Mostly ordinary values of magnitude up to `scale`, sometimes the special ones (never
+// with `ordinary`: a whole group of such lanes takes the kernels' fast paths, which skip
+// the special cases' selects).
+float value(std::mt19937& rng, float scale, bool ordinary = false) {
   constexpr float inf = std::numeric_limits<float>::infinity();
-  switch (rng() % 48) {
+  switch (ordinary ? 47 : rng() % 48) {
     case 0: return std::numeric_limits<float>::quiet_NaN();
     case 1: return inf;
     case 2: return -inf;
@@ -77,29 +80,37 @@ TEST_CASE("the 8- and 16-lane texture kernels return the scalar lookup's bits") 
         if (rep % 7 == 4) s.max_lod = 2.5f;
         const float scale = derivative_scales[(rep / 4) % 4];
         constexpr int kMax = 17;
-        std::vector<float> in[6], out[4];
+        const bool ordinary = rep % 3 == 0;
+        std::vector<float> in[6], out[4], bound_out[4];
         for (auto& v : in) v.resize(kMax);
         for (auto& v : out) v.resize(kMax);
+        for (auto& v : bound_out) v.resize(kMax);
         for (int i = 0; i < kMax; ++i) {
-          in[0][i] = value(rng, 3.0f);
-          in[1][i] = value(rng, 3.0f);
-          for (int k = 2; k < 6; ++k) in[k][i] = value(rng, scale);
+          in[0][i] = value(rng, 3.0f, ordinary);
+          in[1][i] = value(rng, 3.0f, ordinary);
+          for (int k = 2; k < 6; ++k) in[k][i] = value(rng, scale, ordinary);
           if (rng() % 3 == 0) {  // an anisotropic footprint along u
             in[3][i] = in[2][i] * 0.01f;
             in[4][i] = in[2][i] * 0.02f;
             in[5][i] = in[2][i] * 0.125f;
           }
         }
-        const int n = 1 + rep % kMax;
+        const int n = ordinary && rep % 2 == 0 ? 16 : 1 + rep % kMax;  // whole groups of ordinary lanes
         t.sample_batch(s, n,
                        {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data(), nullptr,
                         out[0].data(), out[1].data(), out[2].data(), out[3].data()},
                        isa);
+        // The same through the texture and sampler bound once (a shader's per-draw binding).
+        raster::BoundTexture(t, s, isa)
+            .sample_batch(n, {in[0].data(), in[1].data(), in[2].data(), in[3].data(), in[4].data(), in[5].data(),
+                              nullptr, bound_out[0].data(), bound_out[1].data(), bound_out[2].data(),
+                              bound_out[3].data()});
         for (int i = 0; i < n; ++i) {
           const glm::vec4 one = t.sample(s, {in[0][i], in[1][i]}, {in[2][i], in[3][i]}, {in[4][i], in[5][i]});
           ++lookups;
           for (int ch = 0; ch < 4; ++ch)
-            if (std::bit_cast<std::uint32_t>(out[ch][i]) != std::bit_cast<std::uint32_t>(one[ch])) {
+            if (std::bit_cast<std::uint32_t>(out[ch][i]) != std::bit_cast<std::uint32_t>(one[ch]) ||
+                std::bit_cast<std::uint32_t>(bound_out[ch][i]) != std::bit_cast<std::uint32_t>(one[ch])) {
               ++mismatches;
               break;
             }

@@ -53,7 +53,7 @@ PreparedSlot prepare_slot(const TextureSlot& slot, const std::string& name) {
               std::isfinite(t.scale.x) && std::isfinite(t.scale.y),
           field.c_str(), "the UV transform must be finite");
   p.texture = slot.texture.get();
-  p.sampler = slot.sampler;
+  p.bound = raster::BoundTexture(*slot.texture, slot.sampler);
   p.uv_set = slot.uv_set;
   p.transformed = !(t.offset == glm::vec2(0.0f) && t.rotation == 0.0f && t.scale == glm::vec2(1.0f));
   if (p.transformed) {

@@ -73,13 +73,8 @@ inline FloorL floor_of(FV x) {
   return {i, to_float(i)};
 }
 
-// log2_of() per lane: the same selects and the same polynomial.
-inline FV log2_of(FV x) {
-  const float inf = std::numeric_limits<float>::infinity();
-  const IV subnormal = x < std::numeric_limits<float>::min();
-  const FV xn = select(subnormal, x * 16777216.0f, x);  // 2^24
-  const IV bits = (IV)xn;
-  IV e = select(subnormal, splat_int(-24), IV{}) + (((bits >> 23) & 0xff) - 127);
+// log2_of()'s polynomial per lane, from the exponent e and the significand's bits.
+inline FV log2_tail(IV e, IV bits) {
   FV m = (FV)((bits & 0x007fffff) | 0x3f800000);  // [1, 2)
   const IV above = m > 1.41421356f;
   m = select(above, m * 0.5f, m);
@@ -92,7 +87,21 @@ inline FV log2_of(FV x) {
   p = p * s2 + 1.0f / 3.0f;
   p = p * s2 + 1.0f;
   constexpr float kTwoOverLn2 = 2.88539008f;  // 2 / ln 2
-  FV r = to_float(e) + s * p * kTwoOverLn2;
+  return to_float(e) + s * p * kTwoOverLn2;
+}
+
+// log2_of() per lane: the same selects and the same polynomial. Where every lane is a
+// normal float (FLT_MIN ≤ x < ∞, as a lookup's footprint is unless a derivative is 0),
+// the selects of the special cases are identities and are skipped.
+inline FV log2_of(FV x) {
+  const float inf = std::numeric_limits<float>::infinity();
+  const IV bits = (IV)x;
+  if (all((x >= std::numeric_limits<float>::min()) & (x < inf))) return log2_tail((bits >> 23) - 127, bits);
+  const IV subnormal = x < std::numeric_limits<float>::min();
+  const FV xn = select(subnormal, x * 16777216.0f, x);  // 2^24
+  const IV nbits = (IV)xn;
+  const IV e = select(subnormal, splat_int(-24), IV{}) + (((nbits >> 23) & 0xff) - 127);
+  FV r = log2_tail(e, nbits);
   r = select(x == inf, splat(inf), r);
   r = select(x == 0.0f, splat(-inf), r);
   return select(!(x >= 0.0f), splat(std::numeric_limits<float>::quiet_NaN()), r);  // NaN, negatives
@@ -357,7 +366,11 @@ inline RgbaV bilinear(const LaneTexture& t, const LevelLanes& lv, FV cu, FV cv) 
 // else the blend of the two levels around λ.
 template <unsigned kCh>
 inline RgbaV trilinear(const LaneTexture& t, FV lod, FV u, FV v) {
-  const FV cu = coordinate(u), cv = coordinate(v);
+  // coordinate() is the identity where every lane is within ±2^16 (NaN is not).
+  const float k = kMaxCoordinate;
+  const bool inside = all((u >= -k) & (u <= k) & (v >= -k) & (v <= k));
+  FV cu = u, cv = v;
+  if (!inside) cu = coordinate(u), cv = coordinate(v);
   const IV positive = lod > 0.0f;
   const IV between = positive & (lod < static_cast<float>(t.q));
   const FloorL f = floor_of(select(between, lod, splat(0.5f)));
@@ -375,18 +388,36 @@ inline RgbaV trilinear(const LaneTexture& t, FV lod, FV u, FV v) {
 // false: for a sampler whose max_anisotropy is 1 (one probe per lane, no probe loop).
 template <unsigned kCh, bool kAniso>
 inline RgbaV sample_v(const LaneTexture& t, FV u, FV v, FV dudx, FV dvdx, FV dudy, FV dvdy) {
-  // Lookup::footprint().
-  dudx = finite_or_zero(dudx);
-  dvdx = finite_or_zero(dvdx);
-  dudy = finite_or_zero(dudy);
-  dvdy = finite_or_zero(dvdy);
-  const FV ux = dudx * t.width, vx = dvdx * t.height, uy = dudy * t.width, vy = dvdy * t.height;
-  const FV px = sqrt(ux * ux + vx * vx);
-  const FV py = sqrt(uy * uy + vy * vy);
+  // Lookup::footprint(): non-finite derivatives read as 0. Where every lane's px² + py²
+  // is finite, so is every derivative (a non-finite one makes its square +∞ or NaN), and
+  // finite_or_zero() is the identity there.
+  FV px2, py2;
+  auto squares = [&] {
+    const FV ux = dudx * t.width, vx = dvdx * t.height, uy = dudy * t.width, vy = dvdy * t.height;
+    px2 = ux * ux + vx * vx;
+    py2 = uy * uy + vy * vy;
+  };
+  squares();
+  if (!all(px2 + py2 < std::numeric_limits<float>::infinity())) {
+    dudx = finite_or_zero(dudx);
+    dvdx = finite_or_zero(dvdx);
+    dudy = finite_or_zero(dudy);
+    dvdy = finite_or_zero(dvdy);
+    squares();
+  }
+  if (!kAniso) {
+    // Isotropic: P_max alone, one square root. √ is monotonic and correctly rounded, so
+    // √max(px², py²) is max(√px², √py²) (finite inputs: the squares are ≥ 0 or +∞, no NaN).
+    const FV pmax = sqrt(select(px2 < py2, py2, px2));
+    const FV lod = clamp((log2_of(pmax) + 0.0f) + t.lod_bias, t.min_lod, t.max_lod);
+    return trilinear<kCh>(t, lod, u, v);
+  }
+  const FV px = sqrt(px2);
+  const FV py = sqrt(py2);
   const IV x_major = ~(px < py);
   const FV pmax = select(x_major, px, py), pmin = select(x_major, py, px);
   IV probes = splat_int(1);
-  if (kAniso && t.max_anisotropy > 1) {
+  if (t.max_anisotropy > 1) {
     const FV ratio = pmax / pmin;  // +∞ for pmin = 0; NaN for ∞/∞ and 0/0 (then unused)
     const IV below = ratio < static_cast<float>(t.max_anisotropy);
     const FV r = select(below, ratio, splat(1.0f));  // in [1, 16): converts exactly
@@ -398,7 +429,7 @@ inline RgbaV sample_v(const LaneTexture& t, FV u, FV v, FV dudx, FV dvdx, FV dud
   FV lod = log2_of(select(several, pmax / to_float(probes), pmax));
   // clamp_lod(lod + finite_or_zero(bias)) with bias 0.
   lod = clamp((lod + 0.0f) + t.lod_bias, t.min_lod, t.max_lod);
-  if (!kAniso || !any(several)) return trilinear<kCh>(t, lod, u, v);
+  if (!any(several)) return trilinear<kCh>(t, lod, u, v);
   // EXT_texture_filter_anisotropic's probes: lanes with one probe read (u, v) as the scalar
   // code does; the others the mean of theirs, summed in order, a probe past a lane's count
   // adding nothing.

@@ -364,20 +364,6 @@ Texture::Texture(const image::ImageViewF& image, const TextureOptions& options, 
 namespace detail {
 std::atomic<bool> texture_vbmi_allowed{true};
 void allow_texture_vbmi(bool allowed) { texture_vbmi_allowed.store(allowed, std::memory_order_relaxed); }
-
-// What the lane kernel (texture-inl.h) reads: an 8-bit texture whose sides are powers
-// of two, through a sampler that repeats both ways and filters linearly everywhere.
-struct LaneTexture {
-  const std::uint8_t* texels;  // RGBA8, every level
-  const float* rgb;            // colour code → linear
-  const float* alpha;          // alpha code → k/255
-  const Texture::Level* levels;
-  int q;                       // the last level
-  float width, height;         // level 0's sides
-  float lod_bias, min_lod, max_lod;
-  int max_anisotropy;
-  const std::uint8_t* planes;  // rgb's floats by byte: byte k of entry c at [256 k + c]
-};
 }  // namespace detail
 
 }  // namespace softpbr::raster
@@ -688,32 +674,41 @@ Texture::Footprint Texture::footprint(const Sampler& s, glm::vec2 dx, glm::vec2 
   return Lookup(*this).footprint(s, dx.x, dx.y, dy.x, dy.y, bias, nullptr, nullptr);
 }
 
-void Texture::sample_batch(const Sampler& s, int n, const Batch& b, [[maybe_unused]] simd::Isa isa) const {
+Texture::LaneKernel Texture::lane_kernel([[maybe_unused]] const Sampler& s, [[maybe_unused]] simd::Isa isa,
+                                         [[maybe_unused]] detail::LaneTexture& lanes) const {
 #if SOFTPBR_SIMD_X86_TARGETS
   if (!is_float() && repeat_trilinear(s) && power_of_two(width()) && power_of_two(height()) &&
       isa != simd::Isa::Baseline) {
-    const detail::LaneTexture t{texels8_.data(),
-                                rgb_table_,
-                                tables().unorm.data(),
-                                levels_.data(),
-                                static_cast<int>(levels_.size()) - 1,
-                                static_cast<float>(width()),
-                                static_cast<float>(height()),
-                                s.lod_bias,
-                                s.min_lod,
-                                s.max_lod,
-                                s.max_anisotropy,
-                                space_ == ColorSpace::Srgb ? tables().srgb_planes.data() : tables().unorm_planes.data()};
+    lanes = {texels8_.data(),
+             rgb_table_,
+             tables().unorm.data(),
+             levels_.data(),
+             static_cast<int>(levels_.size()) - 1,
+             static_cast<float>(width()),
+             static_cast<float>(height()),
+             s.lod_bias,
+             s.min_lod,
+             s.max_lod,
+             s.max_anisotropy,
+             space_ == ColorSpace::Srgb ? tables().srgb_planes.data() : tables().unorm_planes.data()};
     // 16 lanes at once with AVX-512 (with VBMI where the CPU has it and tests allow),
     // else 8.
     if (isa == simd::Isa::Avx512 && detail::texture_vbmi_allowed.load(std::memory_order_relaxed) &&
         simd::cpu_has_avx512_vbmi())
-      detail::avx512vbmi::sample_lanes(t, n, b);
-    else if (isa == simd::Isa::Avx512) detail::avx512::sample_lanes(t, n, b);
-    else detail::avx2::sample_lanes(t, n, b);
-    return;
+      return detail::avx512vbmi::sample_lanes;
+    if (isa == simd::Isa::Avx512) return detail::avx512::sample_lanes;
+    return detail::avx2::sample_lanes;
   }
 #endif
+  return nullptr;
+}
+
+void Texture::sample_batch(const Sampler& s, int n, const Batch& b, simd::Isa isa) const {
+  detail::LaneTexture lanes;
+  if (const LaneKernel kernel = lane_kernel(s, isa, lanes)) {
+    kernel(lanes, n, b);
+    return;
+  }
   const Lookup lookup(*this);
   if (lookup.fast(s)) {
     for (int i = 0; i < n; ++i) {

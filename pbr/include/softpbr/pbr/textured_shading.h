@@ -66,7 +66,7 @@ std::vector<TexturedVertex> textured_vertices(const Mesh& mesh);
 // A texture slot ready for lookups: uv' = (a·u + b·v + c, d·u + e·v + f).
 struct PreparedSlot {
   const raster::Texture* texture = nullptr;
-  raster::Sampler sampler;
+  raster::BoundTexture bound;  // the texture and the slot's sampler, bound once per draw
   int uv_set = 0;
   bool transformed = false;  // false: the identity (skipped)
   float a = 1, b = 0, c = 0, d = 0, e = 1, f = 0;
@@ -200,7 +200,7 @@ struct BasicTexturedPbrShader {
       }
       if (step == 1) u = u + dudx, v = v + dvdx;
       if (step == 2) u = u + dudy, v = v + dvdy;
-      return raster::sample(*slot.texture, slot.sampler, u, v, dudx, dvdx, dudy, dvdy, channels);
+      return raster::sample(slot.bound, u, v, dudx, dvdx, dudy, dvdy, channels);
     };
 
     // Base colour and alpha.

@@ -8,6 +8,9 @@
 //   glm::vec4 c = wood->sample(sampler, f.v.uv, f.ddx.uv, f.ddy.uv);
 //   // in fragment_packet<F>(p): the same per lane
 //   raster::Color<F> c = raster::sample(*wood, sampler, u, v, dudx, dvdx, dudy, dvdy);
+//   // or with the texture and sampler bound once per draw, not resolved on every call:
+//   raster::BoundTexture bound(*wood, sampler);
+//   raster::Color<F> c = raster::sample(bound, u, v, dudx, dvdx, dudy, dvdy);
 //
 // Conventions (docs/design.md, "Textures"):
 // - UV (0, 0) is the top-left corner of the image — its first row in memory — and (1, 1) the
@@ -26,8 +29,9 @@
 // IEEE operations in the same order whatever the form, the lane width or the instruction
 // set: the packet form runs the scalar code per lane, or, on x86-64 CPUs with AVX2 and for
 // 8-bit textures with power-of-two sides through repeat, trilinear samplers, a lane
-// kernel (8 lanes with AVX2, 16 with AVX-512) with those operations per lane (selects for branches, no FMA). So a texel value is
-// the same bits at every width, with dispatch on or off. log₂ is computed from the float's
+// kernel (8 lanes with AVX2, 16 with AVX-512) with those operations per lane (selects for
+// branches, no FMA). So a texel value is the same bits at every width, with dispatch on
+// or off. log₂ is computed from the float's
 // bits and a fixed polynomial (no libm). Mip chains are built with a fixed order of
 // operations per texel, so they do not depend on the thread count.
 #pragma once
@@ -77,6 +81,10 @@ struct Sampler {
 // Throws std::invalid_argument naming the field: an anisotropy outside [1, 16], a
 // non-finite bias, min_lod > max_lod or NaN limits, an enumerator out of range.
 void validate(const Sampler& sampler);
+
+namespace detail {
+struct LaneTexture;  // what a lane kernel reads (defined below Texture)
+}  // namespace detail
 
 struct TextureOptions {
   bool mipmaps = true;  // false: the base level only (every lookup reads it)
@@ -175,6 +183,12 @@ class Texture {
   void sample_lod_batch(const Sampler& s, int n, const Batch& batch) const;
 
  private:
+  friend class BoundTexture;
+  // A lane kernel (texture-inl.h): sample_batch's lookups for one instruction set.
+  using LaneKernel = void (*)(const detail::LaneTexture&, int, const Batch&);
+  // The lane kernel that runs sample_batch(s, …, isa), with what it reads in `lanes`;
+  // nullptr where the scalar lookup runs instead.
+  LaneKernel lane_kernel(const Sampler& s, simd::Isa isa, detail::LaneTexture& lanes) const;
   void allocate_levels(int width, int height, bool mipmaps);
   // Checks an 8-bit image and space_, sets levels_; returns the bytes of every level.
   std::size_t levels8(const image::ImageView8& image, const TextureOptions& options);
@@ -186,6 +200,48 @@ class Texture {
   image::PixelVector<float> texels_f_;     // RGBA float, every level
   ColorSpace space_ = ColorSpace::Linear;
   const float* rgb_table_ = nullptr;   // 8-bit colour code → linear (sRGB or /255)
+};
+
+namespace detail {
+// What the lane kernel (texture-inl.h) reads: an 8-bit texture whose sides are powers
+// of two, through a sampler that repeats both ways and filters linearly everywhere.
+struct LaneTexture {
+  const std::uint8_t* texels;  // RGBA8, every level
+  const float* rgb;            // colour code → linear
+  const float* alpha;          // alpha code → k/255
+  const Texture::Level* levels;
+  int q;                       // the last level
+  float width, height;         // level 0's sides
+  float lod_bias, min_lod, max_lod;
+  int max_anisotropy;
+  const std::uint8_t* planes;  // rgb's floats by byte: byte k of entry c at [256 k + c]
+};
+}  // namespace detail
+
+// A texture and a sampler bound together for many lookups, as a shader binds its
+// textures once per draw: which code runs them (and what it reads) is settled here, not
+// on every call. Lookups through it are sample_batch()'s, bit for bit. The texture must
+// outlive it; the sampler must be valid (validate()).
+class BoundTexture {
+ public:
+  BoundTexture() = default;
+  BoundTexture(const Texture& texture, const Sampler& sampler, simd::Isa isa = simd::cpu_isa())
+      : texture_(&texture), sampler_(sampler), isa_(isa), kernel_(texture.lane_kernel(sampler, isa, lanes_)) {}
+
+  const Texture* texture() const { return texture_; }
+  const Sampler& sampler() const { return sampler_; }
+  // Texture::sample_batch(sampler(), n, batch, isa).
+  void sample_batch(int n, const Texture::Batch& batch) const {
+    if (kernel_ != nullptr) kernel_(lanes_, n, batch);
+    else texture_->sample_batch(sampler_, n, batch, isa_);
+  }
+
+ private:
+  const Texture* texture_ = nullptr;
+  Sampler sampler_;
+  simd::Isa isa_ = simd::Isa::Baseline;
+  detail::LaneTexture lanes_{};
+  Texture::LaneKernel kernel_ = nullptr;
 };
 
 namespace detail {
@@ -212,11 +268,12 @@ float lod_log2(float x);
 // The packet form: lane i of the result is texture.sample() (sample_lod()) of lane i's
 // arguments, for F = float or simd lanes of any width. `channels` (Texture::Batch::channels)
 // names the channels the caller reads; with lanes the others may come back as 0.
+// Through a BoundTexture: the lookups of its texture and sampler, bit for bit.
 template <class F>
-inline Color<F> sample(const Texture& texture, const Sampler& s, F u, F v, F dudx, F dvdx, F dudy, F dvdy,
+inline Color<F> sample(const BoundTexture& bound, F u, F v, F dudx, F dvdx, F dudy, F dvdy,
                        unsigned channels = Texture::kRgba) {
   if constexpr (std::is_same_v<F, float>) {
-    const glm::vec4 c = texture.sample(s, {u, v}, {dudx, dvdx}, {dudy, dvdy});
+    const glm::vec4 c = bound.texture()->sample(bound.sampler(), {u, v}, {dudx, dvdx}, {dudy, dvdy});
     return {c.r, c.g, c.b, c.a};
   } else {
     constexpr int N = simd::LaneCount<F>::value;
@@ -228,10 +285,22 @@ inline Color<F> sample(const Texture& texture, const Sampler& s, F u, F v, F dud
     dvdx.store(in[3]);
     dudy.store(in[4]);
     dvdy.store(in[5]);
-    texture.sample_batch(s, N,
-                         {in[0], in[1], in[2], in[3], in[4], in[5], nullptr, out[0], out[1], out[2], out[3], channels});
+    bound.sample_batch(N,
+                       {in[0], in[1], in[2], in[3], in[4], in[5], nullptr, out[0], out[1], out[2], out[3], channels});
     auto load = [&](int c) { return channels >> c & 1 ? F::load(out[c]) : F(0.0f); };
     return {load(0), load(1), load(2), load(3)};
+  }
+}
+
+// The same for a texture and a sampler bound for this lookup alone.
+template <class F>
+inline Color<F> sample(const Texture& texture, const Sampler& s, F u, F v, F dudx, F dvdx, F dudy, F dvdy,
+                       unsigned channels = Texture::kRgba) {
+  if constexpr (std::is_same_v<F, float>) {
+    const glm::vec4 c = texture.sample(s, {u, v}, {dudx, dvdx}, {dudy, dvdy});
+    return {c.r, c.g, c.b, c.a};
+  } else {
+    return sample(BoundTexture(texture, s), u, v, dudx, dvdx, dudy, dvdy, channels);
   }
 }
 
