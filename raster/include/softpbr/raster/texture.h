@@ -31,9 +31,9 @@
 // 8-bit textures with power-of-two sides through repeat, trilinear samplers, a lane
 // kernel (8 lanes with AVX2, 16 with AVX-512) with those operations per lane (selects for
 // branches, no FMA). So a texel value is the same bits at every width, with dispatch on
-// or off. log₂ is computed from the float's
-// bits and a fixed polynomial (no libm). Mip chains are built with a fixed order of
-// operations per texel, so they do not depend on the thread count.
+// or off. log₂ is computed from the float's bits and a fixed polynomial (no libm). Mip
+// chains are built with a fixed order of operations per texel, so they do not depend on
+// the thread count.
 #pragma once
 
 #include <cstddef>
@@ -220,8 +220,9 @@ struct LaneTexture {
 
 // A texture and a sampler bound together for many lookups, as a shader binds its
 // textures once per draw: which code runs them (and what it reads) is settled here, not
-// on every call. Lookups through it are sample_batch()'s, bit for bit. The texture must
-// outlive it; the sampler must be valid (validate()).
+// on every call — by the CPU, `isa` and detail::allow_texture_vbmi as they are when bound.
+// Lookups through it are sample_batch()'s, bit for bit. The texture must outlive it; the
+// sampler must be valid (validate()). A default-constructed one is unbound: no lookups.
 class BoundTexture {
  public:
   BoundTexture() = default;
