@@ -384,6 +384,9 @@ inline RgbaV trilinear(const LaneTexture& t, FV lod, FV u, FV v) {
   return out;
 }
 
+// clamp_lod(lod + finite_or_zero(bias)) with the batch's bias, 0.
+inline FV clamp_lod(const LaneTexture& t, FV lod) { return clamp((lod + 0.0f) + t.lod_bias, t.min_lod, t.max_lod); }
+
 // Lookup::sample_fast() per lane (the batch's bias is 0), the channels in kCh; kAniso
 // false: for a sampler whose max_anisotropy is 1 (one probe per lane, no probe loop).
 template <unsigned kCh, bool kAniso>
@@ -409,8 +412,7 @@ inline RgbaV sample_v(const LaneTexture& t, FV u, FV v, FV dudx, FV dvdx, FV dud
     // Isotropic: P_max alone, one square root. √ is monotonic and correctly rounded, so
     // √max(px², py²) is max(√px², √py²) (finite inputs: the squares are ≥ 0 or +∞, no NaN).
     const FV pmax = sqrt(select(px2 < py2, py2, px2));
-    const FV lod = clamp((log2_of(pmax) + 0.0f) + t.lod_bias, t.min_lod, t.max_lod);
-    return trilinear<kCh>(t, lod, u, v);
+    return trilinear<kCh>(t, clamp_lod(t, log2_of(pmax)), u, v);
   }
   const FV px = sqrt(px2);
   const FV py = sqrt(py2);
@@ -426,9 +428,7 @@ inline RgbaV sample_v(const LaneTexture& t, FV u, FV v, FV dudx, FV dvdx, FV dud
     probes = select(pmax > 0.0f, select(below, ceil, splat_int(t.max_anisotropy)), probes);
   }
   const IV several = probes > 1;
-  FV lod = log2_of(select(several, pmax / to_float(probes), pmax));
-  // clamp_lod(lod + finite_or_zero(bias)) with bias 0.
-  lod = clamp((lod + 0.0f) + t.lod_bias, t.min_lod, t.max_lod);
+  const FV lod = clamp_lod(t, log2_of(select(several, pmax / to_float(probes), pmax)));
   if (!any(several)) return trilinear<kCh>(t, lod, u, v);
   // EXT_texture_filter_anisotropic's probes: lanes with one probe read (u, v) as the scalar
   // code does; the others the mean of theirs, summed in order, a probe past a lane's count
