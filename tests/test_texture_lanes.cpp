@@ -11,6 +11,7 @@
 #include <doctest/doctest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -117,6 +118,79 @@ TEST_CASE("the 8- and 16-lane texture kernels return the scalar lookup's bits") 
         }
       }
     CHECK(lookups > 10000);
+    CHECK(mismatches == 0);
+  }
+  raster::detail::allow_texture_vbmi(true);
+}
+
+TEST_CASE("packets of a surface (8×2 and 4×4 pixels) get the scalar lookup's bits") {
+  // The lanes of a shader's packet: a patch of pixels whose UVs are an affine map of the
+  // pixel, at scales from magnification to a few levels down, rotated and sheared, at
+  // random places (wrap seams and the levels' last rows and columns included), asking for
+  // the channel sets the textured shader asks for (each has its own kernel; rgb decodes
+  // four texel vectors together with VBMI). The random lanes above seldom make whole
+  // groups that read two levels with every lane; these mostly do.
+  using softpbr::simd::Isa;
+  const std::pair<Isa, bool> kernels[] = {{Isa::Avx2, false}, {Isa::Avx512, false}, {Isa::Avx512, true}};
+  const raster::Texture textures[] = {
+      raster::Texture(softpbr::test::random_image8(256, 256, 11), raster::ColorSpace::Srgb),
+      raster::Texture(softpbr::test::random_image8(64, 16, 12), raster::ColorSpace::Linear),
+      raster::Texture(softpbr::test::random_image8(16, 4, 13), raster::ColorSpace::Srgb),  // the smallest window
+      raster::Texture(softpbr::test::random_image8(32, 128, 14), raster::ColorSpace::Srgb),
+  };
+  for (const auto& kernel : kernels) {
+    const Isa isa = kernel.first;
+    const bool vbmi = kernel.second;
+    if (!softpbr::simd::supported(isa) || (vbmi && !softpbr::simd::cpu_has_avx512_vbmi())) continue;
+    CAPTURE(static_cast<int>(isa));
+    CAPTURE(vbmi);
+    raster::detail::allow_texture_vbmi(vbmi);
+    std::mt19937 rng(33);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    long mismatches = 0, lookups = 0;
+    for (const raster::Texture& t : textures) {
+      const float w = static_cast<float>(t.width()), h = static_cast<float>(t.height());
+      for (int rep = 0; rep < 3000; ++rep) {
+        raster::Sampler s;  // repeat, trilinear
+        s.max_anisotropy = rep % 5 == 4 ? 4 : 1;
+        // Texels a pixel at level 0: 2^-1.5 … 2^5.5; a rotation, a little shear and stretch.
+        const float scale = std::exp2(unit(rng) * 7.0f - 1.5f);
+        const float angle = rep % 3 == 0 ? 0.0f : unit(rng) * 6.2831853f;
+        const float stretch = rep % 4 == 0 ? 1.0f : 0.7f + 0.6f * unit(rng);
+        const float shear = rep % 4 == 1 ? 0.3f * (unit(rng) - 0.5f) : 0.0f;
+        const float cs = std::cos(angle) * scale, sn = std::sin(angle) * scale;
+        const float dudx = cs / w, dvdx = sn * stretch / h;
+        const float dudy = (shear * cs - sn) / w, dvdy = cs * stretch / h;
+        // Anywhere, or just before a level's last column or row (the window moved left or up).
+        float u0 = unit(rng) * 4.0f - 2.0f, v0 = unit(rng) * 4.0f - 2.0f;
+        if (rep % 6 == 2) u0 = 1.0f - (1.0f + 14.0f * unit(rng)) * scale / w;
+        if (rep % 6 == 3) v0 = 1.0f - (1.0f + 4.0f * unit(rng)) * scale / h;
+        const bool square = rep % 2 == 0;  // 4×4 pixels, else 8×2
+        float in[6][16], out[4][16];
+        for (int i = 0; i < 16; ++i) {
+          const float x = static_cast<float>(square ? i % 4 : i % 8), y = static_cast<float>(square ? i / 4 : i / 8);
+          in[0][i] = u0 + dudx * x + dudy * y;
+          in[1][i] = v0 + dvdx * x + dvdy * y;
+          in[2][i] = dudx, in[3][i] = dvdx, in[4][i] = dudy, in[5][i] = dvdy;
+        }
+        constexpr unsigned kSets[] = {raster::Texture::kRgba, raster::Texture::kRgb,
+                                      raster::Texture::kGreen | raster::Texture::kBlue, raster::Texture::kRed};
+        const unsigned channels = kSets[(rep / 2) % 4];
+        raster::BoundTexture(t, s, isa)
+            .sample_batch(16,
+                          {in[0], in[1], in[2], in[3], in[4], in[5], nullptr, out[0], out[1], out[2], out[3], channels});
+        for (int i = 0; i < 16; ++i) {
+          const glm::vec4 one = t.sample(s, {in[0][i], in[1][i]}, {in[2][i], in[3][i]}, {in[4][i], in[5][i]});
+          ++lookups;
+          for (int ch = 0; ch < 4; ++ch)
+            if ((channels >> ch & 1) && std::bit_cast<std::uint32_t>(out[ch][i]) != std::bit_cast<std::uint32_t>(one[ch])) {
+              ++mismatches;
+              break;
+            }
+        }
+      }
+    }
+    CHECK(lookups == 4 * 3000 * 16);
     CHECK(mismatches == 0);
   }
   raster::detail::allow_texture_vbmi(true);
