@@ -433,18 +433,7 @@ inline RgbaV bilinear(const LaneTexture& t, const LevelLanes& lv, FV cu, FV cv) 
 #else
   const RgbaV c00 = texels<kCh>(t, f.row_a + f.ia), c10 = texels<kCh>(t, f.row_a + f.ib);
   const RgbaV c01 = texels<kCh>(t, f.row_b + f.ia), c11 = texels<kCh>(t, f.row_b + f.ib);
-  const FV bx = 1.0f - f.wt.ax, by = 1.0f - f.wt.ay;
-  RgbaV out;
-  for (int ch = 0; ch < 4; ++ch) {
-    if (!(kCh >> ch & 1)) {
-      out.c[ch] = FV{};
-      continue;
-    }
-    const FV top = c00.c[ch] * bx + c10.c[ch] * f.wt.ax;
-    const FV bottom = c01.c[ch] * bx + c11.c[ch] * f.wt.ax;
-    out.c[ch] = top * by + bottom * f.wt.ay;
-  }
-  return out;
+  return filter<kCh>(c00, c10, c01, c11, f.wt);
 #endif
 }
 
