@@ -135,7 +135,7 @@ TEST_CASE("packets of a surface (8×2 and 4×4 pixels) get the scalar lookup's b
   const raster::Texture textures[] = {
       raster::Texture(softpbr::test::random_image8(256, 256, 11), raster::ColorSpace::Srgb),
       raster::Texture(softpbr::test::random_image8(64, 16, 12), raster::ColorSpace::Linear),
-      raster::Texture(softpbr::test::random_image8(16, 4, 13), raster::ColorSpace::Srgb),  // the smallest window
+      raster::Texture(softpbr::test::random_image8(16, 4, 13), raster::ColorSpace::Srgb),  // levels down to 1×1
       raster::Texture(softpbr::test::random_image8(32, 128, 14), raster::ColorSpace::Srgb),
   };
   for (const auto& kernel : kernels) {
@@ -161,7 +161,7 @@ TEST_CASE("packets of a surface (8×2 and 4×4 pixels) get the scalar lookup's b
         const float cs = std::cos(angle) * scale, sn = std::sin(angle) * scale;
         const float dudx = cs / w, dvdx = sn * stretch / h;
         const float dudy = (shear * cs - sn) / w, dvdy = cs * stretch / h;
-        // Anywhere, or just before a level's last column or row (the window moved left or up).
+        // Anywhere, or just before a level's last column or row (where neighbours wrap).
         float u0 = unit(rng) * 4.0f - 2.0f, v0 = unit(rng) * 4.0f - 2.0f;
         if (rep % 6 == 2) u0 = 1.0f - (1.0f + 14.0f * unit(rng)) * scale / w;
         if (rep % 6 == 3) v0 = 1.0f - (1.0f + 4.0f * unit(rng)) * scale / h;
