@@ -322,16 +322,12 @@ inline RgbaV decode_words(const LaneTexture& t, __m512i w) {
   }
   return r;
 }
-#endif  // SOFTPBR_TARGET_AVX512
-
+#else
 // kL texels (RGBA8, by index into the texel array) decoded: colour through the
 // texture's table, alpha to k/255; only the channels in kCh (bit c: channel c), the
-// others 0.
+// others 0. (The AVX-512 copies load words and decode them: footprint_words, decode_four.)
 template <unsigned kCh>
 inline RgbaV texels(const LaneTexture& t, IV index) {
-#if SOFTPBR_TARGET_AVX512
-  return decode_words<kCh>(t, texel_words(t, index));
-#else
   // One by one: on Zen 3 this is faster than AVX2's gathers (one for the texels and four
   // for the tables: 50 against 43 ns a lookup in a micro benchmark, though half the
   // instructions).
@@ -351,8 +347,8 @@ inline RgbaV texels(const LaneTexture& t, IV index) {
     else r.c[ch] = FV{};
   }
   return r;
-#endif
 }
+#endif  // SOFTPBR_TARGET_AVX512
 
 // Lookup::bilinear_repeat()'s weights of the four texels, per lane.
 struct Weights {
