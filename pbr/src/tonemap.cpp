@@ -9,7 +9,6 @@
 #include <stdexcept>
 #include <vector>
 
-#include "softpbr/image/write.h"
 #include "softpbr/raster/color.h"
 #include "softpbr/check.h"
 #include "softpbr/dmath/dmath.h"
@@ -439,27 +438,6 @@ raster::Image8 tone_map_to_rgba8(const raster::Target& target, const OutputSetti
   image.rgba.resize(static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(target.height()) * 4);
   mapper.encode(target, 0, 0, target.width(), target.height(), image);
   return image;
-}
-
-namespace {
-// The colour buffer of a target as float RGBA samples (a glm::vec4 is four floats), for
-// the image library's writers: no copy of the buffer is made.
-image::ImageViewF colour_view(const raster::Target& target) {
-  static_assert(sizeof(glm::vec4) == 4 * sizeof(float));
-  const std::span<const glm::vec4> colors = target.colors();
-  return {target.width(), target.height(),
-          std::span<const float>(reinterpret_cast<const float*>(colors.data()), colors.size() * 4)};
-}
-}  // namespace
-
-void write_hdr(const std::filesystem::path& path, const raster::Target& target, float exposure) {
-  if (target.samples() > 1) return write_hdr(path, raster::resolve_box(target), exposure);
-  image::write_hdr(path, colour_view(target), exposure_scale(exposure));
-}
-
-void write_exr(const std::filesystem::path& path, const raster::Target& target, float exposure) {
-  if (target.samples() > 1) return write_exr(path, raster::resolve_box(target), exposure);
-  image::write_exr(path, colour_view(target), exposure_scale(exposure));
 }
 
 }  // namespace softpbr::pbr

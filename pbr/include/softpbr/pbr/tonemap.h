@@ -1,5 +1,5 @@
 // softpbr/pbr/tonemap.h — from HDR linear radiance to an image: exposure → tone map →
-// transfer curve → RGBA8, and linear float output (Radiance .hdr, OpenEXR).
+// transfer curve → RGBA8 (and the linear float output of raster/write.h: .hdr, OpenEXR).
 //
 // Every step is basic arithmetic; the transfer curves (exact piecewise sRGB, or a power
 // law "gamma") are applied through 255 precomputed thresholds per curve, computed with
@@ -9,7 +9,6 @@
 
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -20,6 +19,7 @@
 #include <glm/vec4.hpp>
 
 #include "softpbr/raster/target.h"
+#include "softpbr/raster/write.h"
 
 namespace softpbr::pbr {
 
@@ -156,15 +156,10 @@ class ToneMapper {
   std::shared_ptr<const ToneMapper> display_;
 };
 
-// Writes the linear colour (× 2^exposure, no tone map) as a Radiance RGBE .hdr file
-// (image::write_hdr: alpha dropped, negative and non-finite values stored as 0),
-// atomically; a multisampled target is resolved (raster::resolve_box) first. Throws std::invalid_argument for a non-finite exposure, std::runtime_error
-// naming the path when writing fails.
-void write_hdr(const std::filesystem::path& path, const raster::Target& target, float exposure = 0.0f);
-
-// The same as OpenEXR (image::write_exr): float R, G, B × 2^exposure and A, kept exactly,
-// negatives included, non-finite values as 0; ZIP compressed.
-void write_exr(const std::filesystem::path& path, const raster::Target& target, float exposure = 0.0f);
+// Linear float output, Radiance .hdr and OpenEXR (× 2^exposure, no tone map): softpbr::raster's
+// (raster/write.h), named here too, where they were declared before.
+using raster::write_exr;
+using raster::write_hdr;
 
 // The 255 thresholds of an encoding curve: threshold k is the linear value whose encoding
 // is (k + 0.5)/255. gamma 0 selects sRGB.
