@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <string>
 
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/scene_file.h"
 
 namespace pbr = softpbr::pbr;
 

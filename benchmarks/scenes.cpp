@@ -9,10 +9,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "softpbr/loaders/obj.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/mesh.h"
-#include "softpbr/pbr/obj.h"
-#include "softpbr/pbr/scene_file.h"
 
 namespace softpbr::bench {
 

@@ -11,10 +11,11 @@
 #include <glm/geometric.hpp>
 
 #include "cli_error.h"
-#include "softpbr/pbr/gltf.h"
-#include "softpbr/pbr/gltf_info.h"
-#include "softpbr/pbr/obj.h"
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/format_bytes.h"
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/gltf_info.h"
+#include "softpbr/loaders/obj.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/raster/pool.h"
 
 namespace softpbr::cli {

@@ -20,9 +20,10 @@
 #include "frames.h"
 #include "softpbr/image/write.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/format_bytes.h"
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/environment.h"
-#include "softpbr/pbr/gltf.h"
-#include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/raster.h"
 
 namespace softpbr::cli {

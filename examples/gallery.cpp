@@ -12,8 +12,8 @@
 #include <string>
 
 #include "softpbr/image/write.h"
+#include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/gallery.h"
-#include "softpbr/pbr/obj.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;

@@ -13,7 +13,7 @@
 
 #include "fuzz_support.h"
 
-#include "softpbr/pbr/gltf.h"
+#include "softpbr/loaders/gltf.h"
 
 namespace pbr = softpbr::pbr;
 

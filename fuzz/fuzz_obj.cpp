@@ -20,7 +20,7 @@
 
 #include "fuzz_support.h"
 
-#include "softpbr/pbr/obj.h"
+#include "softpbr/loaders/obj.h"
 
 namespace fs = std::filesystem;
 namespace pbr = softpbr::pbr;

@@ -17,7 +17,7 @@
 #include <string>
 #include <string_view>
 
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/raster/renderer.h"
 #include "softpbr/raster/target.h"
 

@@ -18,8 +18,8 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/environment.h"
-#include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/simd/dispatch.h"
 

@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "softpbr/image/write.h"
-#include "softpbr/pbr/gltf.h"
-#include "softpbr/pbr/gltf_info.h"
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/gltf_info.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/scene.h"
-#include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
 

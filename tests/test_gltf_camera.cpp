@@ -12,10 +12,10 @@
 #include <doctest/doctest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/camera.h"
-#include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/scene.h"
-#include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;

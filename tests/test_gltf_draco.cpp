@@ -16,7 +16,7 @@
 #include <draco/mesh/triangle_soup_mesh_builder.h>
 #include <nlohmann/json.hpp>
 
-#include "softpbr/pbr/gltf.h"
+#include "softpbr/loaders/gltf.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/raster/raster.h"
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <utility>
 
-#include "softpbr/pbr/gltf.h"
-#include "softpbr/pbr/gltf_info.h"
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/gltf_info.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;

@@ -16,8 +16,8 @@
 #include <meshoptimizer.h>
 #include <nlohmann/json.hpp>
 
-#include "gltf/meshopt.h"  // pbr/src: the filters
-#include "softpbr/pbr/gltf.h"
+#include "gltf/meshopt.h"  // loaders/src: the filters
+#include "softpbr/loaders/gltf.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/raster/raster.h"
 

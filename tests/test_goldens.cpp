@@ -15,11 +15,11 @@
 
 #include "softpbr/golden/doctest_checks.h"
 
+#include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/gallery.h"
-#include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
-#include "softpbr/dmath/dmath.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;

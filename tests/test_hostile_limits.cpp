@@ -18,8 +18,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/gallery.h"
-#include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/raster/raster.h"
 

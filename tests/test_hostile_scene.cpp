@@ -6,8 +6,8 @@
 #include <fstream>
 #include <string>
 
-#include "softpbr/pbr/obj.h"
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/obj.h"
+#include "softpbr/loaders/scene_file.h"
 
 namespace pbr = softpbr::pbr;
 

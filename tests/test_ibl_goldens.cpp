@@ -10,9 +10,9 @@
 #include "softpbr/golden/doctest_checks.h"
 
 #include "softpbr/image/load.h"
+#include "softpbr/loaders/gltf.h"
 #include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/gallery.h"
-#include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"

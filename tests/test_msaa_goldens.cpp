@@ -14,9 +14,9 @@
 #include "softpbr/golden/doctest_checks.h"
 
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/scene.h"
-#include "softpbr/pbr/scene_file.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
 

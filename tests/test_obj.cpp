@@ -14,7 +14,7 @@
 #include <doctest/doctest.h>
 #include <glm/geometric.hpp>
 
-#include "softpbr/pbr/obj.h"
+#include "softpbr/loaders/obj.h"
 
 namespace pbr = softpbr::pbr;
 namespace fs = std::filesystem;

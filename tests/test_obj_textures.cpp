@@ -10,7 +10,7 @@
 #include <doctest/doctest.h>
 
 #include "softpbr/image/write.h"
-#include "softpbr/pbr/obj.h"
+#include "softpbr/loaders/obj.h"
 #include "texture_file_helpers.h"
 
 namespace pbr = softpbr::pbr;

@@ -9,11 +9,11 @@
 #include <doctest/doctest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "softpbr/pbr/gallery.h"
-#include "softpbr/pbr/obj.h"
-#include "softpbr/pbr/scene_file.h"
-#include "softpbr/pbr/shading.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/obj.h"
+#include "softpbr/loaders/scene_file.h"
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/shading.h"
 #include "softpbr/raster/raster.h"
 
 namespace pbr = softpbr::pbr;

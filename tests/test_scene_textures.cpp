@@ -11,7 +11,7 @@
 
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/write.h"
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/scene_file.h"
 #include "texture_file_helpers.h"
 
 namespace pbr = softpbr::pbr;

@@ -12,8 +12,8 @@
 #include <doctest/doctest.h>
 #include <glm/geometric.hpp>
 
+#include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/mesh.h"
-#include "softpbr/pbr/obj.h"
 
 namespace pbr = softpbr::pbr;
 

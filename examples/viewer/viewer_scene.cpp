@@ -8,12 +8,12 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "softpbr/pbr/gallery.h"
-#include "softpbr/pbr/gltf.h"
-#include "softpbr/pbr/material.h"
-#include "softpbr/pbr/obj.h"
-#include "softpbr/pbr/tonemap.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/obj.h"
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/material.h"
+#include "softpbr/pbr/tonemap.h"
 
 namespace viewer {
 

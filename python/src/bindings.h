@@ -13,7 +13,7 @@
 #include <pybind11/pybind11.h>
 
 #include "softpbr/image/image.h"
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/scene_file.h"
 
 namespace softpbr::python {
 

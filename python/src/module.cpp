@@ -5,7 +5,7 @@
 #include <system_error>
 
 #include "bindings.h"
-#include "softpbr/pbr/obj.h"
+#include "softpbr/loaders/obj.h"
 
 namespace softpbr::python {
 

@@ -21,6 +21,7 @@
 
 #include "bindings.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/format_bytes.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/raster/renderer.h"
 

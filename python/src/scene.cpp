@@ -15,10 +15,10 @@
 
 #include "bindings.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/environment.h"
-#include "softpbr/pbr/gltf.h"
 #include "softpbr/pbr/mesh.h"
-#include "softpbr/pbr/obj.h"
 #include "softpbr/raster/renderer.h"
 
 namespace softpbr::python {

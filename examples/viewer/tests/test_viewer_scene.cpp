@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <string>
 
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/gallery.h"
-#include "softpbr/pbr/gltf.h"
-#include "softpbr/pbr/obj.h"
 #include "softpbr/raster/raster.h"
 #include "viewer_scene.h"
 

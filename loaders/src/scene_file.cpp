@@ -1,6 +1,6 @@
 // JSON scene files (see scene_file.h; the format is docs/scene-format.md): the top level
 // here, each kind of value in scene_file/ (see scene_file/loader.h).
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/scene_file.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -9,6 +9,7 @@
 
 #include "json_reader.h"
 #include "scene_file/loader.h"
+#include "softpbr/loaders/format_bytes.h"
 
 namespace softpbr::pbr {
 
@@ -145,15 +146,6 @@ std::uint64_t image_memory(int width, int height, int samples) {
       static_cast<std::uint64_t>(std::max(width, 0)) * static_cast<std::uint64_t>(std::max(height, 0));
   const std::uint64_t multisampled = samples > 1 ? pixels * static_cast<std::uint64_t>(samples) * 20 : 0;
   return pixels * kBytesPerPixel + multisampled;
-}
-
-std::string format_bytes(std::uint64_t bytes) {
-  char buf[32];
-  if (bytes >= (std::uint64_t{1} << 30)) std::snprintf(buf, sizeof buf, "%.1f GiB", static_cast<double>(bytes) / (1 << 30));
-  else if (bytes >= (std::uint64_t{1} << 20)) std::snprintf(buf, sizeof buf, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
-  else if (bytes >= 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", static_cast<double>(bytes) / 1024);
-  else std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(bytes));
-  return buf;
 }
 
 }  // namespace softpbr::pbr

@@ -1,4 +1,4 @@
-// softpbr/pbr/scene_file.h — JSON scene files: camera, lights, objects (procedural shapes
+// softpbr/loaders/scene_file.h — JSON scene files: camera, lights, objects (procedural shapes
 // or OBJ files), materials, render settings and the turntable animation, loaded into a
 // pbr::Scene. The format is documented in docs/scene-format.md.
 //
@@ -16,9 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "softpbr/pbr/animation.h"
-#include "softpbr/pbr/scene.h"
-#include "softpbr/pbr/tonemap.h"
+#include "softpbr/loaders/loaded_scene.h"
 
 namespace softpbr::pbr {
 
@@ -39,27 +37,6 @@ inline constexpr std::size_t kMaxLights = 256;
 inline constexpr std::size_t kMaxObjects = 100000;
 // Default bound on the estimated memory of a render (scene_memory + image_memory).
 inline constexpr std::uint64_t kDefaultMemoryLimit = std::uint64_t{4} << 30;
-
-// Render settings: image size, output transform, renderer options.
-struct RenderSettings {
-  int width = 1280;
-  int height = 720;
-  OutputSettings output{0.0f, ToneMap::Reinhard, 0.0f};  // exposure, tone map, gamma (0 = sRGB)
-  unsigned threads = 0;                                    // 0: all hardware threads
-  int tile_size = 64;
-  int msaa = 1;  // samples a pixel: 1, 4 or 8 (raster::Target)
-};
-
-struct SceneFile {
-  Scene scene;
-  RenderSettings render;
-  Animation animation;
-  std::uint64_t mesh_bytes = 0;   // memory the scene's meshes and their draws are estimated to need
-  std::uint64_t texture_bytes = 0;  // texels of its textures, mip levels included (a shared image counts once)
-  std::uint64_t triangles = 0;    // drawn per frame (a shared mesh counts once per object)
-  std::vector<std::string> warnings;  // e.g. from OBJ files, one line each, naming the file
-  std::vector<std::string> inputs;    // the files read: the scene, models, MTL files, images
-};
 
 struct SceneLoadOptions {
   // The loader refuses a scene whose meshes and textures are estimated to need more
@@ -84,15 +61,9 @@ SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOpti
 SceneFile parse_scene_file(std::string_view text, const std::string& name, const std::filesystem::path& base_dir,
                            const SceneLoadOptions& options = {});
 
-// The scene at frame `frame` of the file's animation (frame 0 is the scene as written).
-inline Scene animate(const SceneFile& file, long frame) { return animate(file.scene, file.animation, frame); }
-
 // Estimated bytes of the buffers a width × height render allocates: the float colour and
 // depth target and the largest output's buffers (.exr's: 72 bytes a pixel in all); with
 // `samples` > 1 (MSAA) also the multisampled target (20 bytes a sample) the resolve reads.
 std::uint64_t image_memory(int width, int height, int samples = 1);
-
-// "1.5 GiB", "12.0 MiB", "640 B": for messages.
-std::string format_bytes(std::uint64_t bytes);
 
 }  // namespace softpbr::pbr

@@ -4,14 +4,14 @@
 #include <string>
 
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/loaders/gltf.h"
 #include "softpbr/pbr/environment.h"
-#include "softpbr/pbr/gltf.h"
 #include "softpbr/raster/renderer.h"
 
 namespace softpbr::pbr {
 
-SceneFile gltf_scene_file(GltfScene g, const GltfView& view, const std::string& name) {
-  SceneFile f;
+LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string& name) {
+  LoadedScene f;
   f.warnings = std::move(g.warnings);
   f.scene.objects = std::move(g.objects);
   f.triangles = g.triangles;

@@ -1,4 +1,4 @@
-// softpbr/pbr/gltf.h — glTF 2.0 assets (.gltf with external or embedded buffers and
+// softpbr/loaders/gltf.h — glTF 2.0 assets (.gltf with external or embedded buffers and
 // images, .glb) as objects, lights and cameras for a Scene.
 //
 //   pbr::GltfScene g = pbr::load_gltf("DamagedHelmet.glb", {.pool = &renderer.pool()});
@@ -38,7 +38,7 @@
 // Skins, morph targets and animations are not applied: meshes are drawn in their bind
 // pose with no morph weights.
 //
-// Errors are pbr::LoadError (obj.h) with one line: the file, the JSON pointer and what is
+// Errors are pbr::LoadError (load_error.h) with one line: the file, the JSON pointer and what is
 // wrong, e.g. `model.gltf: /accessors/3: 1000 elements of 12 bytes run past bufferView 2
 // (8000 bytes)`. Every index is checked against what it indexes, every accessor against its
 // buffer, positions must be finite, and images are checked before decoding.
@@ -51,11 +51,11 @@
 #include <vector>
 
 #include "softpbr/image/image.h"
+#include "softpbr/loaders/load_error.h"
+#include "softpbr/loaders/loaded_scene.h"
 #include "softpbr/pbr/camera.h"
 #include "softpbr/pbr/light.h"
-#include "softpbr/pbr/obj.h"
 #include "softpbr/pbr/scene.h"
-#include "softpbr/pbr/scene_file.h"
 
 namespace softpbr::raster {
 class ThreadPool;
@@ -136,6 +136,6 @@ struct GltfView {
 // meshes, their draws with the textured shader's 18 varyings, and the textures). Throws
 // std::invalid_argument ("camera: … has N cameras, no camera K", "pitch: …") for a view
 // the model does not have.
-SceneFile gltf_scene_file(GltfScene model, const GltfView& view, const std::string& name);
+LoadedScene gltf_scene_file(GltfScene model, const GltfView& view, const std::string& name);
 
 }  // namespace softpbr::pbr

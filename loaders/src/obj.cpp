@@ -8,7 +8,7 @@
 // keys each material has and the line of each map statement (tinyobjloader gives materials
 // no line numbers). The meshes are then built with every index checked again; the maps
 // become texture slots in mtl_textures.cpp.
-#include "softpbr/pbr/obj.h"
+#include "softpbr/loaders/obj.h"
 
 #include <algorithm>
 #include <cctype>
@@ -28,7 +28,7 @@
 #include <tiny_obj_loader.h>
 
 #include "mtl_textures.h"
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/format_bytes.h"
 
 namespace softpbr::pbr {
 

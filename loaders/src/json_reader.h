@@ -1,4 +1,4 @@
-// json_reader.h — checked reading of untrusted JSON (private to pbr/src): every access
+// json_reader.h — checked reading of untrusted JSON (private to loaders/src): every access
 // names the value by its JSON pointer (RFC 6901), every problem is one json_reader::Error
 // line "FILE: /pointer: expected …, got …" (scene_file.cpp passes it on as SceneFileError).
 #pragma once
@@ -93,7 +93,7 @@ struct Problem {
 struct Counts {
   std::size_t values = 0, containers = 0, keys = 0;
 };
-// The limits of a pass: scene files' by default; glTF's are larger (pbr/src/gltf).
+// The limits of a pass: scene files' by default; glTF's are larger (loaders/src/gltf).
 struct StructureLimits {
   std::size_t max_depth = kMaxDepth;
   std::size_t max_values = kMaxValues;

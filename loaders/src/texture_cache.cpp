@@ -7,7 +7,7 @@
 #include <system_error>
 
 #include "softpbr/image/load.h"
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/format_bytes.h"
 
 namespace softpbr::pbr::detail {
 

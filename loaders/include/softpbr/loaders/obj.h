@@ -1,4 +1,4 @@
-// softpbr/pbr/obj.h — Wavefront OBJ + MTL loading (through tinyobjloader) into meshes and
+// softpbr/loaders/obj.h — Wavefront OBJ + MTL loading (through tinyobjloader) into meshes and
 // metal/roughness materials.
 //
 // OBJ files are untrusted input (docs/design.md, "Errors"): every number and index is checked, and any
@@ -10,22 +10,15 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "softpbr/loaders/load_error.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
 
 namespace softpbr::pbr {
-
-// A file could not be loaded; what() names the file (and line when known) and says what was
-// expected.
-class LoadError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // The faces of one OBJ object/group (`o`/`g`) that use one material. An object whose faces
 // use several materials becomes several ObjShapes with the same name, in the order the

@@ -1,5 +1,5 @@
 // texture_cache.h — image files as textures, for scene files and MTL maps (private to
-// pbr/src): a TextureCache decodes and mip-maps each file once per colour space, and an
+// loaders/src): a TextureCache decodes and mip-maps each file once per colour space, and an
 // image whose texels would pass a memory bound is refused from its header, before decoding.
 //
 // Scene files (scene_file/textures.cpp) and OBJ models (mtl_textures.cpp) share one cache

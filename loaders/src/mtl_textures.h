@@ -1,4 +1,4 @@
-// mtl_textures.h — MTL texture maps onto a Material's texture slots (private to pbr/src):
+// mtl_textures.h — MTL texture maps onto a Material's texture slots (private to loaders/src):
 // obj.cpp reads the MTL text and notes where each map statement is; mtl_textures.cpp
 // loads, combines and checks the images (the mapping is documented in obj.h).
 #pragma once
@@ -12,7 +12,7 @@
 
 #include <tiny_obj_loader.h>
 
-#include "softpbr/pbr/obj.h"
+#include "softpbr/loaders/obj.h"
 #include "texture_cache.h"
 
 namespace softpbr::pbr::detail {

@@ -12,7 +12,7 @@
 
 #include <glm/matrix.hpp>
 
-#include "softpbr/pbr/gltf.h"
+#include "softpbr/loaders/gltf.h"
 #include <functional>
 #include <limits>
 

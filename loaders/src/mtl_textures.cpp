@@ -7,7 +7,7 @@
 #include <bit>
 #include <cmath>
 
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/format_bytes.h"
 
 namespace softpbr::pbr::detail {
 

@@ -1,6 +1,6 @@
 // glTF 2.0 loading (see gltf.h): tinygltf parses the JSON and the buffers; everything the
 // renderer reads is validated here against the specification before it is used.
-#include "softpbr/pbr/gltf.h"
+#include "softpbr/loaders/gltf.h"
 
 #include <algorithm>
 #include <array>
@@ -31,8 +31,8 @@
 #include "texture_cache.h"
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
+#include "softpbr/loaders/format_bytes.h"
 #include "softpbr/pbr/mesh.h"
-#include "softpbr/pbr/scene_file.h"
 #include "softpbr/raster/pool.h"
 #include "softpbr/raster/texture.h"
 

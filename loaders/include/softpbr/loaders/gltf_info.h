@@ -1,4 +1,4 @@
-// softpbr/pbr/gltf_info.h — what a glTF 2.0 file holds, as `softpbr info model.glb` lists
+// softpbr/loaders/gltf_info.h — what a glTF 2.0 file holds, as `softpbr info model.glb` lists
 // it: counts of scenes, nodes, meshes, primitives and triangles, the materials and their
 // textures, the images with their sizes read from their headers (never decoded), the
 // extensions used and required, cameras, lights, skins and animations.
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "softpbr/pbr/gltf.h"
+#include "softpbr/loaders/gltf.h"
 
 namespace softpbr::pbr {
 
@@ -82,7 +82,7 @@ struct GltfInfo {
   std::size_t triangles() const;              // in the meshes, each counted once
 };
 
-// Throws LoadError (obj.h) with one line starting with the file when it cannot be read or
+// Throws LoadError (load_error.h) with one line starting with the file when it cannot be read or
 // parsed as glTF. Only options.max_file_bytes and options.roots are used.
 GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
 

@@ -8,7 +8,7 @@
 #include "gltf/files.h"
 #include "gltf/tinygltf.h"
 #include "softpbr/image/load.h"
-#include "softpbr/pbr/gltf_info.h"
+#include "softpbr/loaders/gltf_info.h"
 #include "texture_cache.h"
 
 namespace softpbr::pbr {

@@ -1,4 +1,4 @@
-// scene_file/loader.h — the parts of the scene-file loader (private to pbr/src): each reads
+// scene_file/loader.h — the parts of the scene-file loader (private to loaders/src): each reads
 // one kind of value of the format (docs/scene-format.md) through a json_reader::Reader and
 // fails with the value's JSON pointer. scene_file.cpp reads the top level with them.
 //
@@ -24,8 +24,8 @@
 
 #include "../json_reader.h"
 #include "../texture_cache.h"
-#include "softpbr/pbr/obj.h"
-#include "softpbr/pbr/scene_file.h"
+#include "softpbr/loaders/obj.h"
+#include "softpbr/loaders/scene_file.h"
 
 namespace softpbr::pbr::scene_file {
 
