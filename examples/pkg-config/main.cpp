@@ -1,9 +1,13 @@
 // A one-file program built without CMake, through pkg-config (the pkgconfig_consumer test):
 //   c++ main.cpp -o gallery $(pkg-config --cflags --libs softpbr)
-// It renders a small gallery with softpbr::pbr and checks its golden hash with softpbr::golden.
+// It renders a small gallery with softpbr::pbr and checks its golden hash with softpbr::golden,
+// and parses an OBJ triangle with softpbr::loaders (its own header path).
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 #include "softpbr/golden/compare.h"
+#include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/scene.h"
 
@@ -19,5 +23,11 @@ int main() {
   for (std::size_t i = 0; i < image.rgba.size(); i += 4) lit += image.rgba[i] + image.rgba[i + 1] + image.rgba[i + 2] > 30;
   std::printf("pkg-config consumer: %d of %d pixels lit, content hash %s\n", lit, 64 * 36,
               softpbr::golden::hash_hex(softpbr::golden::content_hash(image)).c_str());
-  return lit > 64 * 36 / 10 ? 0 : 1;
+  const std::filesystem::path obj = std::filesystem::temp_directory_path() / "softpbr-pkg-config-triangle.obj";
+  std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const softpbr::pbr::ObjModel model = softpbr::pbr::load_obj(obj);
+  std::filesystem::remove(obj);
+  const bool obj_ok = model.shapes.size() == 1 && model.shapes[0].mesh.indices.size() == 3;
+  std::printf("pkg-config consumer: an OBJ triangle through softpbr::loaders: %s\n", obj_ok ? "ok" : "WRONG");
+  return lit > 64 * 36 / 10 && obj_ok ? 0 : 1;
 }
