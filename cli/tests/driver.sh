@@ -201,7 +201,7 @@ EOF
   expect_error 2 "--tonemap: expected one of none, reinhard, aces, neutral, got \"filmic\"" render bad.json -o keep.png --tonemap filmic
   "$softpbr" render bad.json -o keep.png --no-such-option >/dev/null 2>&1; [ $? -eq 2 ] && pass "unknown option: exit 2" || fail "unknown option: not exit 2"
   "$softpbr" render --help | grep -q "Exit codes:" && pass "--help lists the exit codes" || fail "render --help has no exit codes"
-  # Outputs (issue 18): only a regular file or a new name, never an input, never a device.
+  # Hostile outputs: only a regular file or a new name, never an input, never a device.
   expect_error 4 "/dev/null: cannot write: it is a character device, not a regular file (an output is a regular file or a new name)" \
     render bad.json -o /dev/null
   [ -c /dev/null ] && pass "/dev/null is still a device" || fail "/dev/null was replaced"
