@@ -1,5 +1,5 @@
 # softpbr in a container: Debian 12, built, tested and installed by the quick-start script,
-# `softpbr` as the entry point (README, "Many frames on many machines").
+# `softpbr` as the entry point (docs/cli.md, "Many frames on many machines").
 #
 #   docker build -t softpbr:0.1 .
 #   docker run --rm -v "$PWD:/data" -w /data softpbr:0.1 render scene.json -o scene.png

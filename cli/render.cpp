@@ -4,6 +4,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -183,10 +185,60 @@ Format output_format(const std::string& path) {
   throw Error(kExitUsage, path + ": unknown output format \"" + ext + "\" (expected .png, .hdr or .exr)");
 }
 
+// The nearest folder of `path` that exists ("." for a relative name), and whether the
+// output's own folder is missing (then it is created when the output is written).
+struct ExistingFolder {
+  fs::path folder;
+  bool missing = false;
+};
+ExistingFolder nearest_existing_folder(const fs::path& path) {
+  ExistingFolder f{path.parent_path(), false};
+  struct stat st {};
+  // ENOENT: not there; ENOTDIR: a component on the way is not a folder (said below).
+  while (!f.folder.empty() && ::stat(f.folder.c_str(), &st) != 0 && (errno == ENOENT || errno == ENOTDIR)) {
+    f.missing = true;
+    if (f.folder == f.folder.root_path()) break;
+    f.folder = f.folder.parent_path();
+  }
+  if (f.folder.empty()) f.folder = ".";
+  return f;
+}
+
 // Fails early, before any rendering, when an output cannot be created
-// (image::output_problem: a new name or a regular file, within NAME_MAX).
+// (image::output_problem: a new name or a regular file, within NAME_MAX). An output's
+// missing folders (thumbs/ in -o thumbs/{name}.png) are no problem when the nearest folder
+// that exists can hold them: they are created as the output is written, and only then, so
+// that a command that fails leaves no folder behind (create_output_folders).
 void check_writable(const std::string& path) {
-  if (const std::string problem = image::output_problem(path); !problem.empty()) throw Error(kExitOutput, path + ": " + problem);
+  const ExistingFolder existing = nearest_existing_folder(path);
+  std::string problem;
+  if (!existing.missing) {
+    problem = image::output_problem(path);
+  } else {
+    struct stat st {};
+    const std::string name = fs::path(path).filename().string();
+    if (::stat(existing.folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+      problem = "cannot write: " + existing.folder.string() + " is not a folder";
+    else if (::access(existing.folder.c_str(), W_OK | X_OK) != 0)
+      problem = errno == EROFS ? "cannot write: the folder " + existing.folder.string() + " is on a read-only file system"
+                               : "cannot write: no permission to create folders in " + existing.folder.string();
+    else if (name.empty() || name == "." || name == "..")
+      problem = "cannot write: not a file name";
+    else if (name.size() > 255)
+      problem = "cannot write: the file name is " + std::to_string(name.size()) + " bytes, over the limit of 255";
+  }
+  if (!problem.empty()) throw Error(kExitOutput, path + ": " + problem);
+}
+
+// Creates the missing folders of a frame's outputs, right before they are written.
+void create_output_folders(const std::vector<std::string>& paths) {
+  for (const std::string& path : paths) {
+    const fs::path folder = fs::path(path).parent_path();
+    std::error_code ec;
+    if (folder.empty() || fs::is_directory(folder, ec)) continue;
+    fs::create_directories(folder, ec);
+    if (ec) throw Error(kExitOutput, path + ": cannot create the folder " + folder.string() + ": " + ec.message());
+  }
 }
 
 // The identity of an existing file (device and inode), to tell an output that is an input
@@ -480,6 +532,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     // Every output of the frame is written to a temporary first, then all are renamed: on
     // any failure none is replaced.
     image::OutputFiles files;
+    create_output_folders(paths);
     try {
       if (png_error) std::rethrow_exception(png_error);
       // .hdr and .exr hold one linear colour a pixel: with MSAA the box resolve of linear

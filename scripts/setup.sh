@@ -10,7 +10,7 @@ BUILD_TYPE=${BUILD_TYPE:-Release}
 # Debian 12 package names. Keep in step with the find_package calls in CMakeLists.txt.
 SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev
                   nlohmann-json3-dev libcli11-dev libtinyexr-dev libspng-dev libxxhash-dev libtinygltf-dev libmeshoptimizer-dev libdraco-dev libsdl2-dev xvfb xauth
-                  pybind11-dev python3-dev python3-numpy python3-pytest)
+                  pybind11-dev python3-dev python3-numpy python3-pytest ccache)
 # Scripts that source this file may ask for more (.ci/matrix: clang; .ci/fuzz: clang and libclang-rt-14-dev) in SOFTPBR_EXTRA_PACKAGES.
 SOFTPBR_PACKAGES+=(${SOFTPBR_EXTRA_PACKAGES[@]+"${SOFTPBR_EXTRA_PACKAGES[@]}"})
 
@@ -32,6 +32,25 @@ softpbr_install_packages() {
   fi
 }
 
+# ccache (Debian's) for every build folder these scripts configure: a compilation that any
+# build folder or clone of this machine made before, with the same flags and sources, is
+# copied from the cache instead of compiled again (docs/design.md, Tests and CI). The cache
+# lives outside the clone (ccache's default, ~/.cache/ccache); CCACHE_BASEDIR makes the
+# paths it hashes relative to the clone, so two clones in different folders share it, and
+# CCACHE_NOHASHDIR leaves the build folder out of the hash of builds with debug information.
+# CMake takes the launcher from the environment when it configures a new build folder.
+# SOFTPBR_NO_CCACHE=1 turns it off.
+softpbr_use_ccache() {
+  [ -z "${SOFTPBR_NO_CCACHE:-}" ] && command -v ccache >/dev/null || return 0
+  export CMAKE_CXX_COMPILER_LAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER:-ccache}
+  export CMAKE_C_COMPILER_LAUNCHER=${CMAKE_C_COMPILER_LAUNCHER:-ccache}
+  export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$SOFTPBR_ROOT}
+  export CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-1}
+  # Every configuration .ci/run builds (Release, Debug+sanitizers, Clang, native, AArch64,
+  # fuzz, TSan) fits; ccache evicts the oldest objects beyond it.
+  export CCACHE_MAXSIZE=${CCACHE_MAXSIZE:-20G}
+}
+
 softpbr_build() {
   # Configure once (again if a configure failed); the build then reruns CMake itself when a
   # CMakeLists.txt changes and rebuilds only what is stale.
@@ -42,3 +61,4 @@ softpbr_build() {
 }
 
 softpbr_install_packages
+softpbr_use_ccache

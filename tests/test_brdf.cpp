@@ -444,7 +444,7 @@ TEST_CASE("white furnace: the directional albedo of a white metal is <= 1 at eve
 }
 
 TEST_CASE("white furnace: a white dielectric stays <= 1 from roughness 0.5 and within 10% everywhere") {
-  // kD = (1 − F(v·h))(1 − metallic) (issue 3, as LearnOpenGL) weights the diffuse term by
+  // kD = (1 − F(v·h))(1 − metallic) (the paper's model, as LearnOpenGL) weights the diffuse term by
   // the Fresnel of each light's half vector, not by what the specular lobe really took for
   // this view. At grazing views of a smooth surface the specular lobe reflects F(n·v) while
   // light from near the normal has v·h ≈ cos 40° and keeps nearly all its diffuse weight:

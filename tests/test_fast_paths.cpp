@@ -1,4 +1,4 @@
-// The fast paths of issue 6 against their plain definitions: the table-driven 8-bit
+// Fast paths of the renderer against their plain definitions: the table-driven 8-bit
 // encoder (ToneMapper) against a binary search over the thresholds, tone mapping fused
 // into the frame (render_rgba8) against render() + tone_map_to_rgba8(), and packets that
 // fill across triangles against the scalar shader where triangles of one draw overlap.

@@ -156,7 +156,7 @@ TEST_CASE("the rendered gallery matches a double-precision ray-cast evaluation o
       CHECK(o.material.ao == 1.0f);
       materials.push_back({glm::dvec3(o.material.base_color), o.material.metallic, o.material.roughness});
     }
-  CHECK(materials[0].base == glm::dvec3(glm::vec3(1.00f, 0.71f, 0.29f)));                 // gold (issue 3)
+  CHECK(materials[0].base == glm::dvec3(glm::vec3(1.00f, 0.71f, 0.29f)));                 // gold (measured linear F0)
   CHECK(materials[kColumns].base == glm::dvec3(glm::vec3(0.95f, 0.64f, 0.54f)));          // copper
   CHECK(materials[4 * kColumns].metallic == 0.0);                                       // plastic_red
 

@@ -1,5 +1,5 @@
-// The geometry fast paths of issue 6 against their plain definitions, over random and
-// adversarial inputs:
+// The geometry fast paths (vertex projection, triangle setup and binning, index
+// validation) against their plain definitions, over random and adversarial inputs:
 //  - project_vertices() (four vertices at a time, branch-free, per instruction set)
 //    against classify() and project() one vertex at a time;
 //  - setup_triangle() (now culling on the area first, in 32-bit bounds) against the

@@ -59,13 +59,14 @@ TEST_CASE("inspect_gltf lists a small file's scenes, nodes, meshes, triangles, m
 }
 
 TEST_CASE("inspect_gltf: a missing or non-glTF file is a LoadError naming it") {
-  for (const char* name : {"/nonexistent/model.glb", SOFTPBR_SOURCE_DIR "/README.md"}) {
+  const std::string readme = std::string(SOFTPBR_SOURCE_DIR) + "/README.md";
+  for (const std::string& name : {std::string("/nonexistent/model.glb"), readme}) {
     CAPTURE(name);
     try {
       pbr::inspect_gltf(name);
       FAIL("expected a LoadError");
     } catch (const pbr::LoadError& e) {
-      CHECK(std::string(e.what()).rfind(std::string(name) + ": ", 0) == 0);
+      CHECK(std::string(e.what()).rfind(name + ": ", 0) == 0);
     }
   }
 }

@@ -1,5 +1,5 @@
 // Limits: absurd sizes and counts are a clear error (or a bounded result), never an
-// out-of-memory kill or a hang (issue 8). Each case is decided before any large
+// out-of-memory kill or a hang. Each case is decided before any large
 // allocation or any read of the claimed data.
 #include <doctest/doctest.h>
 

@@ -1,6 +1,7 @@
-// Hostile outputs (issue 18, classes 2 and 3): an output is only ever a regular file or a
-// new name; temporaries are this process's own (O_TMPFILE or O_EXCL) and only those are
-// removed; several outputs are replaced all-or-nothing; long names fit NAME_MAX.
+// Hostile outputs: no file but the output is ever destroyed, and a failed command changes
+// no output. An output is only ever a regular file or a new name; temporaries are this
+// process's own (O_TMPFILE or O_EXCL) and only those are removed; several outputs are
+// replaced all-or-nothing; long names fit NAME_MAX.
 #include <doctest/doctest.h>
 
 #include <sys/resource.h>

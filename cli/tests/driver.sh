@@ -172,7 +172,13 @@ EOF
   "$softpbr" render random.json -o keep.png 2>stderr.txt; rc=$?
   [ $rc -eq 3 ] && grep -q "^random.json: " stderr.txt && [ "$(wc -l <stderr.txt)" -eq 1 ] && pass "binary garbage: one line, exit 3" || fail "random.json: exit $rc: $(cat -v stderr.txt)"
   scene_with '' ''
-  expect_error 4 "no/such/dir/out.png: cannot write: the folder no/such/dir does not exist" render bad.json -o no/such/dir/out.png
+  # An output's missing folders are created as it is written (docs/cli.md), and only then:
+  # a command that fails creates none; a file on the way is no folder.
+  "$softpbr" render bad.json -o new/such/dir/out.png -q && [ -s new/such/dir/out.png ] \
+    && pass "-o new/such/dir/out.png creates its folders" || fail "-o new/such/dir/out.png: no image"
+  expect_error 3 "missing.json: cannot open the scene file: No such file or directory" render missing.json -o none/out.png
+  [ ! -e none ] && pass "a failed render creates no output folder" || fail "a failed render created none/"
+  expect_error 4 "keep.png/dir/out.png: cannot write: keep.png is not a folder" render bad.json -o keep.png/dir/out.png
   mkdir folder.png
   expect_error 4 "folder.png: cannot write: it is a folder" render bad.json -o folder.png
   # A write that fails half-way (a file size limit stands in for a full disk): exit 4, the
@@ -195,7 +201,7 @@ EOF
   expect_error 2 "--tonemap: expected one of none, reinhard, aces, neutral, got \"filmic\"" render bad.json -o keep.png --tonemap filmic
   "$softpbr" render bad.json -o keep.png --no-such-option >/dev/null 2>&1; [ $? -eq 2 ] && pass "unknown option: exit 2" || fail "unknown option: not exit 2"
   "$softpbr" render --help | grep -q "Exit codes:" && pass "--help lists the exit codes" || fail "render --help has no exit codes"
-  # Outputs (issue 18): only a regular file or a new name, never an input, never a device.
+  # Hostile outputs: only a regular file or a new name, never an input, never a device.
   expect_error 4 "/dev/null: cannot write: it is a character device, not a regular file (an output is a regular file or a new name)" \
     render bad.json -o /dev/null
   [ -c /dev/null ] && pass "/dev/null is still a device" || fail "/dev/null was replaced"
@@ -279,7 +285,7 @@ import json; g = json.load(open('tri.gltf')); g['extras'] = [[1.5, 2.5, 3.5, 4.5
   "$softpbr" render bad.json -o "$long" -q && [ -s "$long" ] && pass "a 255-byte output name is written" || fail "a 255-byte output name failed"
   rm -f "$long"
   expect_error 4 "n$long: cannot write: the file name is 256 bytes, over the limit of 255 of its folder" render bad.json -o "n$long"
-  expect_error 4 "no/such/x.png: cannot write: the folder no/such does not exist" render bad.json -o no/such/x.png
+  expect_error 4 "keep.png/x.png: cannot write: keep.png is not a folder" render bad.json -o keep.png/x.png
   # Values are checked before any work: --exposure nan is a usage error even for a missing scene.
   expect_error 2 "--exposure: expected a value in [-64, 64], got nan" render missing.json -o keep.png --exposure nan
   expect_error 2 "--exposure: expected a value in [-64, 64], got inf" render bad.json -o keep.png --exposure inf
@@ -593,7 +599,9 @@ batch)
     render tri.gltf two.gltf -o out.png
   expect_error 2 "--frames: renders one scene; 2 inputs were given" render tri.gltf two.gltf -o "f/{name}_####.png" --frames 0..3
   expect_error 2 "thumbs/#/: a folder output has no frame number (write folder/{name}_####.png)" render tri.gltf -o "thumbs/#/"
-  expect_error 4 "nowhere/tri.png: cannot write: the folder nowhere does not exist" render tri.gltf two.gltf -o nowhere/
+  # A batch's output folder is created with its first image.
+  "$softpbr" render tri.gltf two.gltf -o new-thumbs/ "${size[@]}" -q && [ "$(ls new-thumbs | tr '\n' ' ')" = "tri.png two.png " ] \
+    && pass "-o new-thumbs/ creates the folder" || fail "-o new-thumbs/: $(ls new-thumbs 2>&1)"
   # {index} and {name}; a folder; the same bits as one input at a time (one renderer for all).
   "$softpbr" render tri.gltf two.gltf two.glb -o "thumbs/{index}-{name}.png" -o "thumbs/{index}.exr" "${size[@]}" >out.txt 2>err.txt \
     || fail "batch with {index}: exit $?, $(cat err.txt)"

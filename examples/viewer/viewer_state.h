@@ -3,7 +3,7 @@
 // to apply() and call advance() once per frame, so a scripted session reaches exactly the
 // state an interactive one would.
 //
-// Controls (as the paper's program; README "Interactive viewer"):
+// Controls (as the paper's program; docs/viewer.md):
 //   W A S D / arrows  fly forward, left, back, right      Q / E   down / up
 //   Tab               capture / release the mouse; while captured, the mouse turns the camera
 //   1 … 9             material preset 1 … 9 (gold, copper, silver, …)   N  next preset (all)

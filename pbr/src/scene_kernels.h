@@ -3,10 +3,11 @@
 //
 // A packet shader's tile kernels (raster::raster_tile<S>: every lane width and sample
 // count, per instruction set) are most of the library's build time. Declared here as
-// explicit instantiations (extern template), they are compiled in scene_kernels_pbr.cpp,
-// scene_kernels_textured.cpp, scene_kernels_textured_uv0.cpp and
-// scene_kernels_background.cpp — in parallel, each once —
-// and scene.cpp calls them. The code is the same as instantiating them in scene.cpp.
+// explicit instantiations (extern template), they are compiled in files of their own —
+// scene_kernels_<shader>.cpp (the entry and the 1-sample kernels), _ms4.cpp and _ms8.cpp
+// for the pbr, textured and textured_uv0 shaders, scene_kernels_background.cpp — in
+// parallel, each once, and scene.cpp calls them. The code is the same as instantiating
+// them in scene.cpp.
 #pragma once
 
 #include <cstddef>
@@ -58,13 +59,43 @@ struct BackgroundShader {
 
 }  // namespace softpbr::pbr::detail
 
-// The explicit instantiation of raster::raster_tile for shader S (declaration or definition).
+// The explicit instantiation of raster::raster_tile for shader S (declaration or definition):
+// the entry that picks a tile kernel by lane count, sample count and instruction set.
 #define SOFTPBR_PBR_SCENE_KERNEL(S)                                                                     \
   template ::softpbr::raster::ShadeCounts softpbr::raster::raster_tile<S>(                                  \
       const S&, const ::softpbr::raster::DrawGeometry&, std::size_t, const ::softpbr::raster::TileRect&,  \
       const ::softpbr::raster::TargetPixels&, int, ::softpbr::simd::Isa)
 
-extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::PbrShader);
-extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::TexturedPbrShader);
-extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::TexturedUv0PbrShader);
+// The tile kernels of shader S for kMs samples a pixel, each copy that
+// raster::detail::tile_kernel can pick (rast.h): the baseline copy at 1, 4, 8 and 16 lanes,
+// the AVX2 copy at 8 and the AVX-512 copy at 16. EXTERN is `extern` (a declaration) or
+// empty (the definition). A packet shader's kernels are compiled in three files, one per
+// sample count, so that the build's cores share what was one file's minutes.
+#define SOFTPBR_PBR_TILE_KERNEL(EXTERN, NS, W, kMs, S)                                                      \
+  EXTERN template ::softpbr::raster::ShadeCounts softpbr::raster::detail::NS::raster_tile<W, kMs, S>(         \
+      const S&, const ::softpbr::raster::DrawGeometry&, std::size_t, const ::softpbr::raster::TileRect&,     \
+      const ::softpbr::raster::TargetPixels&)
+#if SOFTPBR_SIMD_X86_TARGETS
+#define SOFTPBR_PBR_X86_TILE_KERNELS(EXTERN, kMs, S) \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, avx2, 8, kMs, S);  \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, avx512, 16, kMs, S)
+#else
+#define SOFTPBR_PBR_X86_TILE_KERNELS(EXTERN, kMs, S) static_assert(true)
+#endif
+#define SOFTPBR_PBR_TILE_KERNELS(EXTERN, kMs, S)          \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 1, kMs, S);   \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 4, kMs, S);   \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 8, kMs, S);   \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 16, kMs, S);  \
+  SOFTPBR_PBR_X86_TILE_KERNELS(EXTERN, kMs, S)
+// A packet shader's entry and its kernels, declared.
+#define SOFTPBR_PBR_EXTERN_PACKET_KERNELS(S)   \
+  extern SOFTPBR_PBR_SCENE_KERNEL(S);          \
+  SOFTPBR_PBR_TILE_KERNELS(extern, 1, S);      \
+  SOFTPBR_PBR_TILE_KERNELS(extern, 4, S);      \
+  SOFTPBR_PBR_TILE_KERNELS(extern, 8, S)
+
+SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::PbrShader);
+SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedPbrShader);
+SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedUv0PbrShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::BackgroundShader);
