@@ -58,7 +58,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                                "lights; frames whose outputs exist are skipped");
   a.shard_opt = c->add_option("--shard", a.shard, "i/N: render only the frames k of the range with k mod N = i (i from 0)");
   c->add_option("--yaw", a.yaw, "glTF models: turn the automatic camera this many degrees around the vertical axis");
-  c->add_option("--pitch", a.pitch, "glTF models: raise the automatic camera this many degrees (-89..89)");
+  c->add_option("--pitch", a.pitch, "glTF models: raise the automatic camera this many degrees (-89..89; default 15, "
+                                    "0 for a level view)");
   a.camera_opt = c->add_option("--camera", a.camera, "glTF models: view through camera N of the file (from 0)");
   a.env_opt = c->add_option("--env", a.env,
                             "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
