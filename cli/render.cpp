@@ -212,14 +212,14 @@ ExistingFolder nearest_existing_folder(const fs::path& path) {
 void check_writable(const std::string& path) {
   const ExistingFolder existing = nearest_existing_folder(path);
   std::string problem;
-  if (!existing.missing) {
+  struct stat st {};
+  if (::stat(existing.folder.c_str(), &st) == 0 && !S_ISDIR(st.st_mode)) {
+    problem = "cannot write: " + existing.folder.string() + " is not a folder";
+  } else if (!existing.missing) {
     problem = image::output_problem(path);
   } else {
-    struct stat st {};
     const std::string name = fs::path(path).filename().string();
-    if (::stat(existing.folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-      problem = "cannot write: " + existing.folder.string() + " is not a folder";
-    else if (::access(existing.folder.c_str(), W_OK | X_OK) != 0)
+    if (::access(existing.folder.c_str(), W_OK | X_OK) != 0)
       problem = errno == EROFS ? "cannot write: the folder " + existing.folder.string() + " is on a read-only file system"
                                : "cannot write: no permission to create folders in " + existing.folder.string();
     else if (name.empty() || name == "." || name == "..")
