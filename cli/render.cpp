@@ -59,7 +59,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                                "lights; frames whose outputs exist are skipped");
   a.shard_opt = c->add_option("--shard", a.shard, "i/N: render only the frames k of the range with k mod N = i (i from 0)");
   c->add_option("--yaw", a.yaw, "glTF models: turn the automatic camera this many degrees around the vertical axis");
-  c->add_option("--pitch", a.pitch, "glTF models: raise the automatic camera this many degrees (-89..89)");
+  c->add_option("--pitch", a.pitch, "glTF models: raise the automatic camera this many degrees (-89..89; default 15, "
+                                    "0 for a level view)");
   a.camera_opt = c->add_option("--camera", a.camera, "glTF models: view through camera N of the file (from 0)");
   a.env_opt = c->add_option("--env", a.env,
                             "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
@@ -212,14 +213,14 @@ ExistingFolder nearest_existing_folder(const fs::path& path) {
 void check_writable(const std::string& path) {
   const ExistingFolder existing = nearest_existing_folder(path);
   std::string problem;
-  if (!existing.missing) {
+  struct stat st {};
+  if (::stat(existing.folder.c_str(), &st) == 0 && !S_ISDIR(st.st_mode)) {
+    problem = "cannot write: " + existing.folder.string() + " is not a folder";
+  } else if (!existing.missing) {
     problem = image::output_problem(path);
   } else {
-    struct stat st {};
     const std::string name = fs::path(path).filename().string();
-    if (::stat(existing.folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-      problem = "cannot write: " + existing.folder.string() + " is not a folder";
-    else if (::access(existing.folder.c_str(), W_OK | X_OK) != 0)
+    if (::access(existing.folder.c_str(), W_OK | X_OK) != 0)
       problem = errno == EROFS ? "cannot write: the folder " + existing.folder.string() + " is on a read-only file system"
                                : "cannot write: no permission to create folders in " + existing.folder.string();
     else if (name.empty() || name == "." || name == "..")

@@ -8,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "softpbr/pbr/gltf.h"
+
 namespace softpbr::cli {
 
 struct RenderArgs {
@@ -22,7 +24,7 @@ struct RenderArgs {
   double max_memory_mib = 0;
   std::vector<std::string> roots;  // --root: the folders a scene may read files from
   // A glTF model given instead of a scene file: the view.
-  float yaw = 0.0f, pitch = 0.0f;  // degrees
+  float yaw = 0.0f, pitch = pbr::kDefaultPitch;  // degrees
   int camera = -1;                 // a camera of the file
   // Image-based lighting: a file, "studio" (built in) or "none"; overrides of the scene's.
   std::string env, background, env_cache;

@@ -51,13 +51,16 @@ softpbr_use_ccache() {
   export CCACHE_MAXSIZE=${CCACHE_MAXSIZE:-20G}
 }
 
+# softpbr_build [TARGET...]: builds the targets named (and what they need), or everything.
 softpbr_build() {
   # Configure once (again if a configure failed); the build then reruns CMake itself when a
   # CMakeLists.txt changes and rebuilds only what is stale.
   if [ ! -f "$BUILD_DIR/Makefile" ]; then
-    cmake -S "$SOFTPBR_ROOT" -B "$BUILD_DIR" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "$@" >&2
+    cmake -S "$SOFTPBR_ROOT" -B "$BUILD_DIR" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" >&2
   fi
-  cmake --build "$BUILD_DIR" --parallel "$(nproc)" >&2
+  local targets=() t
+  for t in "$@"; do targets+=(--target "$t"); done
+  cmake --build "$BUILD_DIR" ${targets[@]+"${targets[@]}"} --parallel "$(nproc)" >&2
 }
 
 softpbr_install_packages

@@ -338,3 +338,39 @@ TEST_CASE("a glTF orthographic camera renders bit for bit as the same camera in 
   CHECK(corner.r == doctest::Approx(other.r).epsilon(1e-4));
   CHECK(corner.g == doctest::Approx(other.g).epsilon(1e-4));
 }
+
+TEST_CASE("the automatic camera looks from the front, 15 degrees above: a model lying flat is seen, not edge-on") {
+  // The triangle of camera_gltf turned to lie flat in the ground plane (−90° about x: its
+  // (0, 1, 0) corner goes to (0, 0, −1)), as TwoSidedPlane lies.
+  std::string text = camera_gltf(kOrtho);
+  const std::string node = R"({"mesh": 0})";
+  text.replace(text.find(node), node.size(), R"({"mesh": 0, "rotation": [-0.70710678, 0, 0, 0.70710678]})");
+  const fs::path model = write_file("flat.gltf", text);
+  pbr::GltfView view;
+  CHECK(view.pitch == pbr::kDefaultPitch);
+  CHECK(pbr::kDefaultPitch == 15.0f);
+  view.width = 96;
+  view.height = 72;
+  view.environment = false;
+  auto covered_pixels = [&](const pbr::GltfView& v, pbr::Camera* camera) {
+    const pbr::SceneFile f = pbr::gltf_scene_file(pbr::load_gltf(model), v, model.string());
+    *camera = f.scene.camera;
+    const raster::Target t = render(f.scene, v.width, v.height);
+    int covered = 0;
+    for (float d : t.depths()) covered += d < 1.0f;
+    return covered;
+  };
+  pbr::Camera raised, level;
+  const int seen = covered_pixels(view, &raised);
+  view.pitch = 0.0f;
+  const int edge_on = covered_pixels(view, &level);
+  // From 15° above: the eye above the bounds' centre by sin 15° of its distance, in front (+z).
+  const glm::vec3 d = raised.position - raised.target;
+  CHECK(d.y / glm::length(d) == doctest::Approx(std::sin(15.0 * 3.14159265358979 / 180.0)).epsilon(1e-5));
+  CHECK(d.z > 0.0f);
+  CHECK(d.x == doctest::Approx(0.0f).scale(1.0f));
+  CHECK(level.position.y == level.target.y);
+  // Seen from above it covers a few hundred pixels of 96 × 72; level, almost none.
+  CHECK(seen > 150);
+  CHECK(edge_on < 20);
+}

@@ -592,9 +592,9 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
           py::arg("path"),
           "Reads a scene file. OSError if it cannot be read; ValueError with the file and JSON pointer if it is invalid.")
       .def_static("load_gltf", &gltf_scene, py::arg("path"), py::kw_only(), py::arg("width") = 1280, py::arg("height") = 720,
-                  py::arg("yaw") = 0.0, py::arg("pitch") = 0.0, py::arg("camera") = py::none(), py::arg("environment") = true,
+                  py::arg("yaw") = 0.0, py::arg("pitch") = static_cast<double>(pbr::kDefaultPitch), py::arg("camera") = py::none(), py::arg("environment") = true,
                   "A glTF 2.0 model (.gltf, .glb) as `softpbr render model.glb` shows it: framed for a width x height "
-                  "image, turned by yaw and raised by pitch (degrees), or through camera N of the file; lit by the "
+                  "image, turned by yaw and raised by pitch (degrees; 15 by default, 0 for a level view), or through camera N of the file; lit by the "
                   "built-in studio environment (blurred background) and the file's lights, or with environment=False "
                   "(`--env none`) by the file's lights or the default light rig when it has none. OSError if unreadable, "
                   "ValueError naming the JSON pointer if invalid.")

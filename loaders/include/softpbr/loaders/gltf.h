@@ -120,10 +120,16 @@ Camera framing_camera(const Bounds& b, float aspect, float yaw = 0.0f, float pit
 std::vector<Light> default_light_rig(const Camera& camera);
 inline constexpr float kDefaultAmbient = 0.15f;
 
+// The automatic camera's default elevation, in degrees: from the front, 15° above the
+// horizon, as model-viewer's default orbit ("0deg 75deg 105%") shows a model. A level view
+// (pitch 0) sees a flat model edge-on.
+inline constexpr float kDefaultPitch = 15.0f;
+
 // How `softpbr render model.glb` (and Python's Scene.load_gltf) shows a model.
 struct GltfView {
   int width = 1280, height = 720;  // the image, for the framing camera's aspect
-  float yaw = 0.0f, pitch = 0.0f;  // degrees, framing_camera's; pitch in [−89, 89]
+  float yaw = 0.0f;                // degrees, framing_camera's
+  float pitch = kDefaultPitch;     // degrees, framing_camera's; in [−89, 89]
   int camera = -1;                 // a camera of the file (from 0); −1: framing_camera
   // Lit by the built-in studio environment (Environment::studio(), its blurred
   // background) and the file's own lights; false: the file's lights, or default_light_rig
