@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "softpbr/pbr/gltf.h"
+#include "softpbr/loaders/gltf.h"
 
 namespace softpbr::cli {
 
