@@ -92,4 +92,62 @@ SOFTPBR_KERNEL inline void compress_ops(const float* x_in, float* out) {
   }
 }
 
+// The mask tests on plain vectors and on LaneMask, N lanes: out[0] = mask_bits(a < b),
+// out[1] = any_lane, out[2] = all_lanes of it; out[3], out[4]: any_lane, all_lanes of the
+// LaneMask of the same comparison.
+template <int N>
+SOFTPBR_KERNEL void lane_mask_ops(const float* a_in, const float* b_in, unsigned* out) {
+  using V = lanes::Vec<N>;
+  const V a = V::load(a_in), b = V::load(b_in);
+  const softpbr::simd::native_t<std::int32_t, N> less = a.v < b.v;
+  out[0] = lanes::mask_bits(less);
+  out[1] = lanes::any_lane(less);
+  out[2] = lanes::all_lanes(less);
+  out[3] = lanes::any_lane(a < b);
+  out[4] = lanes::all_lanes(a < b);
+}
+
+// store_masked of v = load_vector(v_in) (N floats) to masked[0..N) with `bits`, and
+// store_vector of v to whole + 1 (not a vector's alignment).
+template <int N>
+SOFTPBR_KERNEL void store_ops(const float* v_in, unsigned bits, float* masked, float* whole) {
+  const auto v = lanes::load_vector<N>(v_in);
+  lanes::store_masked<N>(masked, bits, v);
+  lanes::store_vector<N>(whole + 1, v);
+}
+
+// out[0..16): gather_words(words, index); out[16..32), out[32..48): gather_word_pairs'
+// first and second (index[0..16)).
+SOFTPBR_KERNEL inline void gather_ops(const std::uint8_t* words, const std::int32_t* index_in, std::int32_t* out) {
+  softpbr::simd::native_t<std::int32_t, 16> index;
+  softpbr::simd::bits512_t first, second;
+  __builtin_memcpy(&index, index_in, sizeof index);
+  const softpbr::simd::bits512_t w = lanes::gather_words(words, index);
+  lanes::gather_word_pairs(words, index, first, second);
+  __builtin_memcpy(out, &w, sizeof w);
+  __builtin_memcpy(out + 16, &first, sizeof first);
+  __builtin_memcpy(out + 32, &second, sizeof second);
+}
+
+// floats[0..16) = lookup_floats256(float_table, code); bytes[0..64) =
+// lookup_bytes256(byte_table, index), bytes[64..128) = permute_bytes(a, index, b),
+// bytes[128..192) = blend_bytes(bits, a, b), then unpack_lo8, unpack_hi8, unpack_lo16,
+// unpack_hi16 of a and b (64 bytes each), then load_bits512(index_in + 1).
+SOFTPBR_KERNEL inline void byte_ops(const float* float_table, const std::int32_t* code_in,
+                                    const std::uint8_t* byte_table, const std::uint8_t* index_in,
+                                    const std::uint8_t* a_in, const std::uint8_t* b_in, std::uint64_t bits,
+                                    float* floats, std::uint8_t* bytes) {
+  using B = softpbr::simd::bits512_t;
+  softpbr::simd::native_t<std::int32_t, 16> code;
+  __builtin_memcpy(&code, code_in, sizeof code);
+  const B index = lanes::load_bits512(index_in), a = lanes::load_bits512(a_in), b = lanes::load_bits512(b_in);
+  const softpbr::simd::native_t<float, 16> f = lanes::lookup_floats256(float_table, code);
+  __builtin_memcpy(floats, &f, sizeof f);
+  const B r[8] = {lanes::lookup_bytes256(byte_table, index), lanes::permute_bytes(a, index, b),
+                  lanes::blend_bytes(bits, a, b),      lanes::unpack_lo8(a, b),
+                  lanes::unpack_hi8(a, b),             lanes::unpack_lo16(a, b),
+                  lanes::unpack_hi16(a, b),            lanes::load_bits512(index_in + 1)};
+  __builtin_memcpy(bytes, r, sizeof r);
+}
+
 }  // namespace simd_test::SOFTPBR_TARGET_NS

@@ -1,6 +1,8 @@
 // softpbr/simd: every lane operation gives, on every compiled target (baseline, AVX2,
 // AVX-512 where the CPU has them) and at 4, 8 and 16 lanes, the bits the same operation
-// gives on one float; dispatch picks the copy asked for.
+// gives on one float; dispatch picks the copy asked for. The operations on plain vectors
+// (mask bits, stores, gathers, table lookups, byte permutes) also in their AVX-512 VBMI
+// copy where the CPU has VBMI.
 #include <doctest/doctest.h>
 
 #include <bit>
@@ -24,6 +26,7 @@ constexpr std::uint32_t kTable[8] = {3, 1, 4, 1, 5, 9, 2, 6};
 }  // namespace simd_test
 
 #define SOFTPBR_TARGET_FILE "simd_ops-inl.h"
+#define SOFTPBR_TARGET_ALSO_VBMI
 #include "softpbr/simd/foreach_target.h"
 
 namespace simd_test {
@@ -367,6 +370,206 @@ TEST_CASE("simd: compress4 moves the lanes of a mask's set bits to the front, in
         ++k;
       }
       CHECK(k == std::popcount(m));
+    }
+  }
+}
+
+namespace simd_test {
+namespace {
+
+// Every copy of a kernel this CPU runs, with its target's name: the dispatch targets, and
+// the AVX-512 VBMI copy where the CPU has VBMI.
+template <class Fn>
+struct Copy {
+  std::string name;
+  Fn fn;
+};
+template <class Fn>
+std::vector<Copy<Fn>> copies_of([[maybe_unused]] Fn baseline, [[maybe_unused]] Fn avx2, [[maybe_unused]] Fn avx512,
+                                [[maybe_unused]] Fn avx512vbmi) {
+  std::vector<Copy<Fn>> copies = {{"baseline", baseline}};
+#if SOFTPBR_SIMD_X86_TARGETS
+  if (simd::supported(simd::Isa::Avx2)) copies.push_back({"avx2", avx2});
+  if (simd::supported(simd::Isa::Avx512)) copies.push_back({"avx512", avx512});
+  if (simd::cpu_has_avx512_vbmi()) copies.push_back({"avx512vbmi", avx512vbmi});
+#endif
+  return copies;
+}
+#if SOFTPBR_SIMD_X86_TARGETS
+#define SIMD_TEST_COPIES(...)                                                                 \
+  ::simd_test::copies_of(&::simd_test::baseline::__VA_ARGS__, &::simd_test::avx2::__VA_ARGS__, \
+                         &::simd_test::avx512::__VA_ARGS__, &::simd_test::avx512vbmi::__VA_ARGS__)
+#else
+#define SIMD_TEST_COPIES(...)                                                                          \
+  ::simd_test::copies_of(&::simd_test::baseline::__VA_ARGS__, &::simd_test::baseline::__VA_ARGS__, \
+                         &::simd_test::baseline::__VA_ARGS__, &::simd_test::baseline::__VA_ARGS__)
+#endif
+
+template <int N>
+void check_lane_masks(std::mt19937& rng) {
+  const float values[] = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), 2.5f};
+  for (int round = 0; round < 200; ++round) {
+    float a[N], b[N];
+    for (int i = 0; i < N; ++i) {
+      a[i] = values[rng() % std::size(values)];
+      b[i] = values[rng() % std::size(values)];
+      if (round % 4 == 0) a[i] = -2.0f, b[i] = 3.0f;  // every lane set
+      if (round % 4 == 1) a[i] = 3.0f, b[i] = -2.0f;  // none
+    }
+    unsigned bits = 0;
+    for (int i = 0; i < N; ++i) bits |= a[i] < b[i] ? 1u << i : 0u;
+    const unsigned any = bits != 0, all = bits == (1u << N) - 1;
+    for (const auto& copy : SIMD_TEST_COPIES(lane_mask_ops<N>)) {
+      CAPTURE(copy.name);
+      CAPTURE(N);
+      unsigned out[5];
+      copy.fn(a, b, out);
+      CHECK(out[0] == bits);
+      CHECK(out[1] == any);
+      CHECK(out[2] == all);
+      CHECK(out[3] == any);
+      CHECK(out[4] == all);
+    }
+  }
+}
+
+template <int N>
+void check_stores(std::mt19937& rng) {
+  std::uniform_real_distribution<float> uniform(-4.0f, 4.0f);
+  const float sentinel = -99.0f;
+  for (int round = 0; round < 100; ++round) {
+    float v_in[N + 1];  // read from v_in + 1: not a vector's alignment
+    float* const v = v_in + 1;
+    for (int i = 0; i < N; ++i) v[i] = uniform(rng);
+    v[0] = -0.0f;
+    const unsigned bits = round < 16 && N == 4 ? static_cast<unsigned>(round) : static_cast<unsigned>(rng()) & ((1u << N) - 1);
+    for (const auto& copy : SIMD_TEST_COPIES(store_ops<N>)) {
+      CAPTURE(copy.name);
+      CAPTURE(N);
+      CAPTURE(bits);
+      float masked[N], whole[N + 2];
+      for (float& x : masked) x = sentinel;
+      for (float& x : whole) x = sentinel;
+      copy.fn(v_in + 1, bits, masked, whole);
+      int wrong = 0;
+      for (int i = 0; i < N; ++i) {
+        const float want = bits >> i & 1u ? v[i] : sentinel;
+        wrong += std::bit_cast<std::uint32_t>(masked[i]) != std::bit_cast<std::uint32_t>(want);
+        wrong += std::bit_cast<std::uint32_t>(whole[i + 1]) != std::bit_cast<std::uint32_t>(v[i]);
+      }
+      wrong += whole[0] != sentinel || whole[N + 1] != sentinel;
+      CHECK(wrong == 0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace simd_test
+
+TEST_CASE("simd: mask_bits, any_lane and all_lanes of plain masks and LaneMasks at 4, 8 and 16 lanes on every target") {
+  std::mt19937 rng(21);
+  simd_test::check_lane_masks<4>(rng);
+  simd_test::check_lane_masks<8>(rng);
+  simd_test::check_lane_masks<16>(rng);
+}
+
+TEST_CASE("simd: load_vector, store_masked (the lanes of its bits, nothing else) and store_vector at any alignment") {
+  std::mt19937 rng(22);
+  simd_test::check_stores<4>(rng);
+  simd_test::check_stores<8>(rng);
+  simd_test::check_stores<16>(rng);
+}
+
+TEST_CASE("simd: gather_words and gather_word_pairs load each lane's words from an unaligned array on every target") {
+  std::mt19937 rng(23);
+  std::vector<std::uint8_t> storage(4 * 300 + 1);
+  for (auto& x : storage) x = static_cast<std::uint8_t>(rng());
+  const std::uint8_t* words = storage.data() + 1;  // not 4-byte aligned
+  const auto word = [&](std::int32_t i) {
+    std::int32_t w;
+    std::memcpy(&w, words + 4 * static_cast<std::size_t>(i), 4);
+    return w;
+  };
+  for (int round = 0; round < 100; ++round) {
+    std::int32_t index[16];
+    for (int i = 0; i < 16; ++i) index[i] = static_cast<std::int32_t>(rng() % 299);
+    index[0] = 0;
+    index[15] = 298;
+    for (const auto& copy : SIMD_TEST_COPIES(gather_ops)) {
+      CAPTURE(copy.name);
+      std::int32_t out[48];
+      copy.fn(words, index, out);
+      int wrong = 0;
+      for (int i = 0; i < 16; ++i) {
+        wrong += out[i] != word(index[i]);
+        wrong += out[16 + i] != word(index[i]);
+        wrong += out[32 + i] != word(index[i] + 1);
+      }
+      CHECK(wrong == 0);
+    }
+  }
+}
+
+TEST_CASE("simd: lookup_floats256, lookup_bytes256, permute_bytes, blend_bytes, the unpacks and load_bits512 on every target") {
+  std::mt19937 rng(24);
+  // A float table with bits a conversion would change (−0, a signalling NaN, a denormal).
+  std::vector<float> float_table(256);
+  for (int i = 0; i < 256; ++i) float_table[i] = std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
+  float_table[0] = -0.0f;
+  float_table[1] = std::bit_cast<float>(0x7fa00001u);
+  float_table[255] = std::bit_cast<float>(0x00000003u);
+  std::vector<std::uint8_t> byte_storage(257);
+  for (auto& x : byte_storage) x = static_cast<std::uint8_t>(rng());
+  const std::uint8_t* byte_table = byte_storage.data() + 1;  // any alignment
+  for (int round = 0; round < 100; ++round) {
+    std::int32_t code[16];
+    std::uint8_t index[65], a[64], b[64];
+    for (auto& c : code) c = static_cast<std::int32_t>(rng());  // bits above 7 ignored
+    index[64] = static_cast<std::uint8_t>(rng());
+    for (int i = 0; i < 64; ++i) {
+      index[i] = static_cast<std::uint8_t>(rng());
+      a[i] = static_cast<std::uint8_t>(rng());
+      b[i] = static_cast<std::uint8_t>(rng());
+    }
+    code[0] = 255;
+    code[1] = 0;
+    index[0] = 255;
+    index[1] = 0;
+    index[2] = 127;
+    index[3] = 128;
+    const std::uint64_t bits = (static_cast<std::uint64_t>(rng()) << 32) | rng();
+    // What each operation gives, byte by byte.
+    std::uint8_t want[8][64];
+    std::memcpy(want[7], index + 1, 64);
+    for (int i = 0; i < 64; ++i) {
+      want[0][i] = byte_table[index[i]];
+      want[1][i] = (index[i] & 64) ? b[index[i] & 63] : a[index[i] & 63];
+      want[2][i] = (bits >> i & 1u) ? b[i] : a[i];
+    }
+    for (int block = 0; block < 64; block += 16)
+      for (int i = 0; i < 8; ++i) {
+        want[3][block + 2 * i] = a[block + i], want[3][block + 2 * i + 1] = b[block + i];
+        want[4][block + 2 * i] = a[block + 8 + i], want[4][block + 2 * i + 1] = b[block + 8 + i];
+      }
+    for (int block = 0; block < 64; block += 16)
+      for (int u = 0; u < 4; ++u)
+        for (int e = 0; e < 2; ++e) {
+          want[5][block + 4 * u + e] = a[block + 2 * u + e], want[5][block + 4 * u + 2 + e] = b[block + 2 * u + e];
+          want[6][block + 4 * u + e] = a[block + 8 + 2 * u + e], want[6][block + 4 * u + 2 + e] = b[block + 8 + 2 * u + e];
+        }
+    for (const auto& copy : SIMD_TEST_COPIES(byte_ops)) {
+      CAPTURE(copy.name);
+      float floats[16];
+      std::uint8_t bytes[8 * 64];
+      copy.fn(float_table.data(), code, byte_table, index, a, b, bits, floats, bytes);
+      int wrong = 0;
+      for (int i = 0; i < 16; ++i)
+        wrong += std::bit_cast<std::uint32_t>(floats[i]) != std::bit_cast<std::uint32_t>(float_table[code[i] & 255]);
+      CHECK(wrong == 0);
+      for (int op = 0; op < 8; ++op) {
+        CAPTURE(op);
+        CHECK(std::memcmp(bytes + 64 * op, want[op], 64) == 0);
+      }
     }
   }
 }

@@ -12,18 +12,16 @@ namespace softpbr::raster::detail::SOFTPBR_TARGET_NS {
 SOFTPBR_KERNEL void fill_block(glm::vec4* colors, std::size_t n, glm::vec4 color, float* depths, std::size_t m,
                                float depth) {
   std::size_t i = 0, j = 0;
-#if SOFTPBR_TARGET_AVX512
-  // Explicit 64-byte stores: GCC copies a 64-byte vector by two 32-byte halves (its
-  // preferred width), which measured no faster than std::fill.
-  const __m512 cz = _mm512_setr_ps(color.r, color.g, color.b, color.a, color.r, color.g, color.b, color.a,
-                                   color.r, color.g, color.b, color.a, color.r, color.g, color.b, color.a);
-  const __m512 dz = _mm512_set1_ps(depth);
-  for (; i + 4 <= n; i += 4) _mm512_storeu_ps(&colors[i].r, cz);
-  for (; j + 16 <= m; j += 16) _mm512_storeu_ps(depths + j, dz);
-#else
   typedef float V16 __attribute__((vector_size(64)));
   const V16 c = {color.r, color.g, color.b, color.a, color.r, color.g, color.b, color.a,
                  color.r, color.g, color.b, color.a, color.r, color.g, color.b, color.a};
+#if SOFTPBR_TARGET_AVX512
+  // Whole 64-byte stores: GCC copies a 64-byte vector by two 32-byte halves (its
+  // preferred width), which measured no faster than std::fill.
+  const V16 d = depth - V16{};  // a bare broadcast (see simd::Lanes(float))
+  for (; i + 4 <= n; i += 4) simd::SOFTPBR_TARGET_NS::store_vector<16>(&colors[i].r, c);
+  for (; j + 16 <= m; j += 16) simd::SOFTPBR_TARGET_NS::store_vector<16>(depths + j, d);
+#else
   V16 d;
   for (int k = 0; k < 16; ++k) d[k] = depth;
   for (; i + 4 <= n; i += 4) __builtin_memcpy(colors + i, &c, sizeof c);

@@ -1,9 +1,10 @@
 // Texture lookups kL lanes at a time (8 with AVX2, 16 with AVX-512), compiled once per
 // target (texture.cpp includes it through softpbr/simd/foreach_target.h; no include guard,
-// no header included here), and once more by texture.cpp for AVX-512 with VBMI
-// (SOFTPBR_TEXTURE_VBMI 1: namespace avx512vbmi, the table lookups by byte permutes). Only
-// the copies with 256-bit vectors or wider define the kernel (SOFTPBR_TARGET_AVX: avx2,
-// avx512, avx512vbmi); texture.cpp runs its scalar code elsewhere.
+// no header included here), and once more for AVX-512 with VBMI (SOFTPBR_TARGET_VBMI 1:
+// namespace avx512vbmi, the table lookups by byte permutes). Only the copies with 256-bit
+// vectors or wider define the kernel (SOFTPBR_TARGET_AVX: avx2, avx512, avx512vbmi);
+// texture.cpp runs its scalar code elsewhere. The lane operations on plain vectors (mask
+// bits, gathers, table lookups, byte permutes) are simd's (`lanes::`).
 //
 // The kernel is texture.cpp's scalar fast path (Lookup::sample_fast: an 8-bit texture whose
 // sides are powers of two, both wraps Repeat, every filter Linear) on kL lanes: every
@@ -14,15 +15,15 @@
 // discards it by a select, or adds 0 to a sum (of non-negative values: 8-bit texels
 // decode to +0 … 1, so x + 0 = x exactly). Lanes beyond `n` read zeros and are not stored.
 
-#ifndef SOFTPBR_TEXTURE_VBMI
-#define SOFTPBR_TEXTURE_VBMI 0
-#endif
-
 namespace softpbr::raster::detail::SOFTPBR_TARGET_NS {
 
 #if SOFTPBR_TARGET_AVX
 
 namespace texture_lanes {
+
+namespace lanes = simd::SOFTPBR_TARGET_NS;
+using lanes::all_lanes;
+using lanes::any_lane;
 
 // kL lanes: 16 where the target has AVX-512 (its 512-bit registers), else 8.
 #if SOFTPBR_TARGET_AVX512
@@ -38,22 +39,9 @@ inline IV splat_int(std::int32_t x) { return IV{} + x; }
 // m ? a : b per lane (m all ones or zeros, as comparisons give).
 inline FV select(IV m, FV a, FV b) { return (FV)((m & (IV)a) | (~m & (IV)b)); }
 inline IV select(IV m, IV a, IV b) { return (m & a) | (~m & b); }
-#if SOFTPBR_TARGET_AVX512
-inline bool any(IV m) { return _mm512_movepi32_mask((__m512i)m) != 0; }
-inline bool all(IV m) { return _mm512_movepi32_mask((__m512i)m) == 0xffff; }
-#else
-inline bool any(IV m) { return _mm256_movemask_ps((__m256)m) != 0; }
-inline bool all(IV m) { return _mm256_movemask_ps((__m256)m) == 0xff; }
-#endif
 inline FV to_float(IV i) { return __builtin_convertvector(i, FV); }
 inline IV to_int(FV x) { return __builtin_convertvector(x, IV); }  // towards zero
-#if SOFTPBR_TARGET_AVX512
-// The masked form with every lane selected, as simd's Lanes: GCC 12 warns of
-// _mm512_sqrt_ps's undefined pass-through operand.
-inline FV sqrt(FV x) { return (FV)_mm512_mask_sqrt_ps((__m512)x, static_cast<__mmask16>(0xffff), (__m512)x); }
-#else
-inline FV sqrt(FV x) { return (FV)_mm256_sqrt_ps((__m256)x); }
-#endif
+inline FV sqrt(FV x) { return simd::sqrt(simd::Lanes<kL, SOFTPBR_ISA>(x)).v; }
 
 // finite_or_zero: x − x is 0 only for finite x.
 inline FV finite_or_zero(FV x) { return select((x - x) == 0.0f, x, FV{}); }
@@ -96,7 +84,7 @@ inline FV log2_tail(IV e, IV bits) {
 inline FV log2_of(FV x) {
   const float inf = std::numeric_limits<float>::infinity();
   const IV bits = (IV)x;
-  if (all((x >= std::numeric_limits<float>::min()) & (x < inf))) return log2_tail((bits >> 23) - 127, bits);
+  if (all_lanes((x >= std::numeric_limits<float>::min()) & (x < inf))) return log2_tail((bits >> 23) - 127, bits);
   const IV subnormal = x < std::numeric_limits<float>::min();
   const FV xn = select(subnormal, x * 16777216.0f, x);  // 2^24
   const IV nbits = (IV)xn;
@@ -119,7 +107,7 @@ struct LevelLanes {
 };
 inline LevelLanes level_lanes(const LaneTexture& t, IV d) {
   LevelLanes r;
-  if (all(d == d[0])) {
+  if (all_lanes(d == d[0])) {
     const Texture::Level& lv = t.levels[d[0]];
     r.wmask = splat_int(lv.width - 1);
     r.hmask = splat_int(lv.height - 1);
@@ -142,100 +130,43 @@ inline LevelLanes level_lanes(const LaneTexture& t, IV d) {
 }
 
 #if SOFTPBR_TARGET_AVX512
-// The lanes' indices stored to `at`, to be read back by plain loads: the empty asm keeps
-// GCC from taking each out of the vector register instead (vpextrd, two micro-ops on
-// Zen 4, against one for a load).
-inline void store_indices(std::int32_t (&at)[kL], IV index) {
-  std::memcpy(at, &index, sizeof at);
-  asm("" : "+m"(at));
+// 16 texel words (RGBA8), or 64 bytes, in one register.
+using Words = simd::bits512_t;
+
+// The texel words at kL indices into the texel array.
+inline Words texel_words(const LaneTexture& t, IV index) { return lanes::gather_words(t.texels, index); }
+// The texel words at index and index + 1 in each lane (the caller's index + 1 must not
+// leave the row: no lane wraps), one 8-byte load a lane: half the loads of two
+// texel_words(). Bilinear's footprint is two such pairs. Zen 4, BM_TextureLookups:
+// trilinear −7%, 16× anisotropic −12%.
+inline void texel_word_pairs(const LaneTexture& t, IV index, Words& first, Words& second) {
+  lanes::gather_word_pairs(t.texels, index, first, second);
 }
 
-// kL texel words (RGBA8, by index into the texel array): one load each, put together by
-// inserts (16 dword stores then one 64-byte load would wait for the stores to retire;
-// vpgatherdd measured 5% slower in fill8x_tex on Zen 4).
-inline __m512i texel_words(const LaneTexture& t, IV index) {
-  alignas(64) std::int32_t at[kL];
-  store_indices(at, index);
-  auto word = [&](int i) {
-    std::int32_t x;
-    std::memcpy(&x, t.texels + static_cast<std::size_t>(at[i]) * 4, 4);
-    return x;
-  };
-  __m128i q[4];
-  for (int j = 0; j < 4; ++j) {
-    q[j] = _mm_cvtsi32_si128(word(4 * j));
-    q[j] = _mm_insert_epi32(q[j], word(4 * j + 1), 1);
-    q[j] = _mm_insert_epi32(q[j], word(4 * j + 2), 2);
-    q[j] = _mm_insert_epi32(q[j], word(4 * j + 3), 3);
-  }
-  // Concatenated by vector shuffles (GCC 12's _mm512_inserti64x4 warns of its undefined
-  // pass-through operand).
-  typedef std::int32_t I4 __attribute__((vector_size(16)));
-  typedef std::int32_t I8 __attribute__((vector_size(32)));
-  const I8 lo = __builtin_shufflevector((I4)q[0], (I4)q[1], 0, 1, 2, 3, 4, 5, 6, 7);
-  const I8 hi = __builtin_shufflevector((I4)q[2], (I4)q[3], 0, 1, 2, 3, 4, 5, 6, 7);
-  return (__m512i)__builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-}
-
-// The texel words at index and index + 1 in each lane, by one 8-byte load a lane (the
-// caller's index + 1 must not leave the row: no lane wraps), split into two vectors by
-// two dword permutes. Half the loads and inserts of two texel_words(): bilinear's
-// footprint is two such pairs. Zen 4, BM_TextureLookups: trilinear −7%, 16× anisotropic
-// −12%.
-inline void texel_word_pairs(const LaneTexture& t, IV index, __m512i& first, __m512i& second) {
-  alignas(64) std::int32_t at[kL];
-  store_indices(at, index);
-  auto pair = [&](int i) {
-    long long x;
-    std::memcpy(&x, t.texels + static_cast<std::size_t>(at[i]) * 4, 8);
-    return x;
-  };
-  __m128i q[8];
-  for (int j = 0; j < 8; ++j) q[j] = _mm_insert_epi64(_mm_cvtsi64_si128(pair(2 * j)), pair(2 * j + 1), 1);
-  typedef long long L2 __attribute__((vector_size(16)));
-  typedef long long L4 __attribute__((vector_size(32)));
-  const L4 a0 = __builtin_shufflevector((L2)q[0], (L2)q[1], 0, 1, 2, 3);
-  const L4 a1 = __builtin_shufflevector((L2)q[2], (L2)q[3], 0, 1, 2, 3);
-  const L4 b0 = __builtin_shufflevector((L2)q[4], (L2)q[5], 0, 1, 2, 3);
-  const L4 b1 = __builtin_shufflevector((L2)q[6], (L2)q[7], 0, 1, 2, 3);
-  const __m512i a = (__m512i)__builtin_shufflevector(a0, a1, 0, 1, 2, 3, 4, 5, 6, 7);  // lanes 0–7's pairs
-  const __m512i b = (__m512i)__builtin_shufflevector(b0, b1, 0, 1, 2, 3, 4, 5, 6, 7);  // lanes 8–15's
-  const __m512i even = _mm512_set_epi32(30, 28, 26, 24, 22, 20, 18, 16, 14, 12, 10, 8, 6, 4, 2, 0);
-  first = _mm512_permutex2var_epi32(a, even, b);
-  second = _mm512_permutex2var_epi32(a, _mm512_add_epi32(even, _mm512_set1_epi32(1)), b);
-}
-
-#if SOFTPBR_TEXTURE_VBMI
-// The colour table applied to every byte of the 16 words at once, by AVX-512 VBMI's byte
-// permutes; the entry's bytes are then gathered into channel ch's floats. The table is
-// held as four planes (LaneTexture::planes: byte k of entry c at [256 k + c]): vpermt2b
-// looks up 128 entries by a byte's bits 0–6, bit 7 picks the half. Pure data movement: the
-// table's floats, bit for bit. 13 instructions for the planes, 3 a channel: against 19 a
-// channel for TableLanes.
+#if SOFTPBR_TARGET_VBMI
+// The colour table applied to every byte of the 16 words at once (lookup_bytes256: with
+// VBMI, byte permutes of the table in registers); the entry's bytes are then gathered
+// into channel ch's floats. The table is held as four planes (LaneTexture::planes: byte k
+// of entry c at [256 k + c]). Pure data movement: the table's floats, bit for bit. 13
+// instructions for the planes, 3 a channel: against 19 a channel for lookup_floats256.
 struct DecodedBytes {
-  __m512i b[4];  // b[k]: byte k of the entry of each of the 64 codes
+  Words b[4];  // b[k]: byte k of the entry of each of the 64 codes
 };
-inline DecodedBytes decode_bytes(const LaneTexture& t, __m512i w) {
-  const __mmask64 high = _mm512_movepi8_mask(w);
+inline DecodedBytes decode_bytes(const LaneTexture& t, Words w) {
   DecodedBytes d;
-  for (int k = 0; k < 4; ++k) {
-    const std::uint8_t* p = t.planes + 256 * k;
-    const __m512i lo = _mm512_permutex2var_epi8(_mm512_loadu_si512(p), w, _mm512_loadu_si512(p + 64));
-    const __m512i hi = _mm512_permutex2var_epi8(_mm512_loadu_si512(p + 128), w, _mm512_loadu_si512(p + 192));
-    d.b[k] = _mm512_mask_blend_epi8(high, lo, hi);
-  }
+  for (int k = 0; k < 4; ++k) d.b[k] = lanes::lookup_bytes256(t.planes + 256 * k, w);
   return d;
 }
 // Channel ch's floats: lane i's bytes 0–3 from b[0..3] at 4i + ch.
 inline FV channel_floats(const DecodedBytes& d, int ch) {
   // Byte 4i + j of the index: 4i + ch, plus 64 (the second source) for j = 1 and 3.
-  const __m512i lane = _mm512_set_epi32(0x3c3c3c3c, 0x38383838, 0x34343434, 0x30303030, 0x2c2c2c2c, 0x28282828,
-                                        0x24242424, 0x20202020, 0x1c1c1c1c, 0x18181818, 0x14141414, 0x10101010,
-                                        0x0c0c0c0c, 0x08080808, 0x04040404, 0x00000000);
-  const __m512i idx = _mm512_add_epi8(lane, _mm512_set1_epi32(0x40004000 + 0x01010101 * ch));
-  const __m512i x = _mm512_permutex2var_epi8(d.b[0], idx, d.b[1]);  // bytes 0, 1
-  const __m512i y = _mm512_permutex2var_epi8(d.b[2], idx, d.b[3]);  // bytes 2, 3
-  return (FV)_mm512_mask_blend_epi8(static_cast<__mmask64>(0xccccccccccccccccull), x, y);
+  typedef std::uint8_t Bytes __attribute__((vector_size(64)));
+  const IV lane = {0x00000000, 0x04040404, 0x08080808, 0x0c0c0c0c, 0x10101010, 0x14141414, 0x18181818, 0x1c1c1c1c,
+                   0x20202020, 0x24242424, 0x28282828, 0x2c2c2c2c, 0x30303030, 0x34343434, 0x38383838, 0x3c3c3c3c};
+  const Words idx = (Words)((Bytes)lane + (Bytes)splat_int(0x40004000 + 0x01010101 * ch));
+  const Words x = lanes::permute_bytes(d.b[0], idx, d.b[1]);  // bytes 0, 1
+  const Words y = lanes::permute_bytes(d.b[2], idx, d.b[3]);  // bytes 2, 3
+  return (FV)lanes::blend_bytes(0xccccccccccccccccull, x, y);
 }
 // The colour channels of four texel-word vectors decoded together: their 192 colour codes
 // (the alpha codes left out) gathered into three registers by byte permutes, each
@@ -259,37 +190,18 @@ inline constexpr RgbCodeOrder kRgbCodeOrder = [] {
         }
   return o;
 }();
-inline void decode_rgb4(const LaneTexture& t, const __m512i (&w)[4], RgbaV (&c)[4]) {
+inline void decode_rgb4(const LaneTexture& t, const Words (&w)[4], RgbaV (&c)[4]) {
   for (int k = 0; k < 3; ++k) {
     const int first = 4 * k / 3;  // the register's codes come from word vectors first and first + 1
-    const __m512i codes =
-        _mm512_permutex2var_epi8(w[first], _mm512_loadu_si512(kRgbCodeOrder.idx[k]), w[first + 1]);
+    const Words codes = lanes::permute_bytes(w[first], lanes::load_bits512(kRgbCodeOrder.idx[k]), w[first + 1]);
     const DecodedBytes d = decode_bytes(t, codes);
-    const __m512i t0 = _mm512_unpacklo_epi8(d.b[0], d.b[1]), t1 = _mm512_unpackhi_epi8(d.b[0], d.b[1]);
-    const __m512i t2 = _mm512_unpacklo_epi8(d.b[2], d.b[3]), t3 = _mm512_unpackhi_epi8(d.b[2], d.b[3]);
-    const __m512i f[4] = {_mm512_unpacklo_epi16(t0, t2), _mm512_unpackhi_epi16(t0, t2), _mm512_unpacklo_epi16(t1, t3),
-                          _mm512_unpackhi_epi16(t1, t3)};
+    const Words t0 = lanes::unpack_lo8(d.b[0], d.b[1]), t1 = lanes::unpack_hi8(d.b[0], d.b[1]);
+    const Words t2 = lanes::unpack_lo8(d.b[2], d.b[3]), t3 = lanes::unpack_hi8(d.b[2], d.b[3]);
+    const Words f[4] = {lanes::unpack_lo16(t0, t2), lanes::unpack_hi16(t0, t2), lanes::unpack_lo16(t1, t3),
+                     lanes::unpack_hi16(t1, t3)};
     for (int m = 0; m < 4; ++m) c[(4 * k + m) / 3].c[(4 * k + m) % 3] = (FV)f[m];
   }
   for (int j = 0; j < 4; ++j) c[j].c[3] = FV{};
-}
-#else
-// A 256-entry float table held in 16 registers: entry k of the code in bits 0–7 of each
-// lane (the higher bits ignored). vpermt2ps reads 32 entries by the code's bits 0–4; three
-// selects on bits 5, 6, 7 pick among the eight 32-entry quarters. Pure data movement: the
-// table's floats, bit for bit.
-inline FV table_lanes(const float* table, IV code) {
-  const __m512i k = (__m512i)code;
-  __m512 t[8];
-  for (int j = 0; j < 8; ++j)
-    t[j] = _mm512_permutex2var_ps(_mm512_loadu_ps(table + 32 * j), k, _mm512_loadu_ps(table + 32 * j + 16));
-  const __mmask16 b5 = _mm512_test_epi32_mask(k, _mm512_set1_epi32(32));
-  const __mmask16 b6 = _mm512_test_epi32_mask(k, _mm512_set1_epi32(64));
-  const __mmask16 b7 = _mm512_test_epi32_mask(k, _mm512_set1_epi32(128));
-  const __m512 u0 = _mm512_mask_blend_ps(b5, t[0], t[1]), u1 = _mm512_mask_blend_ps(b5, t[2], t[3]);
-  const __m512 u2 = _mm512_mask_blend_ps(b5, t[4], t[5]), u3 = _mm512_mask_blend_ps(b5, t[6], t[7]);
-  const __m512 v0 = _mm512_mask_blend_ps(b6, u0, u1), v1 = _mm512_mask_blend_ps(b6, u2, u3);
-  return (FV)_mm512_mask_blend_ps(b7, v0, v1);
 }
 #endif
 #endif  // SOFTPBR_TARGET_AVX512
@@ -299,9 +211,9 @@ inline FV table_lanes(const float* table, IV code) {
 // only the channels in kCh (bit c: channel c), the others 0. Table lookups in registers:
 // the fetch at 16 lanes was ~80% table and byte loads.
 template <unsigned kCh>
-inline RgbaV decode_words(const LaneTexture& t, __m512i w) {
+inline RgbaV decode_words(const LaneTexture& t, Words w) {
   RgbaV r;
-#if SOFTPBR_TEXTURE_VBMI
+#if SOFTPBR_TARGET_VBMI
   constexpr bool kColour = (kCh & Texture::kRgb) != 0;
   DecodedBytes d{};
   if constexpr (kColour) d = decode_bytes(t, w);
@@ -313,10 +225,10 @@ inline RgbaV decode_words(const LaneTexture& t, __m512i w) {
       // The alpha table's entries are k/255 in float, one rounding: so is this.
       r.c[3] = to_float(((IV)w >> 24) & 0xff) / 255.0f;
     } else {
-#if SOFTPBR_TEXTURE_VBMI
+#if SOFTPBR_TARGET_VBMI
       r.c[ch] = channel_floats(d, ch);
 #else
-      r.c[ch] = table_lanes(t.rgb, (IV)w >> (8 * ch));
+      r.c[ch] = lanes::lookup_floats256(t.rgb, (IV)w >> (8 * ch));
 #endif
     }
   }
@@ -396,8 +308,8 @@ inline Footprint footprint_of(const LevelLanes& lv, FV cu, FV cv) {
 
 #if SOFTPBR_TARGET_AVX512
 // The texel words of a footprint: at (ia, ja), (ib, ja), (ia, jb), (ib, jb).
-inline void footprint_words(const LaneTexture& t, const Footprint& f, __m512i (&w)[4]) {
-  if (!any(f.wraps)) {
+inline void footprint_words(const LaneTexture& t, const Footprint& f, Words (&w)[4]) {
+  if (!any_lane(f.wraps)) {
     // No lane wraps in x: each row's two texels are adjacent, one 8-byte load.
     texel_word_pairs(t, f.row_a + f.ia, w[0], w[1]);
     texel_word_pairs(t, f.row_b + f.ia, w[2], w[3]);
@@ -408,8 +320,8 @@ inline void footprint_words(const LaneTexture& t, const Footprint& f, __m512i (&
 }
 // Four texel-word vectors decoded (the channels in kCh).
 template <unsigned kCh>
-inline void decode_four(const LaneTexture& t, const __m512i (&w)[4], RgbaV (&c)[4]) {
-#if SOFTPBR_TEXTURE_VBMI
+inline void decode_four(const LaneTexture& t, const Words (&w)[4], RgbaV (&c)[4]) {
+#if SOFTPBR_TARGET_VBMI
   if constexpr (kCh == Texture::kRgb) return decode_rgb4(t, w, c);
 #endif
   for (int j = 0; j < 4; ++j) c[j] = decode_words<kCh>(t, w[j]);
@@ -421,7 +333,7 @@ template <unsigned kCh>
 inline RgbaV bilinear(const LaneTexture& t, const LevelLanes& lv, FV cu, FV cv) {
   const Footprint f = footprint_of(lv, cu, cv);
 #if SOFTPBR_TARGET_AVX512
-  __m512i w[4];
+  Words w[4];
   footprint_words(t, f, w);
   RgbaV c[4];
   decode_four<kCh>(t, w, c);
@@ -439,7 +351,7 @@ template <unsigned kCh>
 inline RgbaV trilinear(const LaneTexture& t, FV lod, FV u, FV v) {
   // coordinate() is the identity where every lane is within ±2^16 (NaN is not).
   const float k = kMaxCoordinate;
-  const bool inside = all((u >= -k) & (u <= k) & (v >= -k) & (v <= k));
+  const bool inside = all_lanes((u >= -k) & (u <= k) & (v >= -k) & (v <= k));
   FV cu = u, cv = v;
   if (!inside) cu = coordinate(u), cv = coordinate(v);
   const IV positive = lod > 0.0f;
@@ -447,13 +359,13 @@ inline RgbaV trilinear(const LaneTexture& t, FV lod, FV u, FV v) {
   const FloorL f = floor_of(select(between, lod, splat(0.5f)));
   const IV d1 = select(between, f.i, select(positive, splat_int(t.q), IV{}));
 #if SOFTPBR_TARGET_AVX512
-  if (!any(between)) return bilinear<kCh>(t, level_lanes(t, d1), cu, cv);
+  if (!any_lane(between)) return bilinear<kCh>(t, level_lanes(t, d1), cu, cv);
   // The two levels stage by stage (footprints, loads, decoding, sums), not one after the
   // other: two independent chains side by side in the instruction stream, which the
   // core overlaps (one level's chain alone is mostly latency).
   const Footprint fa = footprint_of(level_lanes(t, d1), cu, cv);
   const Footprint fb = footprint_of(level_lanes(t, select(between, d1 + 1, d1)), cu, cv);
-  __m512i wa[4], wb[4];
+  Words wa[4], wb[4];
   footprint_words(t, fa, wa);
   footprint_words(t, fb, wb);
   RgbaV ca[4], cb[4];
@@ -463,7 +375,7 @@ inline RgbaV trilinear(const LaneTexture& t, FV lod, FV u, FV v) {
   const RgbaV b = filter<kCh>(cb[0], cb[1], cb[2], cb[3], fb.wt);
 #else
   const RgbaV a = bilinear<kCh>(t, level_lanes(t, d1), cu, cv);
-  if (!any(between)) return a;
+  if (!any_lane(between)) return a;
   const RgbaV b = bilinear<kCh>(t, level_lanes(t, select(between, d1 + 1, d1)), cu, cv);
 #endif
   const FV w = lod - f.f;  // exact where it is used
@@ -489,7 +401,7 @@ inline RgbaV sample_v(const LaneTexture& t, FV u, FV v, FV dudx, FV dvdx, FV dud
     py2 = uy * uy + vy * vy;
   };
   squares();
-  if (!all(px2 + py2 < std::numeric_limits<float>::infinity())) {
+  if (!all_lanes(px2 + py2 < std::numeric_limits<float>::infinity())) {
     dudx = finite_or_zero(dudx);
     dvdx = finite_or_zero(dvdx);
     dudy = finite_or_zero(dudy);
@@ -517,7 +429,7 @@ inline RgbaV sample_v(const LaneTexture& t, FV u, FV v, FV dudx, FV dvdx, FV dud
   }
   const IV several = probes > 1;
   const FV lod = clamp_lod(t, log2_of(select(several, pmax / to_float(probes), pmax)));
-  if (!any(several)) return trilinear<kCh>(t, lod, u, v);
+  if (!any_lane(several)) return trilinear<kCh>(t, lod, u, v);
   // EXT_texture_filter_anisotropic's probes: lanes with one probe read (u, v) as the scalar
   // code does; the others the mean of theirs, summed in order, a probe past a lane's count
   // adding nothing.
@@ -598,4 +510,3 @@ SOFTPBR_KERNEL void sample_lanes(const LaneTexture& t, int n, const Texture::Bat
 
 }  // namespace softpbr::raster::detail::SOFTPBR_TARGET_NS
 
-#undef SOFTPBR_TEXTURE_VBMI

@@ -370,37 +370,13 @@ void allow_texture_vbmi(bool allowed) { texture_vbmi_allowed.store(allowed, std:
 
 // detail::{avx2, avx512}::sample_lanes() (the baseline copy has none unless the build
 // itself targets AVX); sample_batch() runs the AVX-512 copy (16 lanes) where the CPU has
-// it, else the AVX2 copy (8 lanes): the same bits.
+// it, else the AVX2 copy (8 lanes): the same bits. And detail::avx512vbmi::sample_lanes():
+// the AVX-512 kernel with its table lookups done by VBMI's byte permutes, run in place of
+// detail::avx512's where the CPU has VBMI. Pure data movement: the same bits
+// (tests/test_texture_lanes.cpp runs both).
 #define SOFTPBR_TARGET_FILE "texture-inl.h"
+#define SOFTPBR_TARGET_ALSO_VBMI
 #include "softpbr/simd/foreach_target.h"
-
-// detail::avx512vbmi::sample_lanes(): the AVX-512 kernel with its table lookups done by
-// VBMI's byte permutes, run in place of detail::avx512's where the CPU has VBMI. Pure
-// data movement: the same bits (tests/test_texture_lanes.cpp runs both).
-#if SOFTPBR_SIMD_X86_TARGETS
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt"))), \
-                             apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt")
-#endif
-#define SOFTPBR_TARGET_NS avx512vbmi
-#define SOFTPBR_ISA ::softpbr::simd::Isa::Avx512
-#define SOFTPBR_TARGET_AVX 1
-#define SOFTPBR_TARGET_AVX512 1
-#define SOFTPBR_TEXTURE_VBMI 1
-#include "texture-inl.h"
-#undef SOFTPBR_TARGET_NS
-#undef SOFTPBR_ISA
-#undef SOFTPBR_TARGET_AVX
-#undef SOFTPBR_TARGET_AVX512
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
-#endif  // SOFTPBR_SIMD_X86_TARGETS
 
 namespace softpbr::raster {
 

@@ -10,12 +10,20 @@
 //   SOFTPBR_ISA            its simd::Isa value
 //   SOFTPBR_TARGET_AVX     1 when 256-bit vector instructions are available, else 0
 //   SOFTPBR_TARGET_AVX512  1 when AVX-512 F/DQ/VL/BW are available, else 0
+//   SOFTPBR_TARGET_VBMI    1 in the AVX-512 VBMI copy (below), else 0
 // The target file puts its definitions in a namespace named SOFTPBR_TARGET_NS (or in
 // specializations for SOFTPBR_ISA), so the copies do not collide, and includes no header
 // itself (a header included there would be compiled for one target only). Dispatch picks
 // a copy at run time (softpbr/simd/dispatch.h). This is the scheme of Highway's
 // foreach_target.h, without its per-target vector API: softpbr's lane types have fixed
 // widths (4, 8, 16 on every target), which its width-equivalence tests need.
+//
+// With `#define SOFTPBR_TARGET_ALSO_VBMI` before the include, the file is included once more
+// after AVX-512: namespace avx512vbmi, SOFTPBR_ISA Avx512, SOFTPBR_TARGET_VBMI 1, compiled
+// with AVX-512 VBMI too (byte permutes across a 512-bit register). Not a dispatch target
+// (isa.h: cpu_has_avx512_vbmi()): the caller picks that copy within Avx512 (texture.cpp's
+// lane kernel); simd.h compiles the plain-vector lane operations this way, so that copy's
+// byte permutes are VBMI's.
 //
 // No include guard: it is meant to be included many times.
 #ifndef SOFTPBR_TARGET_FILE
@@ -40,11 +48,13 @@
 #define SOFTPBR_TARGET_AVX 0
 #endif
 #define SOFTPBR_TARGET_AVX512 SOFTPBR_BUILD_AVX512
+#define SOFTPBR_TARGET_VBMI 0
 #include SOFTPBR_TARGET_FILE
 #undef SOFTPBR_TARGET_NS
 #undef SOFTPBR_ISA
 #undef SOFTPBR_TARGET_AVX
 #undef SOFTPBR_TARGET_AVX512
+#undef SOFTPBR_TARGET_VBMI
 
 #if SOFTPBR_SIMD_X86_TARGETS
 // --- AVX2 (no FMA: -ffp-contract=off forbids contraction, and no target enables it). ---
@@ -58,11 +68,13 @@
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Avx2
 #define SOFTPBR_TARGET_AVX 1
 #define SOFTPBR_TARGET_AVX512 SOFTPBR_BUILD_AVX512
+#define SOFTPBR_TARGET_VBMI 0
 #include SOFTPBR_TARGET_FILE
 #undef SOFTPBR_TARGET_NS
 #undef SOFTPBR_ISA
 #undef SOFTPBR_TARGET_AVX
 #undef SOFTPBR_TARGET_AVX512
+#undef SOFTPBR_TARGET_VBMI
 #if defined(__clang__)
 #pragma clang attribute pop
 #else
@@ -81,17 +93,47 @@
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Avx512
 #define SOFTPBR_TARGET_AVX 1
 #define SOFTPBR_TARGET_AVX512 1
+#define SOFTPBR_TARGET_VBMI 0
 #include SOFTPBR_TARGET_FILE
 #undef SOFTPBR_TARGET_NS
 #undef SOFTPBR_ISA
 #undef SOFTPBR_TARGET_AVX
 #undef SOFTPBR_TARGET_AVX512
+#undef SOFTPBR_TARGET_VBMI
 #if defined(__clang__)
 #pragma clang attribute pop
 #else
 #pragma GCC pop_options
 #endif
+
+#if defined(SOFTPBR_TARGET_ALSO_VBMI)
+// --- AVX-512 with VBMI, for the files that ask for it. ---
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt"))), \
+                             apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt")
+#endif
+#define SOFTPBR_TARGET_NS avx512vbmi
+#define SOFTPBR_ISA ::softpbr::simd::Isa::Avx512
+#define SOFTPBR_TARGET_AVX 1
+#define SOFTPBR_TARGET_AVX512 1
+#define SOFTPBR_TARGET_VBMI 1
+#include SOFTPBR_TARGET_FILE
+#undef SOFTPBR_TARGET_NS
+#undef SOFTPBR_ISA
+#undef SOFTPBR_TARGET_AVX
+#undef SOFTPBR_TARGET_AVX512
+#undef SOFTPBR_TARGET_VBMI
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#endif  // SOFTPBR_TARGET_ALSO_VBMI
 #endif  // SOFTPBR_SIMD_X86_TARGETS
 
 #undef SOFTPBR_BUILD_AVX512
 #undef SOFTPBR_TARGET_FILE
+#undef SOFTPBR_TARGET_ALSO_VBMI

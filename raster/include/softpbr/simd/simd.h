@@ -42,18 +42,24 @@ struct Native<4> {
   typedef float f __attribute__((vector_size(16)));
   typedef std::int32_t i __attribute__((vector_size(16)));
   typedef std::uint32_t u __attribute__((vector_size(16)));
+  typedef float unaligned_f __attribute__((vector_size(16), aligned(1), may_alias));  // load_vector, store_vector
+  typedef std::uint8_t bits;  // a bit a lane (store_masked's)
 };
 template <>
 struct Native<8> {
   typedef float f __attribute__((vector_size(32)));
   typedef std::int32_t i __attribute__((vector_size(32)));
   typedef std::uint32_t u __attribute__((vector_size(32)));
+  typedef float unaligned_f __attribute__((vector_size(32), aligned(1), may_alias));  // load_vector, store_vector
+  typedef std::uint8_t bits;  // a bit a lane (store_masked's)
 };
 template <>
 struct Native<16> {
   typedef float f __attribute__((vector_size(64)));
   typedef std::int32_t i __attribute__((vector_size(64)));
   typedef std::uint32_t u __attribute__((vector_size(64)));
+  typedef float unaligned_f __attribute__((vector_size(64), aligned(1), may_alias));  // load_vector, store_vector
+  typedef std::uint16_t bits;  // a bit a lane (store_masked's)
 };
 // compress4's table: for each 4-bit mask, the indices of its set bits in increasing order,
 // the rest 0 (lane 0 again: any lane would do, the caller ignores them).
@@ -76,6 +82,8 @@ template <class T, int N>
 struct NativeVector;
 template <> struct NativeVector<float, 4> { typedef float type __attribute__((vector_size(16))); };
 template <> struct NativeVector<std::int32_t, 4> { typedef std::int32_t type __attribute__((vector_size(16))); };
+template <> struct NativeVector<std::int32_t, 8> { typedef std::int32_t type __attribute__((vector_size(32))); };
+template <> struct NativeVector<std::int32_t, 16> { typedef std::int32_t type __attribute__((vector_size(64))); };
 template <> struct NativeVector<double, 4> { typedef double type __attribute__((vector_size(32))); };
 template <> struct NativeVector<std::int64_t, 2> { typedef std::int64_t type __attribute__((vector_size(16))); };
 template <> struct NativeVector<std::int64_t, 4> { typedef std::int64_t type __attribute__((vector_size(32))); };
@@ -85,6 +93,12 @@ template <> struct NativeVector<float, 8> { typedef float type __attribute__((ve
 template <> struct NativeVector<float, 16> { typedef float type __attribute__((vector_size(64))); };
 template <class T, int N>
 using native_t = typename NativeVector<T, N>::type;
+
+// 64 bytes of lanes of any type (bytes, 32-bit words, …), as x86's __m512i: 64-bit integers
+// that may alias anything. What the byte operations (permute_bytes, lookup_bytes256,
+// blend_bytes, the unpacks) and the word gathers work on; a kernel reads it as the lanes it
+// holds by a vector cast (a reinterpretation).
+typedef long long bits512_t __attribute__((vector_size(64), may_alias));
 
 
 // --- The scalar forms of the lane operations, so code written against F works for float. ---
@@ -107,8 +121,12 @@ inline float sqrt(float x) { return std::sqrt(x); }
 }  // namespace softpbr::simd
 
 // Lanes<N, I> and LaneMask<N, I> with their operations (select, min, max, both, any, sqrt,
-// load_deinterleave4, bits_of, truncate_to_uint) for every target.
+// load_deinterleave4, bits_of, truncate_to_uint) for every target; the operations on plain
+// vectors (simd::baseline, avx2, avx512: mask bits, gathers, table lookups, byte permutes,
+// stores) once more for AVX-512 with VBMI (simd::avx512vbmi), whose byte permutes are
+// VBMI's.
 #define SOFTPBR_TARGET_FILE "softpbr/simd/detail/lanes-inl.h"
+#define SOFTPBR_TARGET_ALSO_VBMI
 #include "softpbr/simd/foreach_target.h"
 
 namespace softpbr::simd {

@@ -74,10 +74,10 @@ inline void write_samples(const DrawState& state, const glm::vec4& src, unsigned
     // mispredicted): every sample is stored, an uncovered one keeping its own bits.
 #if SOFTPBR_TARGET_AVX512
     // AVX-512: a masked store each, all four floats or none (no load).
-    const __m128 value = _mm_loadu_ps(&src.r);
+    const simd::native_t<float, 4> value = simd::SOFTPBR_TARGET_NS::load_vector<4>(&src.r);
     for (int s = 0; s < kMs; ++s) {
       glm::vec4* const sample = target.colors + static_cast<std::size_t>(s) * target.plane + idx;
-      _mm_mask_storeu_ps(&sample->r, static_cast<__mmask8>(0xFu * (mask >> s & 1u)), value);
+      simd::SOFTPBR_TARGET_NS::store_masked<4>(&sample->r, 0xFu * (mask >> s & 1u), value);
     }
 #else
     // Elsewhere: the stored colour read back and selected against the new one.

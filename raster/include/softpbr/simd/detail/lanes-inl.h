@@ -6,8 +6,11 @@
 // instructions (a lane operation compiled for baseline x86-64 and inlined into an AVX-512
 // kernel came out split into narrower pieces, and compound compares into single lanes).
 // Every operation is the same IEEE-754 single-precision operation per lane on every
-// target and at every width (see simd.h).
+// target and at every width (see simd.h). The AVX-512 VBMI copy (SOFTPBR_TARGET_VBMI,
+// foreach_target.h) compiles only the operations on plain vectors, in namespace
+// simd::avx512vbmi: its lane types are AVX-512's.
 
+#if !SOFTPBR_TARGET_VBMI
 namespace softpbr::simd {
 
 template <int N>
@@ -301,6 +304,7 @@ inline UintLanes<N> truncate_to_uint(Lanes<N, SOFTPBR_ISA> x) {
 }
 
 }  // namespace softpbr::simd
+#endif  // !SOFTPBR_TARGET_VBMI
 
 // What a kernel of this target names its lanes by: simd::SOFTPBR_TARGET_NS::Vec<N>, and
 // the operations on plain vectors (simd::native_t) that take no lane type to overload on.
@@ -362,32 +366,50 @@ inline native_t<float, N> to_float_below_2p51_n(native_t<std::int64_t, N> v) {
   return __builtin_convertvector(d - 6755399441055744.0, native_t<float, N>);
 }
 inline native_t<float, 4> to_float_below_2p51(native_t<std::int64_t, 4> v) { return to_float_below_2p51_n<4>(v); }
-// Bit i set when lane i of a 4-lane mask is set (movmskps where SSE has it).
-inline unsigned mask_bits(LaneMask<4, SOFTPBR_ISA> m) {
-#if defined(__SSE2__)
-  return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m.m)));
-#else
-  return static_cast<unsigned>((m.m[0] & 1) | (m.m[1] & 2) | (m.m[2] & 4) | (m.m[3] & 8));
-#endif
-}
-// Bit i set when lane i of an 8- or 16-lane mask is set: vmovmskps (AVX) or vpmovd2m
-// (AVX-512) where the target has one for the width, else movmskps per four lanes.
+// Bit i set when lane i of a mask is set (4, 8 or 16 lanes of 32 bits, each all ones or
+// zeros, as vector comparisons give; a plain vector or a LaneMask): movmskps (SSE),
+// vmovmskps (AVX, 8 lanes), vpmovd2m (AVX-512, 16 lanes), else movmskps per four lanes.
 template <int N>
-inline unsigned mask_bits(LaneMask<N, SOFTPBR_ISA> m) {
-  static_assert(N == 8 || N == 16);
+inline unsigned mask_bits_of(typename detail::Native<N>::i m) {
 #if SOFTPBR_TARGET_AVX512
-  if constexpr (N == 16) return static_cast<unsigned>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m.m)));
+  if constexpr (N == 16) return static_cast<unsigned>(_mm512_movepi32_mask(reinterpret_cast<__m512i>(m)));
 #endif
 #if SOFTPBR_TARGET_AVX
-  if constexpr (N == 8) return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m.m)));
+  if constexpr (N == 8) return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
 #endif
-  unsigned bits = 0;
-  for (int q = 0; q < N / 4; ++q) {
-    typename detail::Native<4>::i part;
-    __builtin_memcpy(&part, reinterpret_cast<const char*>(&m.m) + q * sizeof part, sizeof part);
-    bits |= mask_bits(LaneMask<4, SOFTPBR_ISA>(part)) << (4 * q);
+  if constexpr (N == 4) {
+#if defined(__SSE2__)
+    return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
+#else
+    return static_cast<unsigned>((m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8));
+#endif
+  } else {
+    unsigned bits = 0;
+    for (int q = 0; q < N / 4; ++q) {
+      typename detail::Native<4>::i part;
+      __builtin_memcpy(&part, reinterpret_cast<const char*>(&m) + q * sizeof part, sizeof part);
+      bits |= mask_bits_of<4>(part) << (4 * q);
+    }
+    return bits;
   }
-  return bits;
+}
+inline unsigned mask_bits(native_t<std::int32_t, 4> m) { return mask_bits_of<4>(m); }
+inline unsigned mask_bits(native_t<std::int32_t, 8> m) { return mask_bits_of<8>(m); }
+inline unsigned mask_bits(native_t<std::int32_t, 16> m) { return mask_bits_of<16>(m); }
+template <int N>
+inline unsigned mask_bits(LaneMask<N, SOFTPBR_ISA> m) {
+  return mask_bits_of<N>(m.m);
+}
+// Whether any lane, or every lane, of a mask is set (a plain vector or a LaneMask, as
+// mask_bits): its bits tested in a general register. (simd::any tests a LaneMask in vector
+// registers: vtestps with AVX.)
+template <class M>
+inline bool any_lane(M m) {
+  return mask_bits(m) != 0;
+}
+template <class M>
+inline bool all_lanes(M m) {
+  return mask_bits(m) == (1u << (sizeof(M) / 4)) - 1;
 }
 // The N-lane mask (4, 8 or 16) whose lane i is set when bit i of `bits` is.
 template <int N = 4>
@@ -432,5 +454,249 @@ template <class V, class M>
 inline V bit_select(M mask, V a, V b) {
   return (V)(((M)a & mask) | ((M)b & ~mask));
 }
+
+// --- Stores. ---
+
+// v stored at p (any alignment) as one store of v's width where the target has registers
+// that wide (a 64-byte vmovups with AVX-512): GCC copies a 64-byte vector by memcpy, as
+// Lanes::store does, in pieces of its preferred width (two 32-byte stores on Zen 4). No
+// intrinsic: a store through an unaligned vector type, which narrower targets split.
+template <int N>
+inline void store_vector(float* p, typename detail::Native<N>::f v) {
+  *reinterpret_cast<typename detail::Native<N>::unaligned_f*>(p) = v;
+}
+
+// N floats loaded from p (any alignment), through a type that may alias anything (as
+// _mm_loadu_ps: the compiler assumes p may point at any object, where Lanes::load's
+// memcpy lets it tell floats from other types; the tile kernel's code was scheduled on
+// that).
+template <int N>
+inline typename detail::Native<N>::f load_vector(const float* p) {
+  return *reinterpret_cast<const typename detail::Native<N>::unaligned_f*>(p);
+}
+
+// The lanes of v (4, 8 or 16 floats) whose bit is set in `bits` (bit i: lane i; 8 bits for
+// 4 and 8 lanes, 16 for 16, as AVX-512's mask registers: the caller's value is narrowed
+// where it is computed, as a cast to __mmask8 there was) stored to p[i]; the others neither
+// read nor written. AVX-512: one masked vmovups; elsewhere one store a lane.
+template <int N>
+inline void store_masked(float* p, typename detail::Native<N>::bits bits, typename detail::Native<N>::f v) {
+#if SOFTPBR_TARGET_AVX512
+  if constexpr (N == 4) {
+    _mm_mask_storeu_ps(p, bits, reinterpret_cast<__m128>(v));
+  } else if constexpr (N == 8) {
+    _mm256_mask_storeu_ps(p, bits, reinterpret_cast<__m256>(v));
+  } else {
+    _mm512_mask_storeu_ps(p, bits, reinterpret_cast<__m512>(v));
+  }
+#else
+  for (int i = 0; i < N; ++i)
+    if (bits >> i & 1u) p[i] = v[i];
+#endif
+}
+
+// --- Gathers and table lookups on 16 lanes of 32 bits (e.g. RGBA8 texels). ---
+
+#if SOFTPBR_TARGET_AVX512
+namespace gather_detail {
+// The lanes' indices stored to `at`, to be read back by plain loads: the empty asm keeps
+// GCC from taking each out of the vector register instead (vpextrd, two micro-ops on
+// Zen 4, against one for a load).
+inline void store_indices(std::int32_t (&at)[16], native_t<std::int32_t, 16> index) {
+  __builtin_memcpy(at, &index, sizeof at);
+  asm("" : "+m"(at));
+}
+}  // namespace gather_detail
+#endif
+
+// Lane i: the 32-bit word at words + 4 · index[i] (index[i] ≥ 0; any alignment), one load
+// a lane. AVX-512: the loads put together by inserts (vmovd, vpinsrd, then the 16-byte
+// pieces joined): 16 dword stores and one 64-byte load would wait for the stores to
+// retire, and vpgatherdd measured 5% slower in the texture kernel (fill8x_tex, Zen 4).
+// `words` is a reference, read where each word is loaded, after the indices are stored, as
+// the texture kernel's own code read it: a pointer argument, read before the store, changed
+// that kernel's schedule, registers and spill slots (its disassembly compared).
+inline bits512_t gather_words(const std::uint8_t* const& words, native_t<std::int32_t, 16> index) {
+#if SOFTPBR_TARGET_AVX512
+  alignas(64) std::int32_t at[16];
+  gather_detail::store_indices(at, index);
+  auto word = [&](int i) {
+    std::int32_t x;
+    __builtin_memcpy(&x, words + static_cast<std::size_t>(at[i]) * 4, 4);
+    return x;
+  };
+  __m128i q[4];
+  for (int j = 0; j < 4; ++j) {
+    q[j] = _mm_cvtsi32_si128(word(4 * j));
+    q[j] = _mm_insert_epi32(q[j], word(4 * j + 1), 1);
+    q[j] = _mm_insert_epi32(q[j], word(4 * j + 2), 2);
+    q[j] = _mm_insert_epi32(q[j], word(4 * j + 3), 3);
+  }
+  // Concatenated by vector shuffles (GCC 12's _mm512_inserti64x4 warns of its undefined
+  // pass-through operand).
+  typedef std::int32_t I4 __attribute__((vector_size(16)));
+  typedef std::int32_t I8 __attribute__((vector_size(32)));
+  const I8 lo = __builtin_shufflevector((I4)q[0], (I4)q[1], 0, 1, 2, 3, 4, 5, 6, 7);
+  const I8 hi = __builtin_shufflevector((I4)q[2], (I4)q[3], 0, 1, 2, 3, 4, 5, 6, 7);
+  return (bits512_t)__builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+#else
+  native_t<std::int32_t, 16> r;
+  for (int i = 0; i < 16; ++i) {
+    std::int32_t x;
+    __builtin_memcpy(&x, words + static_cast<std::size_t>(index[i]) * 4, 4);
+    r[i] = x;
+  }
+  return (bits512_t)r;
+#endif
+}
+
+// Lane i of `first` and `second` (32-bit words): the words at words + 4 · index[i] and the
+// one after it, by one 8-byte load a lane (half the loads of two gather_words). AVX-512:
+// the pairs put together by inserts (vmovq, vpinsrq), then split into the two vectors by
+// two dword permutes (vpermt2d). `words` as for gather_words.
+inline void gather_word_pairs(const std::uint8_t* const& words, native_t<std::int32_t, 16> index, bits512_t& first,
+                              bits512_t& second) {
+#if SOFTPBR_TARGET_AVX512
+  alignas(64) std::int32_t at[16];
+  gather_detail::store_indices(at, index);
+  auto pair = [&](int i) {
+    long long x;
+    __builtin_memcpy(&x, words + static_cast<std::size_t>(at[i]) * 4, 8);
+    return x;
+  };
+  __m128i q[8];
+  for (int j = 0; j < 8; ++j) q[j] = _mm_insert_epi64(_mm_cvtsi64_si128(pair(2 * j)), pair(2 * j + 1), 1);
+  typedef long long L2 __attribute__((vector_size(16)));
+  typedef long long L4 __attribute__((vector_size(32)));
+  const L4 a0 = __builtin_shufflevector((L2)q[0], (L2)q[1], 0, 1, 2, 3);
+  const L4 a1 = __builtin_shufflevector((L2)q[2], (L2)q[3], 0, 1, 2, 3);
+  const L4 b0 = __builtin_shufflevector((L2)q[4], (L2)q[5], 0, 1, 2, 3);
+  const L4 b1 = __builtin_shufflevector((L2)q[6], (L2)q[7], 0, 1, 2, 3);
+  const __m512i a = (__m512i)__builtin_shufflevector(a0, a1, 0, 1, 2, 3, 4, 5, 6, 7);  // lanes 0–7's pairs
+  const __m512i b = (__m512i)__builtin_shufflevector(b0, b1, 0, 1, 2, 3, 4, 5, 6, 7);  // lanes 8–15's
+  const __m512i even = _mm512_set_epi32(30, 28, 26, 24, 22, 20, 18, 16, 14, 12, 10, 8, 6, 4, 2, 0);
+  first = _mm512_permutex2var_epi32(a, even, b);
+  second = _mm512_permutex2var_epi32(a, _mm512_add_epi32(even, _mm512_set1_epi32(1)), b);
+#else
+  native_t<std::int32_t, 16> f, s;
+  for (int i = 0; i < 16; ++i) {
+    std::int32_t x[2];
+    __builtin_memcpy(x, words + static_cast<std::size_t>(index[i]) * 4, 8);
+    f[i] = x[0];
+    s[i] = x[1];
+  }
+  first = (bits512_t)f;
+  second = (bits512_t)s;
+#endif
+}
+
+// table[code[i] & 255] for each of 16 lanes: a table of 256 floats. AVX-512: held in 16
+// registers, vpermt2ps reads 32 entries by the code's bits 0–4 and three selects on bits 5,
+// 6, 7 pick among the eight 32-entry quarters (no loads a lane); elsewhere one load a lane.
+// Pure data movement: the table's floats, bit for bit.
+inline native_t<float, 16> lookup_floats256(const float* table, native_t<std::int32_t, 16> code) {
+#if SOFTPBR_TARGET_AVX512
+  const __m512i k = (__m512i)code;
+  __m512 t[8];
+  for (int j = 0; j < 8; ++j)
+    t[j] = _mm512_permutex2var_ps(_mm512_loadu_ps(table + 32 * j), k, _mm512_loadu_ps(table + 32 * j + 16));
+  const __mmask16 b5 = _mm512_test_epi32_mask(k, _mm512_set1_epi32(32));
+  const __mmask16 b6 = _mm512_test_epi32_mask(k, _mm512_set1_epi32(64));
+  const __mmask16 b7 = _mm512_test_epi32_mask(k, _mm512_set1_epi32(128));
+  const __m512 u0 = _mm512_mask_blend_ps(b5, t[0], t[1]), u1 = _mm512_mask_blend_ps(b5, t[2], t[3]);
+  const __m512 u2 = _mm512_mask_blend_ps(b5, t[4], t[5]), u3 = _mm512_mask_blend_ps(b5, t[6], t[7]);
+  const __m512 v0 = _mm512_mask_blend_ps(b6, u0, u1), v1 = _mm512_mask_blend_ps(b6, u2, u3);
+  return (native_t<float, 16>)_mm512_mask_blend_ps(b7, v0, v1);
+#else
+  native_t<float, 16> r;
+  for (int i = 0; i < 16; ++i) r[i] = table[code[i] & 255];
+  return r;
+#endif
+}
+
+// --- Bytes: 64 in a bits512_t. ---
+
+// The 64 bytes at p (any alignment), as a bits512_t.
+inline bits512_t load_bits512(const void* p) {
+  typedef long long Unaligned __attribute__((vector_size(64), may_alias, aligned(1)));
+  return *static_cast<const Unaligned*>(p);
+}
+
+// Byte i: byte index[i] & 127 of the 128 bytes a then b (a two-table byte permute:
+// vpermt2b with AVX-512 VBMI; elsewhere one byte at a time).
+inline bits512_t permute_bytes(bits512_t a, bits512_t index, bits512_t b) {
+#if SOFTPBR_TARGET_VBMI
+  return _mm512_permutex2var_epi8(a, index, b);
+#else
+  typedef std::uint8_t B __attribute__((vector_size(64)));
+  const B x = (B)a, k = (B)index, y = (B)b;
+  B r;
+  for (int i = 0; i < 64; ++i) r[i] = k[i] & 64 ? y[k[i] & 63] : x[k[i] & 63];
+  return (bits512_t)r;
+#endif
+}
+
+// Byte i: table[index[i]], a table of 256 bytes (any alignment). With VBMI: the table in
+// four registers, two byte permutes (by bits 0–6) and a select on bit 7 (vpmovb2m,
+// vpblendmb); elsewhere one byte at a time.
+inline bits512_t lookup_bytes256(const std::uint8_t* table, bits512_t index) {
+#if SOFTPBR_TARGET_VBMI
+  const __mmask64 high = _mm512_movepi8_mask(index);
+  const __m512i lo = _mm512_permutex2var_epi8(_mm512_loadu_si512(table), index, _mm512_loadu_si512(table + 64));
+  const __m512i hi = _mm512_permutex2var_epi8(_mm512_loadu_si512(table + 128), index, _mm512_loadu_si512(table + 192));
+  return _mm512_mask_blend_epi8(high, lo, hi);
+#else
+  typedef std::uint8_t B __attribute__((vector_size(64)));
+  const B k = (B)index;
+  B r;
+  for (int i = 0; i < 64; ++i) r[i] = table[k[i]];
+  return (bits512_t)r;
+#endif
+}
+
+// Byte i: b[i] where bit i of `bits` is set, else a[i] (vpblendmb with AVX-512).
+inline bits512_t blend_bytes(std::uint64_t bits, bits512_t a, bits512_t b) {
+#if SOFTPBR_TARGET_AVX512
+  return _mm512_mask_blend_epi8(static_cast<__mmask64>(bits), a, b);
+#else
+  typedef std::uint8_t B __attribute__((vector_size(64)));
+  const B x = (B)a, y = (B)b;
+  B r;
+  for (int i = 0; i < 64; ++i) r[i] = bits >> i & 1u ? y[i] : x[i];
+  return (bits512_t)r;
+#endif
+}
+
+// x86's unpacks, within each 16-byte block of a and b: the units (kUnit = 1 or 2 bytes) of
+// the block's low (kHigh false) or high half of a and b, alternately: a₀ b₀ a₁ b₁ …
+// (vpunpcklbw, vpunpckhbw, vpunpcklwd, vpunpckhwd with AVX-512; elsewhere byte by byte).
+// unpack_lo8, unpack_hi8 (bytes), unpack_lo16, unpack_hi16 (16-bit units) name them.
+template <int kUnit, bool kHigh>
+inline bits512_t unpack(bits512_t a, bits512_t b) {
+  static_assert(kUnit == 1 || kUnit == 2, "units of 1 or 2 bytes");
+#if SOFTPBR_TARGET_AVX512
+  if constexpr (kUnit == 1) {
+    return kHigh ? _mm512_unpackhi_epi8(a, b) : _mm512_unpacklo_epi8(a, b);
+  } else {
+    return kHigh ? _mm512_unpackhi_epi16(a, b) : _mm512_unpacklo_epi16(a, b);
+  }
+#else
+  typedef std::uint8_t B __attribute__((vector_size(64)));
+  const B x = (B)a, y = (B)b;
+  B r;
+  for (int block = 0; block < 64; block += 16)
+    for (int u = 0; u < 8 / kUnit; ++u)
+      for (int e = 0; e < kUnit; ++e) {
+        const int from = block + (kHigh ? 8 : 0) + kUnit * u + e;
+        r[block + 2 * kUnit * u + e] = x[from];
+        r[block + 2 * kUnit * u + kUnit + e] = y[from];
+      }
+  return (bits512_t)r;
+#endif
+}
+inline bits512_t unpack_lo8(bits512_t a, bits512_t b) { return unpack<1, false>(a, b); }
+inline bits512_t unpack_hi8(bits512_t a, bits512_t b) { return unpack<1, true>(a, b); }
+inline bits512_t unpack_lo16(bits512_t a, bits512_t b) { return unpack<2, false>(a, b); }
+inline bits512_t unpack_hi16(bits512_t a, bits512_t b) { return unpack<2, true>(a, b); }
 
 }  // namespace softpbr::simd::SOFTPBR_TARGET_NS
