@@ -186,22 +186,26 @@ Format output_format(const std::string& path) {
   throw Error(kExitUsage, path + ": unknown output format \"" + ext + "\" (expected .png, .hdr or .exr)");
 }
 
-// The nearest folder of `path` that exists ("." for a relative name), and whether the
-// output's own folder is missing (then it is created when the output is written).
+// The nearest folder of `path` that exists ("." for a relative name), whether the output's
+// own folder is missing (then it is created when the output is written), and whether what
+// exists there is a file instead of a folder.
 struct ExistingFolder {
   fs::path folder;
   bool missing = false;
+  bool not_a_folder = false;
 };
 ExistingFolder nearest_existing_folder(const fs::path& path) {
-  ExistingFolder f{path.parent_path(), false};
+  ExistingFolder f{path.parent_path(), false, false};
   struct stat st {};
-  // ENOENT: not there; ENOTDIR: a component on the way is not a folder (said below).
-  while (!f.folder.empty() && ::stat(f.folder.c_str(), &st) != 0 && (errno == ENOENT || errno == ENOTDIR)) {
+  // ENOENT: not there; ENOTDIR: a component on the way is not a folder (found further up).
+  int status;
+  while ((status = ::stat(f.folder.empty() ? "." : f.folder.c_str(), &st)) != 0 && (errno == ENOENT || errno == ENOTDIR) &&
+         !f.folder.empty() && f.folder != f.folder.root_path()) {
     f.missing = true;
-    if (f.folder == f.folder.root_path()) break;
     f.folder = f.folder.parent_path();
   }
   if (f.folder.empty()) f.folder = ".";
+  f.not_a_folder = status == 0 && !S_ISDIR(st.st_mode);
   return f;
 }
 
@@ -213,8 +217,7 @@ ExistingFolder nearest_existing_folder(const fs::path& path) {
 void check_writable(const std::string& path) {
   const ExistingFolder existing = nearest_existing_folder(path);
   std::string problem;
-  struct stat st {};
-  if (::stat(existing.folder.c_str(), &st) == 0 && !S_ISDIR(st.st_mode)) {
+  if (existing.not_a_folder) {
     problem = "cannot write: " + existing.folder.string() + " is not a folder";
   } else if (!existing.missing) {
     problem = image::output_problem(path);
