@@ -135,6 +135,26 @@ TEST_CASE("lanes = 0 runs the widest kernel the CPU has when dispatching, the bu
   MESSAGE("this CPU's packet kernels: " << dispatched.lanes() << " lanes, isa " << static_cast<int>(dispatched.isa()));
 }
 
+TEST_CASE("a request for more lanes than a target has runs the widest copy compiled that the CPU runs") {
+  namespace d = raster::detail;
+  using softpbr::simd::Isa;
+  constexpr int kWide = d::kBaselineMaxWidth;  // 4, or the build's native 8 or 16
+  CHECK(kWide == (softpbr::simd::kNativeWidth > 4 ? softpbr::simd::kNativeWidth : 4));
+  // Without dispatch: the baseline copy, at most kWide lanes (wider ones are not compiled).
+  CHECK((d::tile_kernel<16, 1, LitPacketShader>(Isa::Baseline) == &d::baseline::raster_tile<kWide, 1, LitPacketShader>));
+  CHECK((d::tile_kernel<8, 4, LitPacketShader>(Isa::Baseline) ==
+        &d::baseline::raster_tile<(kWide < 8 ? kWide : 8), 4, LitPacketShader>));
+  CHECK((d::tile_kernel<4, 8, LitPacketShader>(Isa::Baseline) == &d::baseline::raster_tile<4, 8, LitPacketShader>));
+  CHECK((d::tile_kernel<1, 1, LitPacketShader>(Isa::Avx512) == &d::baseline::raster_tile<1, 1, LitPacketShader>));
+#if SOFTPBR_SIMD_X86_TARGETS
+  // With them: 16 lanes on AVX-512, 8 on AVX2 (for a request of 16 too).
+  CHECK((d::tile_kernel<16, 1, LitPacketShader>(Isa::Avx512) == &d::avx512::raster_tile<16, 1, LitPacketShader>));
+  CHECK((d::tile_kernel<16, 4, LitPacketShader>(Isa::Avx2) == &d::avx2::raster_tile<8, 4, LitPacketShader>));
+  CHECK((d::tile_kernel<8, 1, LitPacketShader>(Isa::Avx512) == &d::avx2::raster_tile<8, 1, LitPacketShader>));
+  CHECK((d::tile_kernel<0, 1, LitShader>(Isa::Avx2) == &d::avx2::raster_tile<0, 1, LitShader>));
+#endif
+}
+
 struct Scene {
   glm::mat4 view_projection;
   pbr::Mesh sphere;

@@ -67,10 +67,11 @@ struct BackgroundShader {
       const ::softpbr::raster::TargetPixels&, int, ::softpbr::simd::Isa)
 
 // The tile kernels of shader S for kMs samples a pixel, each copy that
-// raster::detail::tile_kernel can pick (rast.h): the baseline copy at 1, 4, 8 and 16 lanes,
-// the AVX2 copy at 8 and the AVX-512 copy at 16. EXTERN is `extern` (a declaration) or
-// empty (the definition). A packet shader's kernels are compiled in three files, one per
-// sample count, so that the build's cores share what was one file's minutes.
+// raster::detail::tile_kernel can pick (rast.h): the baseline copy at 1 and 4 lanes (and at
+// the build's native width, kBaselineMaxWidth, in a build for AVX2 or AVX-512), the AVX2
+// copy at 8 and the AVX-512 copy at 16. EXTERN is `extern` (a declaration) or empty (the
+// definition). A packet shader's kernels are compiled in three files, one per sample
+// count, so that the build's cores share them.
 #define SOFTPBR_PBR_TILE_KERNEL(EXTERN, NS, W, kMs, S)                                                      \
   EXTERN template ::softpbr::raster::ShadeCounts softpbr::raster::detail::NS::raster_tile<W, kMs, S>(         \
       const S&, const ::softpbr::raster::DrawGeometry&, std::size_t, const ::softpbr::raster::TileRect&,     \
@@ -82,11 +83,26 @@ struct BackgroundShader {
 #else
 #define SOFTPBR_PBR_X86_TILE_KERNELS(EXTERN, kMs, S) static_assert(true)
 #endif
-#define SOFTPBR_PBR_TILE_KERNELS(EXTERN, kMs, S)          \
-  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 1, kMs, S);   \
-  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 4, kMs, S);   \
-  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 8, kMs, S);   \
-  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 16, kMs, S);  \
+// The baseline copy at the build's native width when it is above 4: the width tile_kernel
+// picks for a request wider than the CPU's targets (raster::detail::kBaselineMaxWidth).
+#if defined(__AVX512F__)
+#define SOFTPBR_PBR_BASELINE_WIDE 16
+#elif defined(__AVX2__)
+#define SOFTPBR_PBR_BASELINE_WIDE 8
+#else
+#define SOFTPBR_PBR_BASELINE_WIDE 4
+#endif
+static_assert(::softpbr::raster::detail::kBaselineMaxWidth == SOFTPBR_PBR_BASELINE_WIDE);
+#if SOFTPBR_PBR_BASELINE_WIDE > 4
+#define SOFTPBR_PBR_BASELINE_WIDE_TILE_KERNEL(EXTERN, kMs, S) \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, SOFTPBR_PBR_BASELINE_WIDE, kMs, S)
+#else
+#define SOFTPBR_PBR_BASELINE_WIDE_TILE_KERNEL(EXTERN, kMs, S) static_assert(true)
+#endif
+#define SOFTPBR_PBR_TILE_KERNELS(EXTERN, kMs, S)           \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 1, kMs, S);    \
+  SOFTPBR_PBR_TILE_KERNEL(EXTERN, baseline, 4, kMs, S);    \
+  SOFTPBR_PBR_BASELINE_WIDE_TILE_KERNEL(EXTERN, kMs, S);   \
   SOFTPBR_PBR_X86_TILE_KERNELS(EXTERN, kMs, S)
 // A packet shader's entry and its kernels, declared.
 #define SOFTPBR_PBR_EXTERN_PACKET_KERNELS(S)   \

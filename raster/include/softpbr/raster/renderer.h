@@ -36,9 +36,11 @@ namespace softpbr::raster {
 struct RendererOptions {
   unsigned threads = 0;  // 0: all hardware threads; 1: everything inline on the caller
   int tile_size = 64;    // even, in [kMinTileSize, kMaxTileSize]
-  // Pixels per fragment_packet() call for packet shaders: 1, 4, 8 or 16; 0 picks the
-  // widest this CPU runs natively (16 with AVX-512 and 8 with AVX2 when `dispatch` is
-  // on, else simd::kNativeWidth of the build). Any width gives the same bits.
+  // Pixels per fragment_packet() call for packet shaders, at most: 1, 4, 8 or 16; 0 picks
+  // the widest this CPU runs natively (16 with AVX-512 and 8 with AVX2 when `dispatch` is
+  // on, else simd::kNativeWidth of the build). A width wider than the instruction set's
+  // registers runs the widest kernel compiled that fits (16 on AVX2: 8 lanes; 8 or 16
+  // without dispatch in a baseline x86-64 or AArch64 build: 4). Any width gives the same bits.
   int lanes = 0;
   // Run packet kernels compiled for the CPU's widest instruction set (runtime dispatch,
   // simd.h: AVX2 for 8 lanes, AVX-512 for 16) when it has one; false: the build's own

@@ -79,23 +79,35 @@ constexpr unsigned pixels_of_sample_lanes(unsigned x) { return (x | x >> 4 | x >
 namespace softpbr::raster {
 
 namespace detail {
-// The copy of the tile kernel that runs W lanes for a renderer whose instruction set is
-// `isa`: each x86-64 target at the width of its registers — AVX-512 at 16 lanes, AVX2 at 8
-// (and for scalar shaders, W = 0) — and every other width in the baseline copy. Every copy
-// gives the same bits, so this only decides speed; the widths a renderer picks by itself
-// (lanes = 0: 16 with AVX-512, 8 with AVX2) run their target's copy. Compiling only these
-// copies halves a packet shader's kernels (6 of 12 per sample count), and with them the
-// build time of every file that draws (docs/design.md, "SIMD and dispatch").
+// The widths the baseline copy of the tile kernel is compiled at: 1 and 4, and the build's
+// own native width when it is wider (8 or 16 lanes in a build for AVX2 or AVX-512). Wider
+// lanes than a target's registers are emulated (16 lanes on SSE2 are four registers): those
+// copies were two thirds of a packet shader's kernel compile time and no faster than 4
+// lanes, so they are not compiled.
+inline constexpr int kBaselineMaxWidth = simd::kNativeWidth > 4 ? simd::kNativeWidth : 4;
+
+// The copy of the tile kernel that runs a request for W lanes on a renderer whose
+// instruction set is `isa`: the widest copy compiled that the CPU runs and that is at most
+// W lanes wide — AVX-512 at 16 lanes, AVX2 at 8 (and for scalar shaders, W = 0), the
+// baseline copy at 1, 4 and kBaselineMaxWidth. Every copy gives the same bits, so this only
+// decides speed: RendererOptions::lanes is the widest packet a renderer may use. The widths
+// a renderer picks itself (lanes = 0: 16 with AVX-512, 8 with AVX2) run their target's
+// copy. Compiling only these copies leaves a packet shader 4 kernels per sample count (of
+// 12 for every width on every target) in a build for x86-64's baseline (docs/design.md,
+// "SIMD and dispatch").
 template <int W, int kMs, Shader S>
 auto tile_kernel([[maybe_unused]] simd::Isa isa) {
 #if SOFTPBR_SIMD_X86_TARGETS
   if constexpr (W == 16) {
-    if (isa == simd::Isa::Avx512) return &avx512::raster_tile<W, kMs, S>;
-  } else if constexpr (W == 8 || W == 0) {
-    if (isa != simd::Isa::Baseline) return &avx2::raster_tile<W, kMs, S>;
+    if (isa == simd::Isa::Avx512) return &avx512::raster_tile<16, kMs, S>;
+  }
+  if constexpr (W == 16 || W == 8) {
+    if (isa != simd::Isa::Baseline) return &avx2::raster_tile<8, kMs, S>;
+  } else if constexpr (W == 0) {
+    if (isa != simd::Isa::Baseline) return &avx2::raster_tile<0, kMs, S>;
   }
 #endif
-  return &baseline::raster_tile<W, kMs, S>;
+  return &baseline::raster_tile<(W > kBaselineMaxWidth ? kBaselineMaxWidth : W), kMs, S>;
 }
 
 template <int W, Shader S>
