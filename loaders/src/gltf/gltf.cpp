@@ -22,6 +22,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "gltf/document.h"
 #include "gltf/draco.h"
 #include "gltf/files.h"
 #include "gltf/meshopt.h"
@@ -1041,43 +1042,6 @@ bool keep_encoded(tg::Image* image, const int index, std::string* err, std::stri
   return true;
 }
 
-// glTF's JSON before tinygltf parses it, in one streaming pass (json_reader's): keys
-// unique within each object (glTF 2.0 §3.2: "names (keys) within JSON objects MUST be
-// unique"; nlohmann would keep the last silently), nesting at most kJsonLimits.max_depth
-// (tinygltf converts extras and extensions recursively: 200000 nested arrays overflowed
-// the stack), at most so many values; then the memory of what tinygltf builds, from the
-// pass's counts, against the limit — before any of it is allocated. The estimate is
-// nlohmann's document plus tinygltf's copies of it (its Value is ~150 bytes): 192 bytes
-// a value, 128 a container, 160 a key (its string and map node, twice), and the text; it
-// came out 1.0–1.4× the measured peak on files of 5 M numbers, 300 k nodes and 1 M keys.
-// (The schema check's document, gltf/schema.h, is smaller and freed before tinygltf runs.)
-// A file with EXT_meshopt_compression or Draco is parsed once more to be rewritten first.
-constexpr json_reader::StructureLimits kJsonLimits{.max_depth = 256,
-                                                   .max_values = std::size_t{1} << 27,
-                                                   .max_containers = std::size_t{1} << 25};
-
-void check_json(std::span<const std::uint8_t> bytes, const std::string& file, std::uint64_t memory_limit) {
-  const std::string_view text = gltf::json_text(bytes);
-  json_reader::Counts counts;
-  if (const auto problem = json_reader::find_structure_problem(text, &counts, kJsonLimits)) {
-    // A pointer 256 levels deep is shortened: one line stays readable.
-    const std::string& p = problem->pointer;
-    std::string where = p;
-    if (p.size() > 120) {  // cut at token boundaries: /a/b/…/y/z
-      const std::size_t head = p.rfind('/', 60), tail = p.find('/', p.size() - 40);
-      where = p.substr(0, head) + "/…" + p.substr(tail);
-    }
-    throw LoadError(file + ": " + (where.empty() ? std::string() : where + ": ") + problem->message);
-  }
-  std::uint64_t estimate = 192 * std::uint64_t{counts.values} + 128 * std::uint64_t{counts.containers} +
-                           160 * std::uint64_t{counts.keys} + text.size();
-  if (text.find(gltf::kMeshopt) != std::string_view::npos || text.find(gltf::kDraco) != std::string_view::npos)
-    estimate += 32 * std::uint64_t{counts.values} + 64 * std::uint64_t{counts.containers} + 80 * std::uint64_t{counts.keys};
-  if (estimate > memory_limit)
-    throw LoadError(file + ": parsing its JSON (" + std::to_string(counts.values) + " values) needs an estimated " +
-                    format_bytes(estimate) + ", over the memory limit of " + format_bytes(memory_limit));
-}
-
 std::string first_line(const std::string& s) {
   std::string line = s.substr(0, s.find('\n'));
   while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
@@ -1096,27 +1060,23 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   if (bytes.size() > options.max_file_bytes || bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
-  // A .glb's binary chunk must lie inside the file: tinygltf 2.7 leaves the chunk's 8-byte
-  // header out of its check and then copies up to 8 bytes from past the end (fuzz_gltf).
-  if (bytes.size() >= 20 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    auto le32 = [&](std::size_t at) {
-      return std::uint64_t{bytes[at]} | std::uint64_t{bytes[at + 1]} << 8 | std::uint64_t{bytes[at + 2]} << 16 |
-             std::uint64_t{bytes[at + 3]} << 24;
-    };
-    const std::uint64_t end = std::min<std::uint64_t>(le32(8), bytes.size());
-    const std::uint64_t bin = 20 + le32(12);
-    if (bin + 8 <= end && bin + 8 + le32(bin) > end)
-      throw LoadError(file + ": the .glb's binary chunk (" + std::to_string(le32(bin)) + " bytes at byte " +
-                      std::to_string(bin + 8) + ") runs past the end of the file (" + std::to_string(end) + " bytes)");
-  }
-  check_json(bytes, file, options.memory_limit);
-  if (const auto problem = gltf::check_schema(gltf::json_text(bytes))) throw LoadError(file + ": " + *problem);
-  // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
-  // tinygltf refuses, rewritten.
+  // The document: the .glb container, the JSON's limits (a streaming pass), its one DOM,
+  // the schema check and the pre-pass on that DOM (gltf/document.h).
+  const gltf::Container container = gltf::read_container(bytes);
+  if (!container.bin_problem.empty()) throw LoadError(file + ": " + container.bin_problem);
+  gltf::check_json(container, file, options.memory_limit);
+  gltf::ErrorHints hints;
   std::vector<std::uint8_t> rewritten;
   std::map<int, std::uint64_t> fallback;
   std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
-  bytes = gltf::prepare_for_tinygltf(bytes, rewritten, fallback, draco_indices);
+  {
+    nlohmann::json dom = gltf::parse_json(container.json);
+    if (const auto problem = gltf::check_schema(dom)) throw LoadError(file + ": " + *problem);
+    // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
+    // tinygltf refuses, rewritten.
+    bytes = gltf::prepare_for_tinygltf(bytes, container, dom, rewritten, fallback, draco_indices);
+    hints = gltf::error_hints(dom);
+  }  // the DOM is freed before tinygltf builds its own
   if (bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(std::numeric_limits<unsigned>::max()));
@@ -1129,7 +1089,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   const std::string base_dir = base.string();
   bool ok = false;
   try {
-    if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)
+    if (container.binary)
       ok = parser.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
     else
       ok = parser.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
@@ -1141,7 +1101,7 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   }
   if (!ok) {
     // A few references tinygltf checks itself: said with their JSON pointer when found.
-    const std::string pointed = gltf::tinygltf_error_with_pointer(bytes, err);
+    const std::string pointed = gltf::tinygltf_error_with_pointer(hints, err);
     if (!pointed.empty()) throw LoadError(file + ": " + pointed);
     throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
   }

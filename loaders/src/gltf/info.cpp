@@ -1,10 +1,10 @@
 // What a glTF file holds, for `softpbr info` (see gltf_info.h). Parses with tinygltf as
 // gltf.cpp does, keeping from each image only its header's size (never its pixels).
 #include <algorithm>
-#include <cstring>
 #include <limits>
 #include <map>
 
+#include "gltf/document.h"
 #include "gltf/files.h"
 #include "gltf/tinygltf.h"
 #include "softpbr/image/load.h"
@@ -111,7 +111,7 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   const std::string base_dir = path.parent_path().string();
   bool ok = false;
   try {
-    if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)
+    if (gltf::read_container(bytes).binary)
       ok = parser.LoadBinaryFromMemory(&m, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
     else
       ok = parser.LoadASCIIFromString(&m, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
