@@ -5,10 +5,10 @@
 // specification before it is used.
 #include "softpbr/loaders/gltf.h"
 
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -16,10 +16,13 @@
 
 #include "gltf/document.h"
 #include "gltf/files.h"
+#include "gltf/info.h"
 #include "gltf/reader.h"
 #include "gltf/scene_graph.h"
 #include "gltf/schema.h"
 #include "gltf/tinygltf.h"
+#include "softpbr/image/load.h"
+#include "softpbr/loaders/gltf_info.h"
 
 namespace softpbr::pbr {
 
@@ -59,11 +62,17 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
 // tinygltf's image loader callback: keeps an image's encoded bytes (softpbr::image decodes
 // them later, with its checks). An image in a buffer view comes with a pointer tinygltf 2.7
 // computed without checking that the view lies inside its buffer (fuzz_gltf read past a
-// buffer's end): checked here, against the model tinygltf is filling (`user` is that model;
-// its buffers and views are parsed first).
+// buffer's end): checked here, against the model tinygltf is filling (`user` is an
+// ImageContext; the model's buffers and views are parsed first).
+struct ImageContext {
+  const tg::Model* model;
+  std::vector<int> kept;  // the images whose bytes were kept, by index (for describe(), gltf/info.h)
+};
+
 bool keep_encoded(tg::Image* image, const int index, std::string* err, std::string*, int, int,
                   const unsigned char* bytes, int size, void* user) {
-  const auto* model = static_cast<const tg::Model*>(user);
+  auto* context = static_cast<ImageContext*>(user);
+  const tg::Model* model = context->model;
   if (model != nullptr && image->bufferView >= 0) {
     const auto v = static_cast<std::size_t>(image->bufferView);
     const tg::BufferView* view = v < model->bufferViews.size() ? &model->bufferViews[v] : nullptr;
@@ -87,6 +96,7 @@ bool keep_encoded(tg::Image* image, const int index, std::string* err, std::stri
   }
   image->image.assign(bytes, bytes + size);
   image->as_is = true;
+  context->kept.push_back(index);
   return true;
 }
 
@@ -96,15 +106,11 @@ std::string first_line(const std::string& s) {
   return line;
 }
 
-}  // namespace
-
-GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options) {
-  const std::vector<unsigned char> bytes = read_file(path, options.max_file_bytes, path.string());
-  return load_gltf(bytes, path.string(), path.parent_path(), options);
-}
-
-GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file, const std::filesystem::path& base,
-                    const GltfOptions& options) {
+// load_gltf; with `info`, also what inspect_gltf lists of the model tinygltf parsed, unless
+// the pre-pass rewrote the file for tinygltf (`info` is then left empty: that model is not
+// the file as written, which inspect_gltf describes).
+GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, const std::filesystem::path& base,
+               const GltfOptions& options, std::optional<GltfInfo>* info) {
   if (bytes.size() > options.max_file_bytes || bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
@@ -117,12 +123,15 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   std::vector<std::uint8_t> rewritten;
   std::map<int, std::uint64_t> fallback;
   std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
+  bool as_written = true;  // tinygltf parses the file itself, not the pre-pass's rewrite
   {
     nlohmann::json dom = gltf::parse_json(container.json);
     if (const auto problem = gltf::check_schema(dom)) throw LoadError(file + ": " + *problem);
     // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
     // tinygltf refuses, rewritten.
+    const std::uint8_t* const file_bytes = bytes.data();
     bytes = gltf::prepare_for_tinygltf(bytes, container, dom, rewritten, fallback, draco_indices);
+    as_written = bytes.data() == file_bytes;
     hints = gltf::error_hints(dom);
   }  // the DOM is freed before tinygltf builds its own
   if (bytes.size() > std::numeric_limits<unsigned>::max())
@@ -132,7 +141,8 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   FsContext fs_context{options.max_file_bytes, &options.roots, {}};
   parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
   tg::Model model;
-  parser.SetImageLoader(&keep_encoded, &model);
+  ImageContext images{&model, {}};
+  parser.SetImageLoader(&keep_encoded, &images);
   std::string err, warn;
   const std::string base_dir = base.string();
   bool ok = false;
@@ -164,6 +174,38 @@ GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file
   }
   gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, std::move(fallback), std::move(draco_indices))
       .load();
+  if (info != nullptr && as_written) {
+    std::map<int, image::ImageHeader> headers;
+    std::map<int, std::size_t> sizes;
+    for (const int i : images.kept) {
+      const std::vector<unsigned char>& encoded = model.images[static_cast<std::size_t>(i)].image;
+      headers[i] = image::read_image_header(encoded);
+      sizes[i] = encoded.size();
+    }
+    *info = gltf::describe(model, file, base_dir, warn, std::move(headers), std::move(sizes), options);
+  }
+  return out;
+}
+
+}  // namespace
+
+GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options) {
+  const std::vector<unsigned char> bytes = read_file(path, options.max_file_bytes, path.string());
+  return load(bytes, path.string(), path.parent_path(), options, nullptr);
+}
+
+GltfScene load_gltf(std::span<const std::uint8_t> bytes, const std::string& file, const std::filesystem::path& base,
+                    const GltfOptions& options) {
+  return load(bytes, file, base, options, nullptr);
+}
+
+GltfModelInfo load_and_inspect_gltf(const std::filesystem::path& path, const GltfOptions& options) {
+  const std::vector<unsigned char> bytes = read_file(path, options.max_file_bytes, path.string());
+  std::optional<GltfInfo> info;
+  GltfModelInfo out;
+  out.scene = load(bytes, path.string(), path.parent_path(), options, &info);
+  // A file the pre-pass rewrote for tinygltf: described as written, parsed once more.
+  out.info = info ? std::move(*info) : inspect_gltf(path, options);
   return out;
 }
 
