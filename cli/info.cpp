@@ -127,14 +127,16 @@ std::string join(const std::vector<std::string>& items, const char* none = "none
 
 // A glTF file: pbr::load_gltf validates it (the same error line and exit code as
 // `softpbr render`) and gives what the scene draws and its warnings; pbr::inspect_gltf
-// what the file holds, with image sizes from their headers.
+// what the file holds, with image sizes from their headers (both from one parse:
+// pbr::load_and_inspect_gltf).
 int info_gltf(const std::string& path) {
   pbr::GltfScene scene;
   pbr::GltfInfo info;
   try {
     raster::ThreadPool pool(0);
-    scene = pbr::load_gltf(path, {.pool = &pool});
-    info = pbr::inspect_gltf(path);
+    pbr::GltfModelInfo model = pbr::load_and_inspect_gltf(path, {.pool = &pool});
+    scene = std::move(model.scene);
+    info = std::move(model.info);
   } catch (const pbr::LoadError& e) {
     throw Error(kExitInput, e.what());
   } catch (const std::bad_alloc&) {

@@ -454,6 +454,12 @@ TEST_CASE("external glTF images: read only when a material uses them, URIs perce
   REQUIRE(info.parser_warnings.size() == 1);
   CHECK(info.parser_warnings[0].find("good.gltf: /images/1/uri: ") != std::string::npos);
   CHECK(info.parser_warnings[0].ends_with("unused.png: no such file"));
+  // The same from softpbr info's one parse (load_and_inspect_gltf).
+  const pbr::GltfInfo once = pbr::load_and_inspect_gltf(good).info;
+  REQUIRE(once.images.size() == 2);
+  CHECK(once.images[0].width == 64);
+  CHECK(once.images[0].bytes == info.images[0].bytes);
+  CHECK(once.parser_warnings == info.parser_warnings);
   // Over the file size limit: refused before it is read.
   REQUIRE(fs::file_size(good) < 4096);
   REQUIRE(fs::file_size(dir / "inside" / "a b+c.png") > 4096);

@@ -1,5 +1,5 @@
 // KHR_draco_mesh_compression: a primitive's Draco-compressed geometry, decoded with
-// Debian's libdraco. Private to gltf.cpp (docs/design.md, "glTF").
+// Debian's libdraco. Private to the glTF reader (resources.cpp; docs/design.md, "glTF").
 #pragma once
 
 #include <cstdint>

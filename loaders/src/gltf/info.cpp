@@ -1,11 +1,12 @@
 // What a glTF file holds, for `softpbr info` (see gltf_info.h). Parses with tinygltf as
 // gltf.cpp does, keeping from each image only its header's size (never its pixels).
 #include <algorithm>
-#include <cstring>
 #include <limits>
 #include <map>
 
+#include "gltf/document.h"
 #include "gltf/files.h"
+#include "gltf/info.h"
 #include "gltf/tinygltf.h"
 #include "softpbr/image/load.h"
 #include "softpbr/loaders/gltf_info.h"
@@ -111,7 +112,7 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   const std::string base_dir = path.parent_path().string();
   bool ok = false;
   try {
-    if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)
+    if (gltf::read_container(bytes).binary)
       ok = parser.LoadBinaryFromMemory(&m, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
     else
       ok = parser.LoadASCIIFromString(&m, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
@@ -123,6 +124,15 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   }
   if (!ok) throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
 
+  return gltf::describe(m, file, base_dir, warn, std::move(ctx.headers), std::move(ctx.sizes), options);
+}
+
+}  // namespace softpbr::pbr
+
+namespace softpbr::pbr::gltf {
+
+GltfInfo describe(const tg::Model& m, const std::string& file, const std::string& base_dir, const std::string& warn,
+                  std::map<int, image::ImageHeader> headers, std::map<int, std::size_t> sizes, const GltfOptions& options) {
   GltfInfo info;
   for (std::size_t start = 0; start < warn.size();) {
     const std::size_t end = warn.find('\n', start);
@@ -134,15 +144,15 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   // External image files (tinygltf reads none): each read for its header, one at a time.
   for (std::size_t i = 0; i < m.images.size(); ++i) {
     const tg::Image& im = m.images[i];
-    if (im.bufferView >= 0 || !gltf::is_external_uri(im.uri)) continue;
+    if (im.bufferView >= 0 || !is_external_uri(im.uri)) continue;
     std::vector<unsigned char> encoded;
-    const std::string problem = gltf::read_external(gltf::uri_path(base_dir, im.uri), ctx.limit, *ctx.roots, encoded);
+    const std::string problem = read_external(uri_path(base_dir, im.uri), options.max_file_bytes, options.roots, encoded);
     if (!problem.empty()) {
       info.parser_warnings.push_back(file + ": /images/" + std::to_string(i) + "/uri: " + problem);
       continue;
     }
-    ctx.headers[static_cast<int>(i)] = image::read_image_header(encoded);
-    ctx.sizes[static_cast<int>(i)] = encoded.size();
+    headers[static_cast<int>(i)] = image::read_image_header(encoded);
+    sizes[static_cast<int>(i)] = encoded.size();
   }
   info.version = m.asset.version;
   info.generator = m.asset.generator;
@@ -199,11 +209,11 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
     if (im.bufferView >= 0) ii.location = "bufferView " + std::to_string(im.bufferView);
     else if (im.uri.empty() || im.uri.rfind("data:", 0) == 0) ii.location = "data URI";
     else ii.location = im.uri;
-    if (auto it = ctx.headers.find(static_cast<int>(i)); it != ctx.headers.end()) {
+    if (auto it = headers.find(static_cast<int>(i)); it != headers.end()) {
       ii.format = it->second.format;
       ii.width = it->second.width;
       ii.height = it->second.height;
-      ii.bytes = ctx.sizes[static_cast<int>(i)];
+      ii.bytes = sizes[static_cast<int>(i)];
     }
     info.images.push_back(std::move(ii));
   }
@@ -214,4 +224,4 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   return info;
 }
 
-}  // namespace softpbr::pbr
+}  // namespace softpbr::pbr::gltf

@@ -2,31 +2,19 @@
 // libmeshoptimizer) for the attribute and index streams, softpbr's filters after them.
 #include "gltf/meshopt.h"
 
-#include "gltf/draco.h"
-
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <string_view>
+#include <stdexcept>
 
 #include <meshoptimizer.h>
-#include <nlohmann/json.hpp>
 
 namespace softpbr::pbr::gltf {
 
 namespace tg = tinygltf;
 
 namespace {
-
-std::uint32_t le32(const std::uint8_t* p) {
-  return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24;
-}
-
-void put_le32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
 
 // A filter's output component: round(v) (halves away from zero) within [−max, max]; NaN
 // (only from invalid input, which the specification leaves unspecified) gives 0.
@@ -60,153 +48,6 @@ void octahedral(std::uint8_t* data, std::size_t count, std::size_t stride) {
 }
 
 }  // namespace
-
-std::span<const std::uint8_t> prepare_for_tinygltf(std::span<const std::uint8_t> bytes, std::vector<std::uint8_t>& storage,
-                                                   std::map<int, std::uint64_t>& declared,
-                                                   std::map<std::pair<std::size_t, std::size_t>, int>& draco_indices) {
-  const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-  if (text.find(kMeshopt) == std::string_view::npos && text.find(kDraco) == std::string_view::npos) return bytes;
-  const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-  const std::string_view json = json_text(bytes);
-  if (glb && json.empty()) return bytes;
-  const std::size_t json_end = glb ? 20 + json.size() : bytes.size();
-  nlohmann::json doc = nlohmann::json::parse(json, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object()) return bytes;
-  const auto used = doc.find("extensionsUsed");
-  if (used == doc.end() || !used->is_array()) return bytes;
-  const bool meshopt = std::find(used->begin(), used->end(), kMeshopt) != used->end();
-  const bool draco = std::find(used->begin(), used->end(), kDraco) != used->end();
-  bool changed = false;
-  const auto meshes = doc.find("meshes");
-  if (draco && meshes != doc.end() && meshes->is_array())
-    for (std::size_t m = 0; m < meshes->size(); ++m) {
-      nlohmann::json& mesh = (*meshes)[m];
-      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
-      nlohmann::json& primitives = mesh["primitives"];
-      for (std::size_t k = 0; k < primitives.size(); ++k) {
-        nlohmann::json& p = primitives[k];
-        if (!p.is_object() || !p.contains("indices") || !p.contains("extensions") || !p["extensions"].is_object() ||
-            !p["extensions"].contains(kDraco) || !p["indices"].is_number_integer())
-          continue;
-        const auto index = p["indices"].get<std::int64_t>();
-        draco_indices[{m, k}] = index >= 0 && index <= INT_MAX ? static_cast<int>(index) : -1;
-        p.erase("indices");
-        changed = true;
-      }
-    }
-  const auto buffers = doc.find("buffers");
-  if (!meshopt || buffers == doc.end() || !buffers->is_array()) {
-    if (!changed) return bytes;
-  } else {
-    for (std::size_t i = 0; i < buffers->size() && i <= static_cast<std::size_t>(INT_MAX); ++i) {
-      nlohmann::json& b = (*buffers)[i];
-      if (!b.is_object() || b.contains("uri") || (glb && i == 0)) continue;
-      const auto length = b.find("byteLength");
-      if (length == b.end() || !length->is_number_integer() || length->get<std::int64_t>() < 1) continue;
-      declared[static_cast<int>(i)] = length->get<std::uint64_t>();
-      b = nlohmann::json{{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
-      changed = true;
-    }
-  }
-  if (!changed) return bytes;
-  std::string out = doc.dump();
-  if (!glb) {
-    storage.assign(out.begin(), out.end());
-    return storage;
-  }
-  while (out.size() % 4 != 0) out.push_back(' ');
-  const std::size_t rest = bytes.size() - json_end;
-  if (out.size() > UINT32_MAX - 20 - rest) return bytes;
-  storage.resize(20 + out.size() + rest);
-  std::memcpy(storage.data(), bytes.data(), 12);  // magic and version
-  put_le32(storage.data() + 8, static_cast<std::uint32_t>(storage.size()));
-  put_le32(storage.data() + 12, static_cast<std::uint32_t>(out.size()));
-  put_le32(storage.data() + 16, 0x4E4F534Au);
-  std::memcpy(storage.data() + 20, out.data(), out.size());
-  if (rest > 0) std::memcpy(storage.data() + 20 + out.size(), bytes.data() + json_end, rest);
-  return storage;
-}
-
-namespace {
-
-}  // namespace
-
-std::string_view json_text(std::span<const std::uint8_t> bytes) {
-  const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-  if (!(bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0)) return text;
-  if (bytes.size() < 20) return {};
-  const std::uint32_t length = le32(bytes.data() + 12);
-  if (le32(bytes.data() + 16) != 0x4E4F534Au || length > bytes.size() - 20) return {};
-  return text.substr(20, length);
-}
-
-std::string tinygltf_error_with_pointer(std::span<const std::uint8_t> bytes, const std::string& err) {
-  const bool indices_range = err.rfind("primitive indices accessor out of bounds", 0) == 0;
-  const bool indices_view = err.rfind("accessor[", 0) == 0 && err.find("] invalid bufferView") != std::string::npos;
-  const bool stride = err.rfind("Invalid `byteStride' value.", 0) == 0;
-  const bool missing = err.rfind("File not found : ", 0) == 0;
-  if (!indices_range && !indices_view && !stride && !missing) return {};
-  const nlohmann::json doc = nlohmann::json::parse(json_text(bytes), nullptr, false);
-  if (doc.is_discarded() || !doc.is_object()) return {};
-  auto array = [&](const char* key) -> const nlohmann::json* {
-    const auto it = doc.find(key);
-    return it != doc.end() && it->is_array() ? &*it : nullptr;
-  };
-  const nlohmann::json* accessors = array("accessors");
-  const nlohmann::json* views = array("bufferViews");
-  const std::size_t accessor_count = accessors != nullptr ? accessors->size() : 0;
-  const std::size_t view_count = views != nullptr ? views->size() : 0;
-  if (missing) {
-    // tinygltf looks for a buffer's file before reading it: the buffer whose uri it is.
-    std::string uri = err.substr(17);
-    if (const std::size_t nl = uri.find('\n'); nl != std::string::npos) uri.resize(nl);
-    const nlohmann::json* buffers = array("buffers");
-    for (std::size_t b = 0; buffers != nullptr && b < buffers->size(); ++b) {
-      const nlohmann::json& buffer = (*buffers)[b];
-      if (buffer.is_object() && buffer.contains("uri") && buffer["uri"].is_string() && buffer["uri"].get<std::string>() == uri)
-        return "/buffers/" + std::to_string(b) + "/uri: " + uri + ": no such file";
-    }
-    return {};
-  }
-  if (stride) {
-    for (std::size_t v = 0; v < view_count; ++v) {
-      const nlohmann::json& view = (*views)[v];
-      if (!view.is_object() || !view.contains("byteStride") || !view["byteStride"].is_number_integer()) continue;
-      const auto s = view["byteStride"].get<std::int64_t>();
-      if (s > 252 || s % 4 != 0 || (s != 0 && s < 4))
-        return "/bufferViews/" + std::to_string(v) + "/byteStride: must be a multiple of 4 in [4, 252], got " +
-               std::to_string(s);
-    }
-    return {};
-  }
-  const nlohmann::json* meshes = array("meshes");
-  for (std::size_t m = 0; meshes != nullptr && m < meshes->size(); ++m) {
-    const nlohmann::json& mesh = (*meshes)[m];
-    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
-    const nlohmann::json& primitives = mesh["primitives"];
-    for (std::size_t k = 0; k < primitives.size(); ++k) {
-      const nlohmann::json& p = primitives[k];
-      if (!p.is_object() || !p.contains("indices") || !p["indices"].is_number_integer()) continue;
-      const auto a = p["indices"].get<std::int64_t>();
-      if (a < 0) continue;
-      const std::string pointer = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k) + "/indices";
-      if (static_cast<std::uint64_t>(a) >= accessor_count) {
-        if (indices_range) return pointer + ": accessor " + std::to_string(a) + " does not exist";
-        continue;
-      }
-      if (!indices_view) continue;
-      const nlohmann::json& accessor = (*accessors)[static_cast<std::size_t>(a)];
-      const std::string ap = "/accessors/" + std::to_string(a);
-      if (!accessor.is_object() || !accessor.contains("bufferView"))
-        return ap + ": has no bufferView, which indices need (" + pointer + ")";
-      const nlohmann::json& view = accessor["bufferView"];
-      if (!view.is_number_integer() || view.get<std::int64_t>() < 0 ||
-          static_cast<std::uint64_t>(view.get<std::int64_t>()) >= view_count)
-        return ap + "/bufferView: bufferView " + view.dump() + " does not exist";
-    }
-  }
-  return {};
-}
 
 void filter_octahedral(std::uint8_t* data, std::size_t count, std::size_t stride) {
   if (stride == 4) octahedral<std::int8_t>(data, count, stride);

@@ -308,8 +308,7 @@ void check(const Json& root) {
 
 }  // namespace
 
-std::optional<std::string> check_schema(std::string_view json) {
-  const Json root = Json::parse(json, nullptr, false);
+std::optional<std::string> check_schema(const Json& root) {
   if (root.is_discarded() || !root.is_object()) return std::nullopt;
   try {
     check(root);

@@ -2,8 +2,8 @@
 // nlohmann-json, no image decoding (images are decoded by softpbr::image, with its
 // limits), no reading of external image files (the loader reads the ones its materials
 // use, in parallel, straight into the buffers it decodes from: gltf/files.h), no image
-// writing. Included by gltf.cpp and by tinygltf.cpp, the one
-// translation unit that compiles its implementation.
+// writing. Included by the glTF reader's files and by tinygltf.cpp, the one translation
+// unit that compiles its implementation.
 #pragma once
 
 #define TINYGLTF_NO_STB_IMAGE

@@ -7,7 +7,8 @@
 //
 // inspect_gltf parses the JSON and reads the buffers and image files (with the options'
 // file-size limit and roots) but validates nothing beyond what it reads: load_gltf is the
-// validator, and `softpbr info` runs it first so a bad file gets load_gltf's error.
+// validator, and `softpbr info` runs it first (load_and_inspect_gltf) so a bad file gets
+// load_gltf's error.
 #pragma once
 
 #include <cstdint>
@@ -85,5 +86,16 @@ struct GltfInfo {
 // Throws LoadError (load_error.h) with one line starting with the file when it cannot be read or
 // parsed as glTF. Only options.max_file_bytes and options.roots are used.
 GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
+
+// load_gltf and inspect_gltf of one file, as `softpbr info` shows it: the same scene and
+// the same listing as the two calls, with the file read and its JSON parsed once for both
+// (inspect_gltf's listing comes from the model load_gltf parsed). A file with
+// EXT_meshopt_compression or Draco that load_gltf rewrites for tinygltf (docs/design.md,
+// "glTF") is read and parsed once more by inspect_gltf, which lists it as written.
+struct GltfModelInfo {
+  GltfScene scene;
+  GltfInfo info;
+};
+GltfModelInfo load_and_inspect_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
 
 }  // namespace softpbr::pbr

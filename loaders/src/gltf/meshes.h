@@ -1,0 +1,49 @@
+// The glTF reader's meshes: a primitive's attributes and indices (or its Draco data) as a
+// Mesh, strips and fans as triangle lists, flat normals when it has none, MikkTSpace
+// tangents when it is normal-mapped and has none; each made once, and once more with its
+// winding reversed for a mirroring node. Private to the glTF reader (docs/design.md, "glTF").
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "gltf/reader.h"
+#include "gltf/resources.h"
+#include "softpbr/pbr/mesh.h"
+
+namespace softpbr::pbr::gltf {
+
+class Meshes : public Context {
+ public:
+  // `draco_indices`: the Draco primitives' "indices", by (mesh, primitive), which the
+  // pre-pass took out of the JSON (document.h).
+  Meshes(const Context& context, const Resources& resources,
+         std::map<std::pair<std::size_t, std::size_t>, int> draco_indices)
+      : Context(context), resources_(resources), draco_indices_(std::move(draco_indices)) {}
+
+  // A Draco primitive's indices accessor (which only describes the Draco data's triangles)
+  // must exist.
+  void check_draco_indices(std::size_t mesh, std::size_t k, const std::string& pointer) const;
+
+  // Primitive `k` of mesh `mesh` (at `pointer`), made once; `mirrored`: with each
+  // triangle's winding reversed (a mirroring transform turns counter-clockwise triangles
+  // clockwise on screen).
+  std::shared_ptr<const Mesh> primitive(int mesh, std::size_t k, bool mirrored, const std::string& pointer,
+                                        bool normal_mapped);
+
+ private:
+  std::shared_ptr<const Mesh> primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped);
+  std::vector<std::uint32_t> triangles(int mode, const std::vector<std::uint32_t>& v) const;
+  static void flat_normals(Mesh& mesh);
+
+  const Resources& resources_;
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices_;
+  std::map<std::tuple<int, std::size_t, bool>, std::shared_ptr<const Mesh>> meshes_;
+};
+
+}  // namespace softpbr::pbr::gltf

@@ -1,0 +1,247 @@
+// The glTF reader's scene graph (see scene_graph.h): extensions, the scene, nodes,
+// cameras and lights, and the mesh primitives the nodes place.
+#include "gltf/scene_graph.h"
+
+#include <cmath>
+#include <set>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/mat3x3.hpp>
+
+#include "gltf/draco.h"
+#include "gltf/meshopt.h"
+#include "json_reader.h"
+
+namespace softpbr::pbr::gltf {
+
+namespace {
+
+// Deepest node hierarchy followed.
+constexpr int kMaxDepth = 1024;
+
+std::string number_text(double x) { return json_reader::show_number(x); }
+
+}  // namespace
+
+void SceneGraph::load() {
+  check_extensions();
+  // EXT_meshopt_compression: every compressed view decoded before any accessor is read.
+  resources_.decode_compressed_views();
+  const int scene = pick_scene();
+  std::vector<int> roots;
+  if (scene >= 0) {
+    roots = m_.scenes[static_cast<std::size_t>(scene)].nodes;
+  } else {
+    // No scenes: every node that is nobody's child.
+    std::vector<bool> child(m_.nodes.size(), false);
+    for (const tg::Node& n : m_.nodes)
+      for (int c : n.children)
+        if (c >= 0 && static_cast<std::size_t>(c) < child.size()) child[static_cast<std::size_t>(c)] = true;
+    for (std::size_t i = 0; i < m_.nodes.size(); ++i)
+      if (!child[i]) roots.push_back(static_cast<int>(i));
+  }
+  const std::string where = scene >= 0 ? "/scenes/" + str(static_cast<std::size_t>(scene)) + "/nodes" : "/nodes";
+  std::vector<bool> on_path(m_.nodes.size(), false);
+  for (std::size_t i = 0; i < roots.size(); ++i)
+    visit(roots[i], glm::dmat4(1.0), where + "/" + str(i), 0, on_path);
+  // The textures (every image decoded once, in parallel), then the objects, now that their
+  // materials are complete.
+  materials_.make_textures(resources_);
+  for (const Placed& o : placed_) out_.objects.push_back({o.mesh, materials_.at(o.material), o.transform});
+}
+
+void SceneGraph::check_extensions() const {
+  static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_materials_emissive_strength",
+                                                   "KHR_mesh_quantization", "KHR_lights_punctual",
+                                                   "KHR_materials_unlit", kMeshopt, kDraco};
+  for (std::size_t i = 0; i < m_.extensionsRequired.size(); ++i)
+    if (!kSupported.count(m_.extensionsRequired[i]))
+      fail("/extensionsRequired/" + str(i), "the required extension " + m_.extensionsRequired[i] + " is not supported");
+  for (const std::string& e : m_.extensionsUsed)
+    if (!kSupported.count(e)) warn("the extension " + e + " is not supported and is ignored");
+}
+
+int SceneGraph::pick_scene() const {
+  if (m_.scenes.empty()) {
+    if (options_.scene >= 0) fail("/scenes", "the file has no scene " + std::to_string(options_.scene));
+    return -1;
+  }
+  int s = options_.scene >= 0 ? options_.scene : (m_.defaultScene >= 0 ? m_.defaultScene : 0);
+  if (static_cast<std::size_t>(s) >= m_.scenes.size())
+    fail(options_.scene >= 0 ? "/scenes" : "/scene", "scene " + std::to_string(s) + " does not exist (" +
+                                                          str(m_.scenes.size()) + " scenes)");
+  return s;
+}
+
+// ---- Nodes ---------------------------------------------------------------------------
+
+glm::dmat4 SceneGraph::local_matrix(const tg::Node& n, const std::string& pointer) const {
+  auto finite = [&](const std::vector<double>& v, const char* what) {
+    for (double x : v)
+      if (!std::isfinite(x)) fail(pointer + "/" + what, "is not finite");
+  };
+  if (!n.matrix.empty()) {
+    if (n.matrix.size() != 16) fail(pointer + "/matrix", "must have 16 numbers");
+    finite(n.matrix, "matrix");
+    glm::dmat4 m;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m[c][r] = n.matrix[static_cast<std::size_t>(c * 4 + r)];  // column-major
+    return m;
+  }
+  glm::dmat4 t(1.0), r(1.0), s(1.0);
+  if (!n.translation.empty()) {
+    if (n.translation.size() != 3) fail(pointer + "/translation", "must have 3 numbers");
+    finite(n.translation, "translation");
+    t[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
+  }
+  if (!n.rotation.empty()) {
+    if (n.rotation.size() != 4) fail(pointer + "/rotation", "must have 4 numbers");
+    finite(n.rotation, "rotation");
+    // glTF stores (x, y, z, w); glm's constructor takes w first.
+    const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
+    r = glm::mat4_cast(q);
+  }
+  if (!n.scale.empty()) {
+    if (n.scale.size() != 3) fail(pointer + "/scale", "must have 3 numbers");
+    finite(n.scale, "scale");
+    s[0][0] = n.scale[0];
+    s[1][1] = n.scale[1];
+    s[2][2] = n.scale[2];
+  }
+  return t * r * s;
+}
+
+void SceneGraph::visit(int index, const glm::dmat4& parent, const std::string& referrer, int depth, std::vector<bool>& on_path) {
+  if (index < 0 || static_cast<std::size_t>(index) >= m_.nodes.size())
+    fail(referrer, "node " + std::to_string(index) + " does not exist");
+  const auto i = static_cast<std::size_t>(index);
+  const std::string pointer = "/nodes/" + str(i);
+  if (on_path[i]) fail(pointer, "is its own ancestor (the node hierarchy has a cycle)");
+  if (depth > kMaxDepth) fail(pointer, "the node hierarchy is deeper than " + std::to_string(kMaxDepth));
+  on_path[i] = true;
+  const tg::Node& n = m_.nodes[i];
+  const glm::dmat4 world = parent * local_matrix(n, pointer);
+  if (n.mesh >= 0) add_mesh(n.mesh, world, pointer + "/mesh");
+  if (n.camera >= 0) add_camera(n.camera, world, pointer + "/camera");
+  if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light"))
+    add_light(it->second.Get("light").GetNumberAsInt(), world, pointer + "/extensions/KHR_lights_punctual/light");
+  for (std::size_t c = 0; c < n.children.size(); ++c)
+    visit(n.children[c], world, pointer + "/children/" + str(c), depth + 1, on_path);
+  on_path[i] = false;
+}
+
+void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string& referrer) {
+  if (index < 0 || static_cast<std::size_t>(index) >= m_.meshes.size())
+    fail(referrer, "mesh " + std::to_string(index) + " does not exist");
+  const tg::Mesh& mesh = m_.meshes[static_cast<std::size_t>(index)];
+  const std::string pointer = "/meshes/" + std::to_string(index);
+  const glm::mat4 transform(world);
+  const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+  for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
+    const tg::Primitive& p = mesh.primitives[k];
+    const std::string pp = pointer + "/primitives/" + str(k);
+    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      if (mode >= 0 && mode <= 3) {
+        warn(pp + ": points and lines are not drawn");
+        continue;
+      }
+      fail(pp + "/mode", "unknown mode " + std::to_string(mode));
+    }
+    // A Draco primitive's indices accessor only describes the Draco data's triangles.
+    meshes_.check_draco_indices(static_cast<std::size_t>(index), k, pp);
+    const Material& material = materials_.material(p.material, pp + "/material");
+    const bool normal_mapped =
+        p.material >= 0 && m_.materials[static_cast<std::size_t>(p.material)].normalTexture.index >= 0;
+    (void)material;
+    placed_.push_back({meshes_.primitive(index, k, mirrored, pp, normal_mapped), p.material, transform});
+  }
+}
+
+// ---- Cameras and lights ----------------------------------------------------------------
+
+void SceneGraph::add_camera(int index, const glm::dmat4& world, const std::string& referrer) {
+  if (index < 0 || static_cast<std::size_t>(index) >= m_.cameras.size())
+    fail(referrer, "camera " + std::to_string(index) + " does not exist");
+  const tg::Camera& c = m_.cameras[static_cast<std::size_t>(index)];
+  const std::string pointer = "/cameras/" + std::to_string(index);
+  GltfCamera g;
+  g.name = c.name;
+  const glm::dvec3 eye(world * glm::dvec4(0, 0, 0, 1));
+  const glm::dvec3 forward(world * glm::dvec4(0, 0, -1, 0));
+  const glm::dvec3 up(world * glm::dvec4(0, 1, 0, 0));
+  g.camera.position = glm::vec3(eye);
+  g.camera.target = glm::vec3(eye + forward);
+  g.camera.up = glm::vec3(up);
+  if (c.type == "orthographic") {
+    // glTF 2.0 §5.13: xmag and ymag not zero (and not negative: a mirrored view is not
+    // drawn), znear ≥ 0, zfar > znear.
+    const tg::OrthographicCamera& o = c.orthographic;
+    const std::string op = pointer + "/orthographic";
+    auto magnification = [&](double x, const char* name) {
+      if (!(x > 0.0) || !(x <= 1e30)) fail(op + "/" + name, "must be a number in (0, 1e30], got " + number_text(x));
+      if (!(static_cast<float>(x) >= 1e-30f)) fail(op + "/" + name, "must be at least 1e-30, got " + number_text(x));
+      return static_cast<float>(x);
+    };
+    g.camera.orthographic = true;
+    g.camera.xmag = magnification(o.xmag, "xmag");
+    g.camera.ymag = magnification(o.ymag, "ymag");
+    if (!(o.znear >= 0.0) || !(o.znear <= 1e30)) fail(op + "/znear", "must be a number in [0, 1e30], got " + number_text(o.znear));
+    if (!(o.zfar > o.znear) || !(o.zfar <= 1e30))
+      fail(op + "/zfar", "must be above znear and at most 1e30, got " + number_text(o.zfar));
+    g.camera.near = static_cast<float>(o.znear);
+    g.camera.far = static_cast<float>(o.zfar);
+    if (!(g.camera.far - g.camera.near >= 1e-30f))
+      fail(op + "/zfar", "must be at least 1e-30 beyond znear in float precision, got " + number_text(o.zfar));
+  } else if (c.type == "perspective") {
+    const tg::PerspectiveCamera& p = c.perspective;
+    if (!(p.yfov > 0.0 && p.yfov < 3.14159)) fail(pointer + "/perspective/yfov", "must be in (0, π)");
+    if (!(p.znear > 0.0) || !std::isfinite(p.znear)) fail(pointer + "/perspective/znear", "must be > 0");
+    if (p.zfar != 0.0 && !(p.zfar > p.znear)) fail(pointer + "/perspective/zfar", "must be above znear");
+    g.camera.fovy = static_cast<float>(p.yfov);
+    g.camera.near = static_cast<float>(p.znear);
+    // An infinite far plane (zfar absent) becomes a far one: 10^5 × znear keeps the depth
+    // buffer's precision usable.
+    g.camera.far = static_cast<float>(p.zfar != 0.0 ? p.zfar : p.znear * 1e5);
+    g.aspect_ratio = static_cast<float>(p.aspectRatio);
+  } else {
+    fail(pointer + "/type", "must be perspective or orthographic");  // (tinygltf refuses others first)
+  }
+  out_.cameras.push_back(g);
+}
+
+void SceneGraph::add_light(int index, const glm::dmat4& world, const std::string& referrer) {
+  if (index < 0 || static_cast<std::size_t>(index) >= m_.lights.size())
+    fail(referrer, "light " + std::to_string(index) + " does not exist");
+  const tg::Light& l = m_.lights[static_cast<std::size_t>(index)];
+  const std::string pointer = "/extensions/KHR_lights_punctual/lights/" + std::to_string(index);
+  Light out;
+  if (l.type == "point") out.type = LightType::Point;
+  else if (l.type == "spot") out.type = LightType::Spot;
+  else if (l.type == "directional") out.type = LightType::Directional;
+  else fail(pointer + "/type", "must be point, spot or directional, got " + l.type);
+  if (!l.color.empty()) {
+    if (l.color.size() != 3) fail(pointer + "/color", "must have 3 numbers");
+    for (double c : l.color)
+      if (!(c >= 0.0) || !std::isfinite(c)) fail(pointer + "/color", "must be finite and non-negative");
+    out.color = {static_cast<float>(l.color[0]), static_cast<float>(l.color[1]), static_cast<float>(l.color[2])};
+  }
+  if (!(l.intensity >= 0.0) || !std::isfinite(l.intensity)) fail(pointer + "/intensity", "must be finite and ≥ 0");
+  // KHR_lights_punctual: candela (point, spot) and lux (directional) scale the light's
+  // radiance directly, as the glTF Sample Viewer applies them (docs/scene-format.md).
+  out.intensity = static_cast<float>(l.intensity);
+  if (!(l.range >= 0.0) || !std::isfinite(l.range)) fail(pointer + "/range", "must be finite and ≥ 0");
+  out.range = static_cast<float>(l.range);
+  out.position = glm::vec3(world * glm::dvec4(0, 0, 0, 1));
+  const glm::dvec3 d(world * glm::dvec4(0, 0, -1, 0));
+  const double len = std::sqrt(glm::dot(d, d));
+  if (!(len > 0.0)) fail(referrer, "the light's node has a degenerate transform");
+  out.direction = glm::vec3(d / len);
+  if (out.type == LightType::Spot) {
+    out.inner_cone = static_cast<float>(l.spot.innerConeAngle);
+    out.outer_cone = static_cast<float>(l.spot.outerConeAngle);
+  }
+  out_.lights.push_back(out);
+}
+
+}  // namespace softpbr::pbr::gltf

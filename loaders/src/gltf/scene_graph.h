@@ -1,0 +1,58 @@
+// The glTF reader's scene graph (as Filament's gltfio's AssetLoader): the required
+// extensions, the scene, its node hierarchy with transforms composed in double, and what
+// the nodes place — mesh primitives (meshes.h) with their materials (materials.h),
+// cameras, KHR_lights_punctual lights — into the GltfScene. Private to the glTF reader
+// (docs/design.md, "glTF").
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "gltf/materials.h"
+#include "gltf/meshes.h"
+#include "gltf/reader.h"
+#include "gltf/resources.h"
+
+namespace softpbr::pbr::gltf {
+
+class SceneGraph : public Context {
+ public:
+  // `fallback` and `draco_indices`: what the pre-pass took out of the JSON (document.h).
+  SceneGraph(const Context& context, std::string base_dir, std::map<int, std::uint64_t> fallback,
+             std::map<std::pair<std::size_t, std::size_t>, int> draco_indices)
+      : Context(context),
+        resources_(context, std::move(base_dir), std::move(fallback)),
+        materials_(context),
+        meshes_(context, resources_, std::move(draco_indices)) {}
+
+  // Fills the GltfScene: the compressed views decoded, the scene's nodes visited, then
+  // the textures made and the objects placed.
+  void load();
+
+ private:
+  void check_extensions() const;
+  int pick_scene() const;
+  glm::dmat4 local_matrix(const tg::Node& n, const std::string& pointer) const;
+  void visit(int index, const glm::dmat4& parent, const std::string& referrer, int depth, std::vector<bool>& on_path);
+  void add_mesh(int index, const glm::dmat4& world, const std::string& referrer);
+  void add_camera(int index, const glm::dmat4& world, const std::string& referrer);
+  void add_light(int index, const glm::dmat4& world, const std::string& referrer);
+
+  Resources resources_;
+  Materials materials_;
+  Meshes meshes_;
+  struct Placed {
+    std::shared_ptr<const Mesh> mesh;
+    int material;
+    glm::mat4 transform;
+  };
+  std::vector<Placed> placed_;
+};
+
+}  // namespace softpbr::pbr::gltf
