@@ -233,10 +233,10 @@ int info_scene(const std::string& path) {
               std::string(pbr::tone_map_name(file.render.output.tone_map)).c_str(), file.render.output.exposure,
               file.render.output.gamma > 0 ? std::to_string(file.render.output.gamma).c_str() : "srgb");
   const std::uint64_t image = pbr::image_memory(file.render.width, file.render.height, file.render.msaa);
-  std::printf("  memory     %s (estimate: meshes and draws %s, textures %s, image %s)\n",
-              pbr::format_bytes(file.mesh_bytes + file.texture_bytes + image).c_str(),
+  std::printf("  memory     %s (estimate: meshes and draws %s, textures %s, environment %s, image %s)\n",
+              pbr::format_bytes(file.mesh_bytes + file.texture_bytes + file.environment_bytes + image).c_str(),
               pbr::format_bytes(file.mesh_bytes).c_str(), pbr::format_bytes(file.texture_bytes).c_str(),
-              pbr::format_bytes(image).c_str());
+              pbr::format_bytes(file.environment_bytes).c_str(), pbr::format_bytes(image).c_str());
   std::printf("  problems   %zu\n", file.warnings.size());
   for (const std::string& w : file.warnings) std::printf("    %s\n", printable_line(w).c_str());
   return kExitOk;

@@ -132,6 +132,7 @@ void apply_environment(const RenderArgs& a, pbr::SceneFile& f, raster::ThreadPoo
   if (a.env_opt->count()) {
     if (a.env == "none") {
       s.environment.map = nullptr;
+      f.environment_bytes = 0;
       s.background_mode = pbr::BackgroundMode::Color;
     } else {
       if (!s.environment.map) s.background_mode = pbr::BackgroundMode::Environment;
@@ -148,7 +149,7 @@ void apply_environment(const RenderArgs& a, pbr::SceneFile& f, raster::ThreadPoo
           throw Error(kExitInput, std::string("--env: ") + e.what());
         }
       }
-      f.mesh_bytes += s.environment.map->bytes();
+      f.environment_bytes = s.environment.map->bytes();
     }
   }
   // Both values were checked with the other options, before any work.
@@ -440,7 +441,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
   // 3. Memory, before the target is allocated.
   const std::uint64_t physical = physical_memory();
   const std::uint64_t limit = physical ? std::min(job.memory_limit, physical) : job.memory_limit;
-  const std::uint64_t needed = pbr::image_memory(s.width, s.height, s.msaa) + file.mesh_bytes + file.texture_bytes;
+  const std::uint64_t needed = pbr::image_memory(s.width, s.height, s.msaa) + file.mesh_bytes + file.texture_bytes + file.environment_bytes;
   if (needed > limit) {
     const bool from_cli = a.width_opt->count() || a.height_opt->count();
     const std::string where = from_cli ? (job.batch ? input + ": " : std::string()) + "--width " + std::to_string(s.width) +

@@ -78,7 +78,7 @@ pbr::RenderSettings settings_for(const PyScene& s, const Overrides& o) {
   const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
   const std::uint64_t physical = pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : 0;
   const std::uint64_t limit = physical ? std::min(pbr::kDefaultMemoryLimit, physical) : pbr::kDefaultMemoryLimit;
-  const std::uint64_t needed = pbr::image_memory(r.width, r.height, r.msaa) + s.file.mesh_bytes + s.file.texture_bytes;
+  const std::uint64_t needed = pbr::image_memory(r.width, r.height, r.msaa) + s.file.mesh_bytes + s.file.texture_bytes + s.file.environment_bytes;
   if (needed > limit)
     value_error("a " + std::to_string(r.width) + "x" + std::to_string(r.height) + " render of this scene needs an estimated " +
                 pbr::format_bytes(needed) + ", over the limit of " + pbr::format_bytes(limit));

@@ -268,8 +268,7 @@ float env_number(const char* what, double v, double lo, double hi) {
 
 // The environment's map, its memory counted with the scene's (as the loaders count it).
 void set_map(PyScene& s, std::shared_ptr<const pbr::Environment> map) {
-  if (const auto& old = s.file.scene.environment.map) s.file.mesh_bytes -= std::min<std::uint64_t>(s.file.mesh_bytes, old->bytes());
-  if (map) s.file.mesh_bytes += map->bytes();
+  s.file.environment_bytes = map ? map->bytes() : 0;
   s.file.scene.environment.map = std::move(map);
 }
 
@@ -616,14 +615,9 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
             if (s.file.scene.objects.size() >= pbr::kMaxObjects)
               value_error("Scene.add: a scene has at most " + std::to_string(pbr::kMaxObjects) + " objects");
             s.file.scene.objects.push_back({mesh, material.value_or(pbr::Material{}), matrix_from(transform)});
-            s.file.mesh_bytes += raster::draw_geometry_bytes(mesh->vertices.size(), mesh->triangle_count(), 18) +
-                                 mesh->vertices.size() * sizeof(pbr::MeshVertex) + mesh->indices.size() * 4;
             s.file.triangles += mesh->triangle_count();
-            // A glTF material's textures (softpbr.load_gltf), each counted once.
-            const pbr::Material& mat = s.file.scene.objects.back().material;
-            for (const pbr::TextureSlot* t : {&mat.base_color_texture, &mat.metallic_roughness_texture, &mat.normal_texture,
-                                              &mat.occlusion_texture, &mat.emissive_texture})
-              if (t->texture && s.counted_textures.insert(t->texture.get()).second) s.file.texture_bytes += t->texture->texel_bytes();
+            // Its draw, its mesh and a glTF material's textures (softpbr.load_gltf), each mesh and image counted once.
+            pbr::count_object_memory(s.file, s.file.scene.objects.back(), s.counted);
           },
           py::arg("mesh"), py::arg("material") = py::none(), py::arg("transform") = py::none(),
           "Adds an object: `mesh` with `material` (default: grey, roughness 0.5) placed by `transform` (4x4, default identity); "
