@@ -76,6 +76,7 @@ TEST_CASE("render job: every setting is checked with one message, named as Pytho
   CHECK(errors_of({.background = "pink"}).second ==
         "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"pink\"");
   CHECK(errors_of({.background = "0.1,0.2,0.3"}).first.empty());
+  CHECK(errors_of({.camera = -1}).second == "--camera: expected an index >= 0, got -1");
   CHECK(errors_of({.max_memory_mib = 0.0}).second == "--max-memory: expected a number of MiB in (0, 1e9], got 0");
   CHECK(errors_of({.roots = {"/no/such/folder"}}).second == "--root: /no/such/folder is not a folder");
 }

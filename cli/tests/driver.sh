@@ -330,6 +330,7 @@ import json; g = json.load(open('tri.gltf')); g['extras'] = [[1.5, 2.5, 3.5, 4.5
     render longtok.json -o keep.png
   expect_error 2 "--pitch: expected degrees in [-89, 89], got nan" render missing.gltf -o keep.png --pitch nan
   expect_error 2 "--yaw: expected a finite number of degrees, got inf" render missing.gltf -o keep.png --yaw inf
+  expect_error 2 "--camera: expected an index >= 0, got -1" render missing.gltf -o keep.png --camera -1
   printf 'v 3e38 3e38 3e38\nv -3e38 -3e38 -3e38\nv 3e38 -3e38 0\nf 1 2 3\n' >far.obj
   scene_with '{"type": "cube"}' '{"file": "far.obj", "fit": 2}'
   expect_error 3 "bad.json: /objects/0/mesh/fit: the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted" render bad.json -o keep.png

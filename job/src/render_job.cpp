@@ -113,6 +113,7 @@ void validate(const Settings& s) {
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
+  if (s.camera && *s.camera < 0) bad_setting("camera", "expected an index >= 0, got " + std::to_string(*s.camera));
   if (s.max_memory_mib && !(*s.max_memory_mib > 0 && *s.max_memory_mib <= 1e9))
     bad_setting("max_memory", "expected a number of MiB in (0, 1e9], got " + show_value(*s.max_memory_mib));
   for (const fs::path& r : s.roots) {
@@ -125,11 +126,9 @@ std::uint64_t requested_memory_limit(const Settings& s) {
   return s.max_memory_mib ? static_cast<std::uint64_t>(*s.max_memory_mib * 1048576.0) : pbr::kDefaultMemoryLimit;
 }
 
-namespace {
-
 // A glTF model as a scene (docs/scene-format.md, "glTF models"): pbr::gltf_scene_file with
 // the settings' view (env "none": the light rig instead of the studio).
-pbr::LoadedScene load_gltf_scene(const std::string& input, const Settings& s, raster::ThreadPool& pool) {
+pbr::LoadedScene load_model(const std::string& input, const Settings& s, raster::ThreadPool& pool) {
   pbr::GltfScene g;
   try {
     g = pbr::load_gltf(input, {.pool = &pool, .memory_limit = requested_memory_limit(s), .roots = s.roots});
@@ -145,7 +144,7 @@ pbr::LoadedScene load_gltf_scene(const std::string& input, const Settings& s, ra
   if (s.yaw) view.yaw = *s.yaw;
   if (s.pitch) view.pitch = *s.pitch;
   if (s.camera) {
-    if (*s.camera < 0 || static_cast<std::size_t>(*s.camera) >= g.cameras.size())
+    if (*s.camera < 0 || static_cast<std::size_t>(*s.camera) >= g.cameras.size())  // validate() says so first when < 0
       bad_setting("camera", input + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
                                 std::to_string(*s.camera));
     view.camera = static_cast<int>(*s.camera);
@@ -162,8 +161,6 @@ pbr::LoadedScene load_gltf_scene(const std::string& input, const Settings& s, ra
   f.inputs = std::move(files);
   return f;
 }
-
-}  // namespace
 
 void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPool& pool) {
   pbr::Scene& s = f.scene;
@@ -213,7 +210,7 @@ void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPoo
 pbr::LoadedScene load(const std::string& input, const Settings& s, raster::ThreadPool& pool) {
   pbr::LoadedScene file;
   if (lower_extension_is(input, {".gltf", ".glb"})) {
-    file = load_gltf_scene(input, s, pool);
+    file = load_model(input, s, pool);
   } else {
     file = pbr::load_scene_file(input, {.memory_limit = requested_memory_limit(s),
                                         .pool = &pool,

@@ -15,6 +15,7 @@
 
 #include "bindings.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/job/render_job.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/environment.h"
@@ -156,39 +157,32 @@ const char* light_type_name(pbr::LightType t) {
 
 pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
 
-// A glTF model as a scene, as `softpbr render model.glb` makes it: pbr::gltf_scene_file
-// (docs/scene-format.md, "glTF models") with the same view.
+// A glTF model as a scene, as `softpbr render model.glb` makes it: the render job's
+// (job::load_model: pbr::gltf_scene_file, docs/scene-format.md "glTF models") with the same
+// view and the job's messages.
 std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
                                     std::optional<int> camera, bool environment) {
   require_readable(path);
-  if (width < 1 || width > raster::kMaxTargetSize || height < 1 || height > raster::kMaxTargetSize)
-    value_error("Scene.load_gltf: width and height: expected values in [1, 16384], got " + std::to_string(width) + "x" +
-                std::to_string(height));
-  if (camera && *camera < 0) value_error("Scene.load_gltf: camera: expected an index >= 0, got " + std::to_string(*camera));
-  auto s = std::make_shared<PyScene>();
-  pbr::GltfView view;
+  job::Settings view;
   view.width = width;
   view.height = height;
   view.yaw = static_cast<float>(yaw);
   view.pitch = static_cast<float>(pitch);
-  view.camera = camera ? *camera : -1;
-  view.environment = environment;
-  {
+  view.camera = camera;
+  if (!environment) view.env = "none";
+  auto s = std::make_shared<PyScene>();
+  std::string error;
+  try {
+    job::validate(view);
     py::gil_scoped_release unlocked;
-    raster::ThreadPool pool(0);
-    view.pool = &pool;  // builds the studio environment on first use (the same bits on any pool)
-    pbr::GltfScene g = pbr::load_gltf(path, {.pool = &pool});
-    try {
-      s->file = pbr::gltf_scene_file(std::move(g), view, path.string());
-    } catch (const std::invalid_argument& e) {
-      py::gil_scoped_acquire locked;
-      value_error(std::string("Scene.load_gltf: ") + e.what());
-    }
+    raster::ThreadPool pool(0);  // decodes images, builds the studio environment on first use (the same bits on any pool)
+    s->file = job::load_model(path.string(), view, pool);
+  } catch (const job::Error& e) {
+    error = e.what();
   }
+  if (!error.empty()) value_error("Scene.load_gltf: " + error);
   return s;
 }
-
-
 
 // softpbr.load_gltf: a glTF model's objects, lights and cameras as the file places them, to
 // add to a Scene (pbr::load_gltf).

@@ -82,7 +82,12 @@ std::uint64_t requested_memory_limit(const Settings& settings);
 // model that does not fit in memory. `settings` must have passed validate().
 pbr::LoadedScene load(const std::string& input, const Settings& settings, raster::ThreadPool& pool);
 
-// The scene's environment, background and view overrides on a scene already loaded.
+// A glTF model alone as load() shows it, without the environment overrides (but env
+// "none": the light rig): pbr::gltf_scene_file with the settings' size, yaw, pitch and
+// camera (Python's Scene.load_gltf). Throws as load().
+pbr::LoadedScene load_model(const std::string& input, const Settings& settings, raster::ThreadPool& pool);
+
+// The settings' environment and background over a scene already loaded (load() does it).
 void apply_environment(pbr::LoadedScene& scene, const Settings& settings, raster::ThreadPool& pool);
 
 // The scene's render settings with the settings given over them, every value checked (the
