@@ -22,7 +22,6 @@
 #include "frames.h"
 #include "softpbr/image/write.h"
 #include "softpbr/dmath/dmath.h"
-#include "softpbr/loaders/format_bytes.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/scene_file.h"
 #include "softpbr/raster/raster.h"
@@ -236,7 +235,7 @@ std::string output_path(const std::string& pattern, const std::string& input, st
 
 // What every input of the command shares: the settings checked once, the files it must
 // never overwrite, and in a batch the renderer (its threads load the models too) and frame.
-struct Job {
+struct Run {
   const RenderArgs* args = nullptr;
   job::Settings settings;  // the options given, with --max-memory, --root and --env-cache
   FrameRange range;
@@ -249,9 +248,9 @@ struct Job {
 };
 
 // The scene of `input` with the command's overrides.
-pbr::LoadedScene load_input(const Job& job, const std::string& input, raster::ThreadPool& pool) {
+pbr::LoadedScene load_input(const Run& run, const std::string& input, raster::ThreadPool& pool) {
   try {
-    return job::load(input, job.settings, pool);
+    return job::load(input, run.settings, pool);
   } catch (const job::Error& e) {
     throw command_error(e);
   } catch (const pbr::LoadError& e) {
@@ -264,15 +263,15 @@ pbr::LoadedScene load_input(const Job& job, const std::string& input, raster::Th
 // Renders input `index` to its outputs: every frame of this shard for a single input, the
 // one frame of a batch's input. Returns whether it
 // rendered (false: its outputs existed and were skipped).
-bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
-  const RenderArgs& a = *job.args;
+bool render_input(Run& run, std::size_t index, Progress* frame_progress) {
+  const RenderArgs& a = *run.args;
   const std::string& input = a.scenes[index];
   auto path = [&](std::size_t k, long frame) { return output_path(a.outputs[k], input, index, frame); };
-  const FrameRange range = job.range;
-  const Shard shard = job.shard;
-  std::map<FileId, std::string>& inputs = job.inputs;
+  const FrameRange range = run.range;
+  const Shard shard = run.shard;
+  std::map<FileId, std::string>& inputs = run.inputs;
   // A batch's input whose outputs all exist is skipped before it is loaded.
-  if (job.batch && !a.force) {
+  if (run.batch && !a.force) {
     bool all_exist = true;
     for (std::size_t k = 0; k < a.outputs.size() && all_exist; ++k) {
       std::error_code ec;
@@ -285,14 +284,14 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
   }
   // 2. The scene, with command-line overrides.
   for (std::size_t k = 0; k < a.outputs.size(); ++k) check_not_input(path(k, range.first), inputs);
-  const job::Settings& settings = job.settings;
+  const job::Settings& settings = run.settings;
   pbr::LoadedScene file;
-  if (job.renderer) {
-    file = load_input(job, input, job.renderer->pool());
+  if (run.renderer) {
+    file = load_input(run, input, run.renderer->pool());
   } else {
     // A single input's images decode on a pool of the threads the render will use.
     raster::ThreadPool pool(static_cast<unsigned>(settings.threads.value_or(0)));
-    file = load_input(job, input, pool);
+    file = load_input(run, input, pool);
   }
   for (const std::string& f : file.inputs)
     if (const auto id = file_id(f)) inputs.emplace(*id, f);
@@ -312,7 +311,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     job::check_memory(job::estimate_memory(file, s), s, limit);
   } catch (const job::Error& e) {
     const bool from_cli = settings.width || settings.height;
-    const std::string where = from_cli ? (job.batch ? input + ": " : std::string()) + "--width " + std::to_string(s.width) +
+    const std::string where = from_cli ? (run.batch ? input + ": " : std::string()) + "--width " + std::to_string(s.width) +
                                              " --height " + std::to_string(s.height)
                                        : input + ": /render";
     throw Error(kExitInput, where + ": " + e.detail() + (limit.machine ? " (the machine's memory)" : " (--max-memory)"));
@@ -324,13 +323,13 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     std::printf("shard %ld/%ld: no frame of %ld..%ld is this shard's (nothing to render)\n", shard.index, shard.count,
                 range.first, range.last);
   std::optional<raster::Renderer> own_renderer;
-  if (!job.renderer) {
+  if (!run.renderer) {
     own_renderer.emplace(raster::RendererOptions{s.threads, s.tile_size});
     if (own_renderer->threads() < own_renderer->requested_threads() && !a.quiet)
       std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
                    own_renderer->threads(), own_renderer->requested_threads(), own_renderer->threads());
   }
-  raster::Renderer& renderer = job.renderer ? *job.renderer : *own_renderer;
+  raster::Renderer& renderer = run.renderer ? *run.renderer : *own_renderer;
   std::size_t done = 0, skipped = 0;
   for (long j = 0; j < frame_count; ++j) {
     const long frame = shard_frame(range, shard, j);
@@ -342,7 +341,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
       all_exist = all_exist && fs::is_regular_file(fs::symlink_status(paths.back(), ec));
     }
     // A single render always overwrites; frame lists and batches resume.
-    if (all_exist && !a.force && (a.frames || job.batch)) {
+    if (all_exist && !a.force && (a.frames || run.batch)) {
       ++skipped;
       if (!a.quiet) std::printf("%s: exists, skipped\n", paths[0].c_str());
       if (frame_progress) frame_progress->update(++done, std::to_string(frame));
@@ -352,10 +351,10 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     // A PNG output is tone mapped tile by tile on the renderer's threads, each tile right
     // after it is drawn; .hdr, .exr and the hash read the linear colour (with MSAA the box
     // resolve, made per tile: the samples are not kept).
-    const auto png_at = std::find(job.formats.begin(), job.formats.end(), Format::Png);
-    const bool png = png_at != job.formats.end();
-    job.frame.render(pbr::animate(file, frame), s, renderer, {.rgba8 = png, .linear = true});
-    const raster::Target& linear = job.frame.linear();
+    const auto png_at = std::find(run.formats.begin(), run.formats.end(), Format::Png);
+    const bool png = png_at != run.formats.end();
+    run.frame.render(pbr::animate(file, frame), s, renderer, {.rgba8 = png, .linear = true});
+    const raster::Target& linear = run.frame.linear();
     // Then three independent jobs on the renderer's threads: the hash (XXH3 of the linear
     // colour, one a pixel: the resolve with MSAA), the count of non-finite pixels, the PNG
     // encoding.
@@ -364,7 +363,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     std::size_t non_finite = 0;
     std::vector<std::uint8_t> png_bytes;
     std::exception_ptr png_error;
-    const std::string& png_name = png ? paths[static_cast<std::size_t>(png_at - job.formats.begin())] : paths[0];
+    const std::string& png_name = png ? paths[static_cast<std::size_t>(png_at - run.formats.begin())] : paths[0];
     renderer.pool().parallel_for(3, [&](std::size_t job_index) {
       if (job_index == 0) {
         hash = raster::hash_colors(linear);
@@ -377,7 +376,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
         }
       } else if (job_index == 2 && png) {
         try {
-          png_bytes = job::encode(job.frame, Format::Png, s.output, png_name);
+          png_bytes = job::encode(run.frame, Format::Png, s.output, png_name);
         } catch (...) {
           png_error = std::current_exception();
         }
@@ -395,8 +394,8 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
       // .hdr and .exr hold one linear colour a pixel: with MSAA the box resolve of linear
       // radiance (as pbr::write_exr does).
       for (std::size_t i = 0; i < paths.size(); ++i) {
-        if (job.formats[i] == Format::Png) files.add(paths[i], png_bytes);
-        else files.add(paths[i], job::encode(job.frame, job.formats[i], s.output, paths[i]));
+        if (run.formats[i] == Format::Png) files.add(paths[i], png_bytes);
+        else files.add(paths[i], job::encode(run.frame, run.formats[i], s.output, paths[i]));
       }
       files.commit();
     } catch (const std::bad_alloc&) {
@@ -420,42 +419,42 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
 
 int run_render(const RenderArgs& a) {
   // 1. The command line alone, before any work: values, formats, frame list, outputs.
-  Job job;
-  job.args = &a;
-  job.settings = a.settings;
-  job.settings.max_memory_mib = a.max_memory_mib;
-  job.settings.roots.assign(a.roots.begin(), a.roots.end());
-  job.settings.env_cache = a.env_cache;
+  Run run;
+  run.args = &a;
+  run.settings = a.settings;
+  run.settings.max_memory_mib = a.max_memory_mib;
+  run.settings.roots.assign(a.roots.begin(), a.roots.end());
+  run.settings.env_cache = a.env_cache;
   try {
-    job::validate(job.settings);
+    job::validate(run.settings);
   } catch (const job::Error& e) {
     throw command_error(e);
   }
   const std::vector<std::string>& scenes = a.scenes;
-  job.batch = scenes.size() > 1;
-  if (job.batch && a.frames)
+  run.batch = scenes.size() > 1;
+  if (run.batch && a.frames)
     throw Error(kExitUsage, "--frames: renders one scene; " + std::to_string(scenes.size()) + " inputs were given");
   // The outputs, checked for every input's names as for a single input's.
   std::set<std::string> distinct;
   for (const std::string& o : a.outputs) {
-    if (job.batch && !has_input_pattern(o))
+    if (run.batch && !has_input_pattern(o))
       throw Error(kExitUsage, o + ": with several inputs an output needs {name}, {index} or a folder ending in / "
                                   "(e.g. thumbs/{name}.png or thumbs/)");
     if (is_folder_output(o) && has_frame_pattern(o))
       throw Error(kExitUsage, o + ": a folder output has no frame number (write folder/{name}_####.png)");
     const std::string first = output_path(o, scenes[0], 0, 0);
     if (!has_frame_pattern(o)) check_writable(first);  // a device says so before its missing extension
-    job.formats.push_back(output_format(first));
+    run.formats.push_back(output_format(first));
     for (std::size_t i = 1; i < scenes.size(); ++i) {
       const std::string name = output_path(o, scenes[i], i, 0);
-      if (output_format(name) != job.formats.back())
+      if (output_format(name) != run.formats.back())
         throw Error(kExitUsage, name + ": not the format of " + first + " (one output pattern, one format)");
     }
     if (!distinct.insert(o).second) throw Error(kExitUsage, o + ": given twice as an output");
   }
-  job.range = a.frames ? parse_frames(*a.frames) : FrameRange{0, 0};
-  job.shard = a.shard ? parse_shard(*a.shard) : Shard{};
-  const FrameRange range = job.range;
+  run.range = a.frames ? parse_frames(*a.frames) : FrameRange{0, 0};
+  run.shard = a.shard ? parse_shard(*a.shard) : Shard{};
+  const FrameRange range = run.range;
   if (range.last > range.first)
     for (const std::string& o : a.outputs)
       if (!has_frame_pattern(o))
@@ -484,13 +483,13 @@ int run_render(const RenderArgs& a) {
     }
   // No output is a file named on the command line (the others are checked as they load).
   for (const std::string& scene : scenes)
-    if (const auto id = file_id(scene)) job.inputs.emplace(*id, scene);
+    if (const auto id = file_id(scene)) run.inputs.emplace(*id, scene);
   for (std::size_t i = 0; i < scenes.size(); ++i)
-    for (const std::string& pattern : a.outputs) check_not_input(output_path(pattern, scenes[i], i, range.first), job.inputs);
+    for (const std::string& pattern : a.outputs) check_not_input(output_path(pattern, scenes[i], i, range.first), run.inputs);
 
-  if (!job.batch) {
-    Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(shard_frame_count(range, job.shard)), "frame");
-    render_input(job, 0, &progress);
+  if (!run.batch) {
+    Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(shard_frame_count(range, run.shard)), "frame");
+    render_input(run, 0, &progress);
     return kExitOk;
   }
 
@@ -498,19 +497,19 @@ int run_render(const RenderArgs& a) {
   // input is its one error line, the others are rendered, and the exit code is the first
   // failure's.
   const FrameRange inputs_range{0, static_cast<long>(scenes.size()) - 1};
-  const long count = shard_frame_count(inputs_range, job.shard);
+  const long count = shard_frame_count(inputs_range, run.shard);
   if (count == 0 && !a.quiet)
-    std::printf("shard %ld/%ld: no input of the %zu is this shard's (nothing to render)\n", job.shard.index,
-                job.shard.count, scenes.size());
-  const Shard input_shard = job.shard;
-  job.shard = Shard{};  // each input has its one frame
+    std::printf("shard %ld/%ld: no input of the %zu is this shard's (nothing to render)\n", run.shard.index,
+                run.shard.count, scenes.size());
+  const Shard input_shard = run.shard;
+  run.shard = Shard{};  // each input has its one frame
   pbr::RenderSettings defaults;
-  job.renderer.emplace(raster::RendererOptions{
-      job.settings.threads ? static_cast<unsigned>(*job.settings.threads) : defaults.threads,
-      job.settings.tile_size ? static_cast<int>(*job.settings.tile_size) : defaults.tile_size});
-  if (job.renderer->threads() < job.renderer->requested_threads() && !a.quiet)
+  run.renderer.emplace(raster::RendererOptions{
+      run.settings.threads ? static_cast<unsigned>(*run.settings.threads) : defaults.threads,
+      run.settings.tile_size ? static_cast<int>(*run.settings.tile_size) : defaults.tile_size});
+  if (run.renderer->threads() < run.renderer->requested_threads() && !a.quiet)
     std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
-                 job.renderer->threads(), job.renderer->requested_threads(), job.renderer->threads());
+                 run.renderer->threads(), run.renderer->requested_threads(), run.renderer->threads());
   int status = kExitOk;
   std::size_t rendered = 0, skipped = 0, failed = 0;
   {
@@ -518,7 +517,7 @@ int run_render(const RenderArgs& a) {
     for (long j = 0; j < count; ++j) {
       const auto i = static_cast<std::size_t>(shard_frame(inputs_range, input_shard, j));
       try {
-        (render_input(job, i, nullptr) ? rendered : skipped) += 1;
+        (render_input(run, i, nullptr) ? rendered : skipped) += 1;
       } catch (const Error& e) {
         progress.clear();
         std::fprintf(stderr, "%s\n", printable_line(e.what()).c_str());
