@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "cli_error.h"
+#include "softpbr/job/render_job.h"
 #include "softpbr/loaders/format_bytes.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/gltf_info.h"
@@ -234,11 +235,11 @@ int info_scene(const std::string& path) {
   std::printf("\n  render     %dx%d, tone map %s, exposure %g, gamma %s\n", file.render.width, file.render.height,
               std::string(pbr::tone_map_name(file.render.output.tone_map)).c_str(), file.render.output.exposure,
               file.render.output.gamma > 0 ? std::to_string(file.render.output.gamma).c_str() : "srgb");
-  const std::uint64_t image = pbr::image_memory(file.render.width, file.render.height, file.render.msaa);
-  std::printf("  memory     %s (estimate: meshes and draws %s, textures %s, image %s)\n",
-              pbr::format_bytes(file.mesh_bytes + file.texture_bytes + image).c_str(),
-              pbr::format_bytes(file.mesh_bytes).c_str(), pbr::format_bytes(file.texture_bytes).c_str(),
-              pbr::format_bytes(image).c_str());
+  const job::MemoryEstimate memory = job::estimate_memory(file, file.render);  // what `render` checks
+  std::printf("  memory     %s (estimate: meshes and draws %s, textures %s, environment %s, image %s)\n",
+              pbr::format_bytes(memory.total()).c_str(), pbr::format_bytes(memory.mesh).c_str(),
+              pbr::format_bytes(memory.texture).c_str(), pbr::format_bytes(memory.environment).c_str(),
+              pbr::format_bytes(memory.image).c_str());
   std::printf("  problems   %zu\n", file.warnings.size());
   for (const std::string& w : file.warnings) std::printf("    %s\n", printable_line(w).c_str());
   return kExitOk;

@@ -22,10 +22,8 @@
 #include "frames.h"
 #include "softpbr/image/write.h"
 #include "softpbr/dmath/dmath.h"
-#include "softpbr/loaders/format_bytes.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/scene_file.h"
-#include "softpbr/pbr/environment.h"
 #include "softpbr/raster/raster.h"
 
 namespace softpbr::cli {
@@ -47,28 +45,30 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                 "is a folder (folder/{name}.png)")
       ->required()
       ->allow_extra_args(false);  // one file per -o, so "-o out.png scene.json" works
-  a.width_opt = c->add_option("--width", a.width, "Image width in pixels (overrides the scene's render.width)");
-  a.height_opt = c->add_option("--height", a.height, "Image height in pixels");
-  a.threads_opt = c->add_option("--threads", a.threads, "Worker threads, 0 = all cores (the image is the same for any)");
-  a.tile_opt = c->add_option("--tile-size", a.tile_size, "Screen tile size, even, 8..4096 (the image is the same for any)");
-  a.tonemap_opt = c->add_option("--tonemap", a.tonemap, "Tone map: none, reinhard, aces, neutral");
-  a.msaa_opt = c->add_option("--msaa", a.msaa, "Samples a pixel: 1 (no antialiasing), 4 or 8 (MSAA; overrides render.msaa)");
-  a.exposure_opt = c->add_option("--exposure", a.exposure, "Exposure in stops (colour x 2^E before tone mapping)");
-  a.frames_opt = c->add_option("--frames", a.frames,
-                               "Frame range A..B (inclusive): the turntable animation of the scene's camera and "
-                               "lights; frames whose outputs exist are skipped");
-  a.shard_opt = c->add_option("--shard", a.shard, "i/N: render only the frames k of the range with k mod N = i (i from 0)");
-  c->add_option("--yaw", a.yaw, "glTF models: turn the automatic camera this many degrees around the vertical axis");
-  c->add_option("--pitch", a.pitch, "glTF models: raise the automatic camera this many degrees (-89..89; default 15, "
+  job::Settings& s = a.settings;
+  c->add_option("--width", s.width, "Image width in pixels (overrides the scene's render.width)");
+  c->add_option("--height", s.height, "Image height in pixels");
+  c->add_option("--threads", s.threads, "Worker threads, 0 = all cores (the image is the same for any)");
+  c->add_option("--tile-size", s.tile_size, "Screen tile size, even, 8..4096 (the image is the same for any)");
+  c->add_option("--tonemap", s.tonemap, "Tone map: none, reinhard, aces, neutral");
+  c->add_option("--msaa", s.msaa, "Samples a pixel: 1 (no antialiasing), 4 or 8 (MSAA; overrides render.msaa)");
+  c->add_option("--exposure", s.exposure, "Exposure in stops (colour x 2^E before tone mapping)");
+  c->add_option("--gamma", s.gamma, "PNG encoding: 0 for the sRGB curve, or a power in [0.1, 10] (overrides render.gamma)");
+  c->add_option("--frames", a.frames,
+                "Frame range A..B (inclusive): the turntable animation of the scene's camera and "
+                "lights; frames whose outputs exist are skipped");
+  c->add_option("--shard", a.shard, "i/N: render only the frames k of the range with k mod N = i (i from 0)");
+  c->add_option("--yaw", s.yaw, "glTF models: turn the automatic camera this many degrees around the vertical axis");
+  c->add_option("--pitch", s.pitch, "glTF models: raise the automatic camera this many degrees (-89..89; default 15, "
                                     "0 for a level view)");
-  a.camera_opt = c->add_option("--camera", a.camera, "glTF models: view through camera N of the file (from 0)");
-  a.env_opt = c->add_option("--env", a.env,
-                            "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
-                            "glTF models) or \"none\"");
-  a.env_intensity_opt = c->add_option("--env-intensity", a.env_intensity, "Scale the environment's radiance (>= 0)");
-  a.env_rotation_opt = c->add_option("--env-rotation", a.env_rotation, "Turn the environment about the vertical axis, degrees");
-  a.background_opt = c->add_option("--background", a.background,
-                                   "What is seen behind the scene: environment, blur, transparent or R,G,B (linear)");
+  c->add_option("--camera", s.camera, "glTF models: view through camera N of the file (from 0)");
+  c->add_option("--env", s.env,
+                "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
+                "glTF models) or \"none\"");
+  c->add_option("--env-intensity", s.env_intensity, "Scale the environment's radiance (>= 0)");
+  c->add_option("--env-rotation", s.env_rotation, "Turn the environment about the vertical axis, degrees");
+  c->add_option("--background", s.background,
+                "What is seen behind the scene: environment, blur, transparent or R,G,B (linear)");
   c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");
@@ -84,105 +84,18 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
 
 namespace {
 
-bool is_gltf(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return ext == ".gltf" || ext == ".glb";
+// A job's error as the command's: a bad setting is a bad command line (exit 2), an input
+// that cannot be rendered exit 3; the setting is named as its option ("--tile-size: ...").
+Error command_error(const job::Error& e) {
+  return Error(e.kind() == job::Error::Kind::Setting ? kExitUsage : kExitInput, job::option_text(e));
 }
 
-// A glTF model as a scene (docs/scene-format.md, "glTF models"): pbr::gltf_scene_file with
-// the command's view (--yaw, --pitch, --camera; --env none for the light rig).
-pbr::SceneFile gltf_scene(const RenderArgs& a, const std::string& input, raster::ThreadPool& pool,
-                          std::uint64_t memory_limit) {
-  pbr::GltfScene g;
-  try {
-    std::vector<fs::path> roots(a.roots.begin(), a.roots.end());
-    g = pbr::load_gltf(input, {.pool = &pool, .memory_limit = memory_limit, .roots = roots});
-  } catch (const pbr::LoadError& e) {
-    throw Error(kExitInput, e.what());
-  } catch (const std::bad_alloc&) {
-    throw Error(kExitInput, input + ": out of memory while loading it (the process's memory or address-space limit)");
-  }
-  pbr::GltfView view;
-  view.width = a.width_opt->count() ? a.width : view.width;
-  view.height = a.height_opt->count() ? a.height : view.height;
-  view.width = std::clamp(view.width, 1, raster::kMaxTargetSize);  // checked with the other options later
-  view.height = std::clamp(view.height, 1, raster::kMaxTargetSize);
-  view.yaw = a.yaw;
-  view.pitch = a.pitch;
-  view.camera = a.camera_opt->count() ? std::max(a.camera, 0) : -1;
-  if (a.camera_opt->count() && a.camera < 0)
-    throw Error(kExitUsage, "--camera: " + input + " has " + std::to_string(g.cameras.size()) + " cameras, no camera " +
-                                std::to_string(a.camera));
-  view.environment = !a.env_opt->count() || a.env != "none";
-  view.pool = &pool;
-  try {
-    std::vector<std::string> files = g.files;
-    pbr::SceneFile f = pbr::gltf_scene_file(std::move(g), view, input);
-    f.inputs = std::move(files);
-    return f;
-  } catch (const std::invalid_argument& e) {
-    throw Error(kExitUsage, std::string("--") + e.what());
-  }
-}
-
-// --env, --env-intensity, --env-rotation and --background over the scene's settings.
-void apply_environment(const RenderArgs& a, pbr::SceneFile& f, raster::ThreadPool& pool) {
-  pbr::Scene& s = f.scene;
-  if (a.env_opt->count()) {
-    if (a.env == "none") {
-      s.environment.map = nullptr;
-      s.background_mode = pbr::BackgroundMode::Color;
-    } else {
-      if (!s.environment.map) s.background_mode = pbr::BackgroundMode::Environment;
-      if (a.env == "studio") {
-        s.environment.map = pbr::Environment::studio();
-      } else {
-        f.inputs.push_back(a.env);  // never an output (like the scene file, --root does not confine it)
-        image::Limits limits;
-        try {
-          s.environment.map = pbr::load_environment(a.env, {}, &pool, a.env_cache, limits);
-        } catch (const std::invalid_argument& e) {
-          throw Error(kExitInput, std::string("--env: ") + e.what());
-        } catch (const std::runtime_error& e) {
-          throw Error(kExitInput, std::string("--env: ") + e.what());
-        }
-      }
-      f.mesh_bytes += s.environment.map->bytes();
-    }
-  }
-  // Both values were checked with the other options, before any work.
-  if (a.env_intensity_opt->count()) s.environment.intensity = a.env_intensity;
-  if (a.env_rotation_opt->count()) s.environment.rotation = a.env_rotation;
-  if (a.background_opt->count()) {
-    const std::string& b = a.background;
-    if (b == "environment" || b == "blur") {
-      if (!s.environment.map) throw Error(kExitUsage, "--background " + b + ": the scene has no environment (give --env)");
-      s.background_mode = b == "blur" ? pbr::BackgroundMode::Blur : pbr::BackgroundMode::Environment;
-    } else if (b == "transparent") {
-      s.background_mode = pbr::BackgroundMode::Color;
-      s.background = {0.0f, 0.0f, 0.0f, 0.0f};
-    } else {
-      float rgb[3];
-      char tail = 0;
-      if (std::sscanf(b.c_str(), "%f,%f,%f%c", &rgb[0], &rgb[1], &rgb[2], &tail) != 3 || !std::isfinite(rgb[0]) ||
-          !std::isfinite(rgb[1]) || !std::isfinite(rgb[2]) || rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0)
-        throw Error(kExitUsage, "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"" +
-                                    b + "\"");
-      s.background_mode = pbr::BackgroundMode::Color;
-      s.background = {rgb[0], rgb[1], rgb[2], 1.0f};
-    }
-  }
-}
-
-enum class Format { Png, Hdr, Exr };
+using job::Format;
 
 Format output_format(const std::string& path) {
+  if (const std::optional<Format> f = job::format_from_name(path)) return *f;
   std::string ext = fs::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  if (ext == ".png") return Format::Png;
-  if (ext == ".hdr") return Format::Hdr;
-  if (ext == ".exr") return Format::Exr;
   throw Error(kExitUsage, path + ": unknown output format \"" + ext + "\" (expected .png, .hdr or .exr)");
 }
 
@@ -266,41 +179,6 @@ void check_not_input(const std::string& output, const std::map<FileId, std::stri
                                    " of this command (an output never replaces an input)");
 }
 
-template <class T>
-std::string show_value(T v) {
-  if constexpr (std::is_floating_point_v<T>) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", static_cast<double>(v));
-    return buf;
-  } else {
-    return std::to_string(v);
-  }
-}
-
-template <class T>
-T in_range(const char* name, T value, T lo, T hi) {
-  if (!(value >= lo && value <= hi))  // NaN too
-    throw Error(kExitUsage, std::string(name) + ": expected a value in [" + show_value(lo) + ", " + show_value(hi) +
-                                "], got " + show_value(value));
-  return value;
-}
-
-// The target's colour as float RGBA samples for the image encoders (no copy).
-image::ImageViewF colour_view(const raster::Target& target) {
-  static_assert(sizeof(glm::vec4) == 4 * sizeof(float));
-  const std::span<const glm::vec4> colors = target.colors();
-  return {target.width(), target.height(),
-          std::span<const float>(reinterpret_cast<const float*>(colors.data()), colors.size() * 4)};
-}
-
-// 2^stops, as pbr::write_hdr and write_exr apply it (dmath: the same bits everywhere).
-float exposure_scale(float stops) { return static_cast<float>(softpbr::dmath::exp2(stops)); }
-
-std::uint64_t physical_memory() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : 0;
-}
-
 class Progress {
  public:
   Progress(bool enabled, std::size_t total, const char* unit) : enabled_(enabled), total_(total), unit_(unit), start_(Clock::now()) {}
@@ -355,54 +233,45 @@ std::string output_path(const std::string& pattern, const std::string& input, st
   return out;
 }
 
-// What every input of the command shares: the values checked once, the files it must
-// never overwrite, and in a batch the renderer (its threads load the models too) and target.
-struct Job {
+// What every input of the command shares: the settings checked once, the files it must
+// never overwrite, and in a batch the renderer (its threads load the models too) and frame.
+struct Run {
   const RenderArgs* args = nullptr;
-  std::optional<pbr::ToneMap> tone_map;
-  std::uint64_t memory_limit = 0;
+  job::Settings settings;  // the options given, with --max-memory, --root and --env-cache
   FrameRange range;
   Shard shard;
   std::vector<Format> formats;
   std::map<FileId, std::string> inputs;     // grows as inputs are loaded
   bool batch = false;                       // several inputs
   std::optional<raster::Renderer> renderer;  // a batch's (RendererOptions from --threads, --tile-size)
-  std::optional<raster::Target> target;
-  std::optional<raster::Target> resolved;  // with MSAA: the frame's linear box resolve
+  job::Frame frame;                          // its target, kept for the next input of its size
 };
 
 // The scene of `input` with the command's overrides.
-pbr::SceneFile load_input(Job& job, const std::string& input, raster::ThreadPool& pool) {
-  const RenderArgs& a = *job.args;
-  pbr::SceneFile file;
-  if (is_gltf(input)) {
-    file = gltf_scene(a, input, pool, job.memory_limit);
-  } else {
-    try {
-      file = pbr::load_scene_file(input, {.memory_limit = job.memory_limit,
-                                          .pool = &pool,
-                                          .environment_cache = a.env_cache,
-                                          .roots = std::vector<fs::path>(a.roots.begin(), a.roots.end())});
-    } catch (const pbr::SceneFileError& e) {
-      throw Error(kExitInput, e.what());
-    }
+pbr::LoadedScene load_input(const Run& run, const std::string& input, raster::ThreadPool& pool) {
+  try {
+    return job::load(input, run.settings, pool);
+  } catch (const job::Error& e) {
+    throw command_error(e);
+  } catch (const pbr::LoadError& e) {
+    throw Error(kExitInput, e.what());
+  } catch (const pbr::SceneFileError& e) {
+    throw Error(kExitInput, e.what());
   }
-  apply_environment(a, file, pool);
-  return file;
 }
 
 // Renders input `index` to its outputs: every frame of this shard for a single input, the
 // one frame of a batch's input. Returns whether it
 // rendered (false: its outputs existed and were skipped).
-bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
-  const RenderArgs& a = *job.args;
+bool render_input(Run& run, std::size_t index, Progress* frame_progress) {
+  const RenderArgs& a = *run.args;
   const std::string& input = a.scenes[index];
   auto path = [&](std::size_t k, long frame) { return output_path(a.outputs[k], input, index, frame); };
-  const FrameRange range = job.range;
-  const Shard shard = job.shard;
-  std::map<FileId, std::string>& inputs = job.inputs;
+  const FrameRange range = run.range;
+  const Shard shard = run.shard;
+  std::map<FileId, std::string>& inputs = run.inputs;
   // A batch's input whose outputs all exist is skipped before it is loaded.
-  if (job.batch && !a.force) {
+  if (run.batch && !a.force) {
     bool all_exist = true;
     for (std::size_t k = 0; k < a.outputs.size() && all_exist; ++k) {
       std::error_code ec;
@@ -415,41 +284,37 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
   }
   // 2. The scene, with command-line overrides.
   for (std::size_t k = 0; k < a.outputs.size(); ++k) check_not_input(path(k, range.first), inputs);
-  pbr::SceneFile file;
-  if (job.renderer) {
-    file = load_input(job, input, job.renderer->pool());
+  const job::Settings& settings = run.settings;
+  pbr::LoadedScene file;
+  if (run.renderer) {
+    file = load_input(run, input, run.renderer->pool());
   } else {
     // A single input's images decode on a pool of the threads the render will use.
-    raster::ThreadPool pool(a.threads_opt->count() ? static_cast<unsigned>(a.threads) : 0);
-    file = load_input(job, input, pool);
+    raster::ThreadPool pool(static_cast<unsigned>(settings.threads.value_or(0)));
+    file = load_input(run, input, pool);
   }
   for (const std::string& f : file.inputs)
     if (const auto id = file_id(f)) inputs.emplace(*id, f);
   for (std::size_t k = 0; k < a.outputs.size(); ++k) check_not_input(path(k, range.first), inputs);
   if (!a.quiet)
     for (const std::string& w : file.warnings) std::fprintf(stderr, "softpbr: warning: %s\n", printable_line(w).c_str());
-  pbr::RenderSettings s = file.render;
-  if (a.width_opt->count()) s.width = a.width;
-  if (a.height_opt->count()) s.height = a.height;
-  if (a.threads_opt->count()) s.threads = static_cast<unsigned>(a.threads);
-  if (a.tile_opt->count()) s.tile_size = a.tile_size;
-  if (job.tone_map) s.output.tone_map = *job.tone_map;
-  if (a.exposure_opt->count()) s.output.exposure = a.exposure;
-  if (a.msaa_opt->count()) s.msaa = a.msaa;
+  pbr::RenderSettings s;
+  try {
+    s = job::resolve(file.render, settings);
+  } catch (const job::Error& e) {
+    throw command_error(e);
+  }
 
   // 3. Memory, before the target is allocated.
-  const std::uint64_t physical = physical_memory();
-  const std::uint64_t limit = physical ? std::min(job.memory_limit, physical) : job.memory_limit;
-  const std::uint64_t needed = pbr::image_memory(s.width, s.height, s.msaa) + file.mesh_bytes + file.texture_bytes;
-  if (needed > limit) {
-    const bool from_cli = a.width_opt->count() || a.height_opt->count();
-    const std::string where = from_cli ? (job.batch ? input + ": " : std::string()) + "--width " + std::to_string(s.width) +
+  const job::MemoryLimit limit = job::memory_limit(job::requested_memory_limit(settings));
+  try {
+    job::check_memory(job::estimate_memory(file, s), s, limit);
+  } catch (const job::Error& e) {
+    const bool from_cli = settings.width || settings.height;
+    const std::string where = from_cli ? (run.batch ? input + ": " : std::string()) + "--width " + std::to_string(s.width) +
                                              " --height " + std::to_string(s.height)
                                        : input + ": /render";
-    throw Error(kExitInput, where + ": a " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                                " render of this scene needs an estimated " + pbr::format_bytes(needed) +
-                                ", over the limit of " + pbr::format_bytes(limit) +
-                                (limit == job.memory_limit ? " (--max-memory)" : " (the machine's memory)"));
+    throw Error(kExitInput, where + ": " + e.detail() + (limit.machine ? " (the machine's memory)" : " (--max-memory)"));
   }
 
   // 4. The frames of this shard.
@@ -458,25 +323,13 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     std::printf("shard %ld/%ld: no frame of %ld..%ld is this shard's (nothing to render)\n", shard.index, shard.count,
                 range.first, range.last);
   std::optional<raster::Renderer> own_renderer;
-  if (!job.renderer) {
+  if (!run.renderer) {
     own_renderer.emplace(raster::RendererOptions{s.threads, s.tile_size});
     if (own_renderer->threads() < own_renderer->requested_threads() && !a.quiet)
       std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
                    own_renderer->threads(), own_renderer->requested_threads(), own_renderer->threads());
   }
-  raster::Renderer& renderer = job.renderer ? *job.renderer : *own_renderer;
-  if (!job.target || job.target->width() != s.width || job.target->height() != s.height || job.target->samples() != s.msaa) {
-    job.target.reset();  // the old one's memory first
-    job.resolved.reset();
-    // With MSAA the samples are not kept (a transient target: each tile's are tone mapped
-    // and resolved while in cache, never written back); `resolved` holds the linear box
-    // resolve the hash, the non-finite count and .hdr/.exr read.
-    job.target.emplace(s.width, s.height, s.msaa, &renderer.pool(), raster::SampleStorage::Transient);
-    if (s.msaa > 1) job.resolved.emplace(s.width, s.height, 1, &renderer.pool());
-  }
-  raster::Target& target = *job.target;
-  raster::Target* const resolved = job.resolved ? &*job.resolved : nullptr;
-  const raster::Target& linear = resolved != nullptr ? *resolved : target;  // one colour a pixel
+  raster::Renderer& renderer = run.renderer ? *run.renderer : *own_renderer;
   std::size_t done = 0, skipped = 0;
   for (long j = 0; j < frame_count; ++j) {
     const long frame = shard_frame(range, shard, j);
@@ -488,7 +341,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
       all_exist = all_exist && fs::is_regular_file(fs::symlink_status(paths.back(), ec));
     }
     // A single render always overwrites; frame lists and batches resume.
-    if (all_exist && !a.force && (a.frames_opt->count() || job.batch)) {
+    if (all_exist && !a.force && (a.frames || run.batch)) {
       ++skipped;
       if (!a.quiet) std::printf("%s: exists, skipped\n", paths[0].c_str());
       if (frame_progress) frame_progress->update(++done, std::to_string(frame));
@@ -496,22 +349,21 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     }
     for (const std::string& p : paths) check_not_input(p, inputs);
     // A PNG output is tone mapped tile by tile on the renderer's threads, each tile right
-    // after it is drawn (render_rgba8: the same bytes as tone_map_to_rgba8 afterwards).
-    const auto png_at = std::find(job.formats.begin(), job.formats.end(), Format::Png);
-    const bool png = png_at != job.formats.end();
-    raster::Image8 rgba;
-    if (png || resolved != nullptr)
-      pbr::render_outputs(pbr::animate(file, frame), renderer, target, s.output, png ? &rgba : nullptr, resolved);
-    else pbr::render(pbr::animate(file, frame), renderer, target);
+    // after it is drawn; .hdr, .exr and the hash read the linear colour (with MSAA the box
+    // resolve, made per tile: the samples are not kept).
+    const auto png_at = std::find(run.formats.begin(), run.formats.end(), Format::Png);
+    const bool png = png_at != run.formats.end();
+    run.frame.render(pbr::animate(file, frame), s, renderer, {.rgba8 = png, .linear = true});
+    const raster::Target& linear = run.frame.linear();
     // Then three independent jobs on the renderer's threads: the hash (XXH3 of the linear
     // colour, one a pixel: the resolve with MSAA), the count of non-finite pixels, the PNG
     // encoding.
-    const float scale = exposure_scale(s.output.exposure);
+    const auto scale = static_cast<float>(softpbr::dmath::exp2(s.output.exposure));  // as .hdr and .exr apply it
     std::uint64_t hash = 0;
     std::size_t non_finite = 0;
     std::vector<std::uint8_t> png_bytes;
     std::exception_ptr png_error;
-    const std::string& png_name = png ? paths[static_cast<std::size_t>(png_at - job.formats.begin())] : paths[0];
+    const std::string& png_name = png ? paths[static_cast<std::size_t>(png_at - run.formats.begin())] : paths[0];
     renderer.pool().parallel_for(3, [&](std::size_t job_index) {
       if (job_index == 0) {
         hash = raster::hash_colors(linear);
@@ -524,7 +376,7 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
         }
       } else if (job_index == 2 && png) {
         try {
-          png_bytes = image::encode_png(rgba, png_name);
+          png_bytes = job::encode(run.frame, Format::Png, s.output, png_name);
         } catch (...) {
           png_error = std::current_exception();
         }
@@ -540,11 +392,10 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
     try {
       if (png_error) std::rethrow_exception(png_error);
       // .hdr and .exr hold one linear colour a pixel: with MSAA the box resolve of linear
-      // radiance (as pbr::write_exr does), made per tile by render_outputs.
+      // radiance (as pbr::write_exr does).
       for (std::size_t i = 0; i < paths.size(); ++i) {
-        if (job.formats[i] == Format::Png) files.add(paths[i], png_bytes);
-        else if (job.formats[i] == Format::Hdr) files.add(paths[i], image::encode_hdr(colour_view(linear), paths[i], scale));
-        else files.add(paths[i], image::encode_exr(colour_view(linear), paths[i], scale));
+        if (run.formats[i] == Format::Png) files.add(paths[i], png_bytes);
+        else files.add(paths[i], job::encode(run.frame, run.formats[i], s.output, paths[i]));
       }
       files.commit();
     } catch (const std::bad_alloc&) {
@@ -568,60 +419,42 @@ bool render_input(Job& job, std::size_t index, Progress* frame_progress) {
 
 int run_render(const RenderArgs& a) {
   // 1. The command line alone, before any work: values, formats, frame list, outputs.
-  if (a.width_opt->count()) in_range("--width", a.width, 1, raster::kMaxTargetSize);
-  if (a.height_opt->count()) in_range("--height", a.height, 1, raster::kMaxTargetSize);
-  if (a.threads_opt->count()) in_range("--threads", a.threads, 0, 1024);
-  if (a.tile_opt->count()) {
-    in_range("--tile-size", a.tile_size, raster::kMinTileSize, raster::kMaxTileSize);
-    if (!raster::valid_tile_size(a.tile_size)) throw Error(kExitUsage, "--tile-size: expected an even size, got " + std::to_string(a.tile_size));
-  }
-  Job job;
-  job.args = &a;
-  if (a.tonemap_opt->count()) {
-    job.tone_map = pbr::tone_map_from_name(a.tonemap);
-    if (!job.tone_map) throw Error(kExitUsage, "--tonemap: expected one of none, reinhard, aces, neutral, got \"" + a.tonemap + "\"");
-  }
-  if (a.exposure_opt->count()) in_range("--exposure", a.exposure, -64.0f, 64.0f);
-  if (a.msaa_opt->count() && !raster::valid_sample_count(a.msaa))
-    throw Error(kExitUsage, "--msaa: expected 1, 4 or 8, got " + std::to_string(a.msaa));
-  if (a.env_intensity_opt->count() && !(a.env_intensity >= 0.0f && a.env_intensity <= 1e6f))
-    throw Error(kExitUsage, "--env-intensity: expected a number in [0, 1e6], got " + std::to_string(a.env_intensity));
-  if (a.env_rotation_opt->count() && !std::isfinite(a.env_rotation))
-    throw Error(kExitUsage, "--env-rotation: expected a finite number of degrees");
-  if (!(a.pitch >= -89.0f && a.pitch <= 89.0f) || !std::isfinite(a.yaw))
-    throw Error(kExitUsage, "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees");
-  if (!(a.max_memory_mib > 0 && a.max_memory_mib <= 1e9))
-    throw Error(kExitUsage, "--max-memory: expected a number of MiB in (0, 1e9], got " + show_value(a.max_memory_mib));
-  job.memory_limit = static_cast<std::uint64_t>(a.max_memory_mib * 1048576.0);
-  for (const std::string& r : a.roots) {
-    std::error_code ec;
-    if (!fs::is_directory(r, ec)) throw Error(kExitUsage, "--root: " + r + " is not a folder");
+  Run run;
+  run.args = &a;
+  run.settings = a.settings;
+  run.settings.max_memory_mib = a.max_memory_mib;
+  run.settings.roots.assign(a.roots.begin(), a.roots.end());
+  run.settings.env_cache = a.env_cache;
+  try {
+    job::validate(run.settings);
+  } catch (const job::Error& e) {
+    throw command_error(e);
   }
   const std::vector<std::string>& scenes = a.scenes;
-  job.batch = scenes.size() > 1;
-  if (job.batch && a.frames_opt->count())
+  run.batch = scenes.size() > 1;
+  if (run.batch && a.frames)
     throw Error(kExitUsage, "--frames: renders one scene; " + std::to_string(scenes.size()) + " inputs were given");
   // The outputs, checked for every input's names as for a single input's.
   std::set<std::string> distinct;
   for (const std::string& o : a.outputs) {
-    if (job.batch && !has_input_pattern(o))
+    if (run.batch && !has_input_pattern(o))
       throw Error(kExitUsage, o + ": with several inputs an output needs {name}, {index} or a folder ending in / "
                                   "(e.g. thumbs/{name}.png or thumbs/)");
     if (is_folder_output(o) && has_frame_pattern(o))
       throw Error(kExitUsage, o + ": a folder output has no frame number (write folder/{name}_####.png)");
     const std::string first = output_path(o, scenes[0], 0, 0);
     if (!has_frame_pattern(o)) check_writable(first);  // a device says so before its missing extension
-    job.formats.push_back(output_format(first));
+    run.formats.push_back(output_format(first));
     for (std::size_t i = 1; i < scenes.size(); ++i) {
       const std::string name = output_path(o, scenes[i], i, 0);
-      if (output_format(name) != job.formats.back())
+      if (output_format(name) != run.formats.back())
         throw Error(kExitUsage, name + ": not the format of " + first + " (one output pattern, one format)");
     }
     if (!distinct.insert(o).second) throw Error(kExitUsage, o + ": given twice as an output");
   }
-  job.range = a.frames_opt->count() ? parse_frames(a.frames) : FrameRange{0, 0};
-  job.shard = a.shard_opt->count() ? parse_shard(a.shard) : Shard{};
-  const FrameRange range = job.range;
+  run.range = a.frames ? parse_frames(*a.frames) : FrameRange{0, 0};
+  run.shard = a.shard ? parse_shard(*a.shard) : Shard{};
+  const FrameRange range = run.range;
   if (range.last > range.first)
     for (const std::string& o : a.outputs)
       if (!has_frame_pattern(o))
@@ -650,13 +483,13 @@ int run_render(const RenderArgs& a) {
     }
   // No output is a file named on the command line (the others are checked as they load).
   for (const std::string& scene : scenes)
-    if (const auto id = file_id(scene)) job.inputs.emplace(*id, scene);
+    if (const auto id = file_id(scene)) run.inputs.emplace(*id, scene);
   for (std::size_t i = 0; i < scenes.size(); ++i)
-    for (const std::string& pattern : a.outputs) check_not_input(output_path(pattern, scenes[i], i, range.first), job.inputs);
+    for (const std::string& pattern : a.outputs) check_not_input(output_path(pattern, scenes[i], i, range.first), run.inputs);
 
-  if (!job.batch) {
-    Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(shard_frame_count(range, job.shard)), "frame");
-    render_input(job, 0, &progress);
+  if (!run.batch) {
+    Progress progress(!a.quiet && ::isatty(STDERR_FILENO), static_cast<std::size_t>(shard_frame_count(range, run.shard)), "frame");
+    render_input(run, 0, &progress);
     return kExitOk;
   }
 
@@ -664,18 +497,19 @@ int run_render(const RenderArgs& a) {
   // input is its one error line, the others are rendered, and the exit code is the first
   // failure's.
   const FrameRange inputs_range{0, static_cast<long>(scenes.size()) - 1};
-  const long count = shard_frame_count(inputs_range, job.shard);
+  const long count = shard_frame_count(inputs_range, run.shard);
   if (count == 0 && !a.quiet)
-    std::printf("shard %ld/%ld: no input of the %zu is this shard's (nothing to render)\n", job.shard.index,
-                job.shard.count, scenes.size());
-  const Shard input_shard = job.shard;
-  job.shard = Shard{};  // each input has its one frame
+    std::printf("shard %ld/%ld: no input of the %zu is this shard's (nothing to render)\n", run.shard.index,
+                run.shard.count, scenes.size());
+  const Shard input_shard = run.shard;
+  run.shard = Shard{};  // each input has its one frame
   pbr::RenderSettings defaults;
-  job.renderer.emplace(raster::RendererOptions{a.threads_opt->count() ? static_cast<unsigned>(a.threads) : defaults.threads,
-                                               a.tile_opt->count() ? a.tile_size : defaults.tile_size});
-  if (job.renderer->threads() < job.renderer->requested_threads() && !a.quiet)
+  run.renderer.emplace(raster::RendererOptions{
+      run.settings.threads ? static_cast<unsigned>(*run.settings.threads) : defaults.threads,
+      run.settings.tile_size ? static_cast<int>(*run.settings.tile_size) : defaults.tile_size});
+  if (run.renderer->threads() < run.renderer->requested_threads() && !a.quiet)
     std::fprintf(stderr, "softpbr: the system started %u of the %u threads asked for; rendering with %u (the same images)\n",
-                 job.renderer->threads(), job.renderer->requested_threads(), job.renderer->threads());
+                 run.renderer->threads(), run.renderer->requested_threads(), run.renderer->threads());
   int status = kExitOk;
   std::size_t rendered = 0, skipped = 0, failed = 0;
   {
@@ -683,7 +517,7 @@ int run_render(const RenderArgs& a) {
     for (long j = 0; j < count; ++j) {
       const auto i = static_cast<std::size_t>(shard_frame(inputs_range, input_shard, j));
       try {
-        (render_input(job, i, nullptr) ? rendered : skipped) += 1;
+        (render_input(run, i, nullptr) ? rendered : skipped) += 1;
       } catch (const Error& e) {
         progress.clear();
         std::fprintf(stderr, "%s\n", printable_line(e.what()).c_str());

@@ -196,7 +196,10 @@ EOF
   expect_error 2 "--frames: expected A..B or A with 0 <= A <= B <= 9999999, got \"5..2\"" render bad.json -o f_#.png --frames 5..2
   expect_error 2 "--shard: expected i/N with 0 <= i < N (i counts from 0), got \"3/3\"" render bad.json -o f_#.png --frames 0..9 --shard 3/3
   expect_error 2 "out.png: with several frames an output needs a run of '#' for the frame number (e.g. out_####.png)" render bad.json -o out.png --frames 0..3
-  expect_error 2 "--tile-size: expected an even size, got 17" render bad.json -o keep.png --tile-size 17
+  expect_error 2 "--tile-size: expected an even size in [8, 4096], got 17" render bad.json -o keep.png --tile-size 17
+  expect_error 2 "--tile-size: expected an even size in [8, 4096], got 4" render bad.json -o keep.png --tile-size 4
+  expect_error 2 "--gamma: expected 0 (the sRGB curve) or a number in [0.1, 10], got 0.05" render bad.json -o keep.png --gamma 0.05
+  expect_error 2 "--env-intensity: expected a number in [0, 1e6], got -1" render bad.json -o keep.png --env-intensity -1
   expect_error 2 "--width: expected a value in [1, 16384], got 0" render bad.json -o keep.png --width 0
   expect_error 2 "--tonemap: expected one of none, reinhard, aces, neutral, got \"filmic\"" render bad.json -o keep.png --tonemap filmic
   "$softpbr" render bad.json -o keep.png --no-such-option >/dev/null 2>&1; [ $? -eq 2 ] && pass "unknown option: exit 2" || fail "unknown option: not exit 2"
@@ -325,7 +328,9 @@ import json; g = json.load(open('tri.gltf')); g['extras'] = [[1.5, 2.5, 3.5, 4.5
   { printf '{"objects": [], "x": "'; head -c 100000 /dev/zero | tr '\0' a; } >longtok.json
   expect_error 3 "longtok.json: invalid JSON: parse error at line 1, column 100023: syntax error while parsing value - invalid string: missing closing quote; last read: '\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa..." \
     render longtok.json -o keep.png
-  expect_error 2 "--pitch: expected degrees in [-89, 89]; --yaw: a finite number of degrees" render missing.gltf -o keep.png --pitch nan
+  expect_error 2 "--pitch: expected degrees in [-89, 89], got nan" render missing.gltf -o keep.png --pitch nan
+  expect_error 2 "--yaw: expected a finite number of degrees, got inf" render missing.gltf -o keep.png --yaw inf
+  expect_error 2 "--camera: expected an index >= 0, got -1" render missing.gltf -o keep.png --camera -1
   printf 'v 3e38 3e38 3e38\nv -3e38 -3e38 -3e38\nv 3e38 -3e38 0\nf 1 2 3\n' >far.obj
   scene_with '{"type": "cube"}' '{"file": "far.obj", "fit": 2}'
   expect_error 3 "bad.json: /objects/0/mesh/fit: the mesh's bounds span more than float holds (coordinates beyond about +-1.7e38): it cannot be fitted" render bad.json -o keep.png
@@ -417,6 +422,11 @@ diff)
   "$softpbr" render "$scenes/gallery.json" -o a.png -o a.hdr --width 160 --height 90 -q
   "$softpbr" render "$scenes/gallery.json" -o b.png -o b.hdr --width 160 --height 90 --exposure 0.05 -q
   "$softpbr" render "$scenes/gallery.json" -o small.png --width 80 --height 45 -q
+  # --gamma overrides render.gamma: gallery.json's own 2.2 given again is the same PNG, 0 (the sRGB curve) another.
+  "$softpbr" render "$scenes/gallery.json" -o g22.png --width 160 --height 90 --gamma 2.2 -q
+  "$softpbr" render "$scenes/gallery.json" -o gsrgb.png --width 160 --height 90 --gamma 0 -q
+  cmp -s a.png g22.png && pass "--gamma 2.2 = the scene's gamma 2.2" || fail "--gamma 2.2 differs from the scene's own 2.2"
+  cmp -s a.png gsrgb.png && fail "--gamma 0 left the PNG unchanged" || pass "--gamma 0: the sRGB curve, another PNG"
   check() { local code=$1; shift; "$softpbr" diff "$@" >out.txt 2>err.txt; local rc=$?
     [ $rc -eq "$code" ] && pass "diff $* → $rc" || fail "diff $* exited $rc, expected $code: $(cat out.txt err.txt)"; }
   check 0 a.png a.png

@@ -1,7 +1,8 @@
 // Draws one triangle with a user-defined shader through the installed softpbr package,
 // checks that it covers the pixels it should, that its PNG (softpbr::image, in memory)
 // loads back with the same bytes, and that softpbr::loaders reads a one-triangle glTF
-// through the header path of the releases before loaders/ (a forwarding header).
+// through the header path of the releases before loaders/ (a forwarding header), and that
+// softpbr::job checks a render's settings.
 #include <cstdint>
 #include <cstdio>
 #include <string_view>
@@ -10,6 +11,7 @@
 
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
+#include "softpbr/job/render_job.h"
 #include "softpbr/pbr/camera.h"
 #include "softpbr/pbr/gltf.h"  // the old path of softpbr/loaders/gltf.h, kept for one release
 #include "softpbr/raster/raster.h"
@@ -52,5 +54,12 @@ int main() {
       {reinterpret_cast<const std::uint8_t*>(gltf.data()), gltf.size()}, "triangle.gltf", ".");
   const bool gltf_ok = model.objects.size() == 1 && model.triangles == 1;
   std::printf("consumer: a glTF triangle through softpbr::loaders: %s\n", gltf_ok ? "ok" : "WRONG");
-  return ok && png_ok && gltf_ok ? 0 : 1;
+  bool job_ok = false;
+  try {
+    softpbr::job::validate({.msaa = 3});
+  } catch (const softpbr::job::Error& e) {
+    job_ok = softpbr::job::option_text(e) == "--msaa: expected 1, 4 or 8, got 3";
+  }
+  std::printf("consumer: a render's settings checked by softpbr::job: %s\n", job_ok ? "ok" : "WRONG");
+  return ok && png_ok && gltf_ok && job_ok ? 0 : 1;
 }

@@ -1,12 +1,14 @@
 // A one-file program built without CMake, through pkg-config (the pkgconfig_consumer test):
 //   c++ main.cpp -o gallery $(pkg-config --cflags --libs softpbr)
-// It renders a small gallery with softpbr::pbr and checks its golden hash with softpbr::golden,
-// and parses an OBJ triangle with softpbr::loaders (its own header path).
+// It renders a small gallery with softpbr::pbr through a softpbr::job frame and checks its
+// golden hash with softpbr::golden, and parses an OBJ triangle with softpbr::loaders (its
+// own header path).
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "softpbr/golden/compare.h"
+#include "softpbr/job/render_job.h"
 #include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/scene.h"
@@ -16,9 +18,13 @@ int main() {
   options.segments = 16;
   const softpbr::pbr::Scene scene = softpbr::pbr::make_gallery(options);
   softpbr::raster::Renderer renderer({.threads = 2, .tile_size = 16});
-  softpbr::raster::Target target(64, 36);
-  softpbr::raster::Image8 image;
-  softpbr::pbr::render_rgba8(scene, renderer, target, {}, image);
+  softpbr::pbr::RenderSettings settings;
+  settings.width = 64;
+  settings.height = 36;
+  settings.output = {};
+  softpbr::job::Frame frame;
+  frame.render(scene, settings, renderer, {.rgba8 = true});
+  const softpbr::raster::Image8& image = frame.rgba();
   int lit = 0;  // pixels brighter than the background: the spheres
   for (std::size_t i = 0; i < image.rgba.size(); i += 4) lit += image.rgba[i] + image.rgba[i + 1] + image.rgba[i + 2] > 30;
   std::printf("pkg-config consumer: %d of %d pixels lit, content hash %s\n", lit, 64 * 36,

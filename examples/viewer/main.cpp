@@ -66,10 +66,7 @@ class Viewer {
   double draw(int divisor) {
     const auto start = Clock::now();
     const int w = viewer::scaled_size(window_.width(), divisor), h = viewer::scaled_size(window_.height(), divisor);
-    if (!target_ || target_->width() != w || target_->height() != h || target_->samples() != state_.msaa)
-      target_.emplace(w, h, state_.msaa, nullptr, raster::SampleStorage::Transient);  // only the image is shown
-    const raster::Image8 image = viewer::render_view(state_, meshes_, renderer_, *target_, environments_);
-    window_.draw(image);
+    window_.draw(viewer::render_view(state_, meshes_, renderer_, frame_, w, h, environments_));
     shown_divisor_ = divisor;
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   }
@@ -255,8 +252,8 @@ class Viewer {
     char title[256];
     std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s%s | %u threads%s", ms,
                   ms > 0.0 ? 1000.0 / ms : 0.0, material_text().c_str(),
-                  meshes_[state_.mesh].name.c_str(), target_->width(), target_->height(),
-                  target_->samples() > 1 ? " 4x MSAA" : "", shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
+                  meshes_[state_.mesh].name.c_str(), frame_.rgba().width, frame_.rgba().height,
+                  state_.msaa > 1 ? " 4x MSAA" : "", shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
                   state_.lights_rotating ? " | lights rotating" : "");
     window_.set_title(title);
   }
@@ -267,7 +264,7 @@ class Viewer {
   viewer::ViewerState state_;
   viewer::ResolutionPolicy policy_;
   raster::Renderer renderer_;
-  std::optional<raster::Target> target_;
+  softpbr::job::Frame frame_;  // the render job's: its target kept while the size and MSAA stay
   viewer::SdlWindow window_;
   int shown_divisor_ = 0;
   bool screenshot_requested_ = false;  // P was pressed: write one after the events

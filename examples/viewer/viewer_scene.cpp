@@ -129,11 +129,24 @@ pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& m
 
 raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes, raster::Renderer& renderer,
                            raster::Target& target, const Environments& environments) {
-  // Each tile tone mapped right after it is drawn: the bytes of render() then
-  // tone_map_to_rgba8(), and a transient target (main.cpp, with MSAA) needs nothing more.
+  // The render job's frame (softpbr::job): each tile tone mapped right after it is drawn,
+  // the bytes of render() then tone_map_to_rgba8(), so a transient target needs nothing more.
   raster::Image8 image;
-  pbr::render_rgba8(build_scene(state, meshes, environments), renderer, target, pbr::gallery_output(), image);
+  softpbr::job::render_into(build_scene(state, meshes, environments), pbr::gallery_output(), renderer, target, &image,
+                            nullptr);
   return image;
+}
+
+const raster::Image8& render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes,
+                                  raster::Renderer& renderer, softpbr::job::Frame& frame, int width, int height,
+                                  const Environments& environments) {
+  pbr::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.msaa = state.msaa;
+  settings.output = pbr::gallery_output();
+  frame.render(build_scene(state, meshes, environments), settings, renderer, {.rgba8 = true});
+  return frame.rgba();
 }
 
 std::string material_label(const ViewerState& state) {

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "softpbr/job/render_job.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/raster/renderer.h"
@@ -64,11 +65,19 @@ Environments load_environments(const std::vector<std::filesystem::path>& files, 
 softpbr::pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& meshes,
                                 const Environments& environments = {});
 
-// Renders the state's scene into `target` and tone maps it to RGBA8 (pbr::render_rgba8: a
-// transient multisampled target works, a kept one holds the frame afterwards).
+// Renders the state's scene into `target` and tone maps it to RGBA8 (job::render_into, as
+// pbr::render_rgba8: a transient multisampled target works, a kept one holds the frame
+// afterwards).
 softpbr::raster::Image8 render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes,
                                     softpbr::raster::Renderer& renderer, softpbr::raster::Target& target,
                                     const Environments& environments = {});
+
+// The same as a frame of the render job (softpbr::job::Frame, as the command and Python
+// render): width x height with the state's MSAA, its target kept for the next frame of that
+// size and sample count and keeping no samples (only the image is shown).
+const softpbr::raster::Image8& render_view(const ViewerState& state, const std::vector<NamedMesh>& meshes,
+                                           softpbr::raster::Renderer& renderer, softpbr::job::Frame& frame, int width,
+                                           int height, const Environments& environments = {});
 
 // "gold r 0.30 metal", "gallery": the material part of the title bar.
 std::string material_label(const ViewerState& state);

@@ -53,7 +53,7 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   const std::size_t n = r.array(objects, kMaxObjects, "each object is a draw call");
   for (std::size_t i = 0; i < n; ++i) scene_file::read_object(r, objects.at(i), meshes, textures, budget, out);
   out.texture_bytes = textures.bytes();
-  out.mesh_bytes = budget.bytes() - out.texture_bytes;
+  out.mesh_bytes = budget.bytes() - out.texture_bytes - out.environment_bytes;
   out.warnings = std::move(meshes.warnings());
   for (std::string& f : meshes.files()) out.inputs.push_back(std::move(f));  // after the environment's file
   for (std::string& f : textures.cache().files()) out.inputs.push_back(std::move(f));

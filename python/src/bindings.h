@@ -22,7 +22,7 @@ namespace py = pybind11;
 // softpbr.Scene: a scene with its render settings and animation, as a scene file gives them.
 struct PyScene {
   pbr::SceneFile file;
-  std::set<const void*> counted_textures;  // textures of Scene.add's materials already in file.texture_bytes
+  std::set<const void*> counted;  // meshes and textures of Scene.add's objects already in the estimate (count_object_memory)
 };
 
 void bind_scene(py::module_& m);

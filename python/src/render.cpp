@@ -1,14 +1,11 @@
 // softpbr.render / render_hdr: a scene to a numpy image, the GIL released while C++ runs.
 //
-// Settings are the scene's render block overridden by the keyword arguments, validated as the
-// command validates its options; the memory estimate is checked before the target is
-// allocated (pbr::image_memory, as `softpbr render`). Ctrl-C: the renderer polls
-// RendererOptions::cancel between tiles; on the thread that called render() the poll takes
-// the GIL at most every 10 ms and runs PyErr_CheckSignals(), so a KeyboardInterrupt (or what
-// a SIGINT handler raises) stops the render and is raised by render() itself.
-#include <unistd.h>
-
-#include <algorithm>
+// The render job (softpbr::job, as `softpbr render` runs it): the scene's render block with
+// the keyword arguments over it, checked with the job's messages (a ValueError), the memory
+// estimate checked before the target is allocated, then a job::Frame. Ctrl-C: the renderer
+// polls RendererOptions::cancel between tiles; on the thread that called render() the poll
+// takes the GIL at most every 10 ms and runs PyErr_CheckSignals(), so a KeyboardInterrupt
+// (or what a SIGINT handler raises) stops the render and is raised by render() itself.
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -21,8 +18,7 @@
 
 #include "bindings.h"
 #include "softpbr/dmath/dmath.h"
-#include "softpbr/loaders/format_bytes.h"
-#include "softpbr/pbr/scene.h"
+#include "softpbr/job/render_job.h"
 #include "softpbr/raster/renderer.h"
 
 namespace softpbr::python {
@@ -31,58 +27,16 @@ namespace {
 
 std::atomic<int> g_active_renders{0};  // renders inside C++ right now, in any thread
 
-struct Overrides {
-  std::optional<int> width, height;
-  std::optional<unsigned> threads;
-  std::optional<int> tile_size;
-  std::optional<std::string> tonemap;
-  std::optional<float> exposure, gamma;
-  std::optional<int> msaa;
-  long frame = 0;
-};
-
-template <class T>
-T in_range(const char* name, T value, T lo, T hi) {
-  if (value < lo || value > hi)
-    value_error(std::string(name) + ": expected a value in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-                std::to_string(value));
-  return value;
-}
-
-pbr::RenderSettings settings_for(const PyScene& s, const Overrides& o) {
-  pbr::RenderSettings r = s.file.render;
-  if (o.width) r.width = *o.width;
-  if (o.height) r.height = *o.height;
-  in_range("width", r.width, 1, raster::kMaxTargetSize);
-  in_range("height", r.height, 1, raster::kMaxTargetSize);
-  if (o.threads) r.threads = *o.threads;
-  in_range("threads", r.threads, 0u, 1024u);
-  if (o.msaa) r.msaa = *o.msaa;
-  if (!raster::valid_sample_count(r.msaa)) value_error("msaa: expected 1, 4 or 8, got " + std::to_string(r.msaa));
-  if (o.tile_size) r.tile_size = *o.tile_size;
-  if (!raster::valid_tile_size(r.tile_size))
-    value_error("tile_size: expected an even size in [" + std::to_string(raster::kMinTileSize) + ", " +
-                std::to_string(raster::kMaxTileSize) + "], got " + std::to_string(r.tile_size));
-  if (o.tonemap) {
-    const auto op = pbr::tone_map_from_name(*o.tonemap);
-    if (!op) value_error("tonemap: expected one of none, reinhard, aces, neutral, got \"" + *o.tonemap + "\"");
-    r.output.tone_map = *op;
+// The scene's settings with the keyword arguments over them, checked, and the memory the
+// render needs within the limit (as the command's, bounded by the machine's memory).
+pbr::RenderSettings settings_for(const PyScene& s, const job::Settings& o) {
+  try {
+    const pbr::RenderSettings r = job::resolve(s.file.render, o);
+    job::check_memory(job::estimate_memory(s.file, r), r, job::memory_limit(job::requested_memory_limit(o)));
+    return r;
+  } catch (const job::Error& e) {
+    value_error(e.what());
   }
-  if (o.exposure) r.output.exposure = *o.exposure;
-  if (!(r.output.exposure >= -64.0f && r.output.exposure <= 64.0f))
-    value_error("exposure: expected stops in [-64, 64], got " + std::to_string(r.output.exposure));
-  if (o.gamma) r.output.gamma = *o.gamma;
-  if (!(r.output.gamma == 0.0f || (r.output.gamma >= 0.1f && r.output.gamma <= 10.0f)))
-    value_error("gamma: expected 0 (the sRGB curve) or a number in [0.1, 10], got " + std::to_string(r.output.gamma));
-  // Memory, before anything is allocated: as the command, bounded by the machine's memory.
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  const std::uint64_t physical = pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : 0;
-  const std::uint64_t limit = physical ? std::min(pbr::kDefaultMemoryLimit, physical) : pbr::kDefaultMemoryLimit;
-  const std::uint64_t needed = pbr::image_memory(r.width, r.height, r.msaa) + s.file.mesh_bytes + s.file.texture_bytes;
-  if (needed > limit)
-    value_error("a " + std::to_string(r.width) + "x" + std::to_string(r.height) + " render of this scene needs an estimated " +
-                pbr::format_bytes(needed) + ", over the limit of " + pbr::format_bytes(limit));
-  return r;
 }
 
 bool is_finalizing() {
@@ -151,32 +105,26 @@ void run_released(const pbr::RenderSettings& r, Draw&& draw) {
   }
 }
 
-py::array_t<std::uint8_t> render(const PyScene& s, const Overrides& o) {
+py::array_t<std::uint8_t> render(const PyScene& s, const job::Settings& o, long frame) {
   const pbr::RenderSettings r = settings_for(s, o);
-  const pbr::Scene scene = pbr::animate(s.file, o.frame);  // a copy: Python may change `s` while C++ runs
-  raster::Image8 image;
-  run_released(r, [&](raster::Renderer& renderer) {
-    // Only the image is returned: a multisampled target need keep no samples (each tile's
-    // are resolved and encoded in render_rgba8's tile callback), 166 MB less at 1080p 4x.
-    raster::Target target(r.width, r.height, r.msaa, &renderer.pool(), raster::SampleStorage::Transient);
-    pbr::render_rgba8(scene, renderer, target, r.output, image);
-  });
-  return to_numpy(std::move(image));
+  const pbr::Scene scene = pbr::animate(s.file, frame);  // a copy: Python may change `s` while C++ runs
+  job::Frame out;
+  // Only the image is returned: a multisampled target need keep no samples (each tile's
+  // are resolved and encoded as it is drawn), 166 MB less at 1080p 4x.
+  run_released(r, [&](raster::Renderer& renderer) { out.render(scene, r, renderer, {.rgba8 = true}); });
+  return to_numpy(out.take_rgba());
 }
 
-py::array_t<float> render_hdr(const PyScene& s, const Overrides& o) {
+py::array_t<float> render_hdr(const PyScene& s, const job::Settings& o, long frame) {
   const pbr::RenderSettings r = settings_for(s, o);
-  const pbr::Scene scene = pbr::animate(s.file, o.frame);
-  auto target = std::make_unique<raster::Target>(r.width, r.height);  // one linear colour a pixel
+  const pbr::Scene scene = pbr::animate(s.file, frame);
+  std::unique_ptr<raster::Target> target;
   run_released(r, [&](raster::Renderer& renderer) {
-    if (r.msaa == 1) {
-      pbr::render(scene, renderer, *target);
-    } else {
-      // MSAA: the box filter's linear average, as .hdr and .exr output (pbr::write_exr),
-      // made per tile from samples that are not kept (a transient target).
-      raster::Target samples(r.width, r.height, r.msaa, &renderer.pool(), raster::SampleStorage::Transient);
-      pbr::render_outputs(scene, renderer, samples, r.output, nullptr, target.get());
-    }
+    // One linear colour a pixel (MSAA: the box filter's linear average, as .hdr and .exr
+    // output), made per tile from samples that are not kept.
+    job::Frame out;
+    out.render(scene, r, renderer, {.linear = true});
+    target = std::make_unique<raster::Target>(out.take_linear());
     // × 2^exposure on RGB, as .hdr and .exr output (pbr::write_exr).
     const auto scale = static_cast<float>(dmath::exp2(r.output.exposure));
     if (scale != 1.0f)
@@ -194,17 +142,27 @@ py::array_t<float> render_hdr(const PyScene& s, const Overrides& o) {
 }  // namespace
 
 void bind_render(py::module_& m) {
-  auto overrides = [](std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
-                      std::optional<int> tile_size, std::optional<std::string> tonemap, std::optional<float> exposure,
-                      std::optional<float> gamma, std::optional<int> msaa, long frame) {
-    return Overrides{width, height, threads, tile_size, std::move(tonemap), exposure, gamma, msaa, frame};
+  // The keyword arguments as the job's settings (a None leaves the scene's value).
+  auto settings = [](std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
+                     std::optional<int> tile_size, std::optional<std::string> tonemap, std::optional<float> exposure,
+                     std::optional<float> gamma, std::optional<int> msaa) {
+    job::Settings o;
+    o.width = width;
+    o.height = height;
+    o.threads = threads;
+    o.tile_size = tile_size;
+    o.tonemap = std::move(tonemap);
+    o.exposure = exposure;
+    o.gamma = gamma;
+    o.msaa = msaa;
+    return o;
   };
   m.def(
       "render",
-      [overrides](const PyScene& s, std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
-                  std::optional<int> tile_size, std::optional<std::string> tonemap, std::optional<float> exposure,
-                  std::optional<float> gamma, std::optional<int> msaa, long frame) {
-        return render(s, overrides(width, height, threads, tile_size, std::move(tonemap), exposure, gamma, msaa, frame));
+      [settings](const PyScene& s, std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
+                 std::optional<int> tile_size, std::optional<std::string> tonemap, std::optional<float> exposure,
+                 std::optional<float> gamma, std::optional<int> msaa, long frame) {
+        return render(s, settings(width, height, threads, tile_size, std::move(tonemap), exposure, gamma, msaa), frame);
       },
       py::arg("scene"), py::kw_only(), py::arg("width") = py::none(), py::arg("height") = py::none(),
       py::arg("threads") = py::none(), py::arg("tile_size") = py::none(), py::arg("tonemap") = py::none(),
@@ -212,9 +170,9 @@ void bind_render(py::module_& m) {
       "Renders a Scene to a (height, width, 4) uint8 numpy array (sRGB or gamma encoded, tone mapped).");
   m.def(
       "render_hdr",
-      [overrides](const PyScene& s, std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
-                  std::optional<int> tile_size, std::optional<float> exposure, std::optional<int> msaa, long frame) {
-        return render_hdr(s, overrides(width, height, threads, tile_size, std::nullopt, exposure, std::nullopt, msaa, frame));
+      [settings](const PyScene& s, std::optional<int> width, std::optional<int> height, std::optional<unsigned> threads,
+                 std::optional<int> tile_size, std::optional<float> exposure, std::optional<int> msaa, long frame) {
+        return render_hdr(s, settings(width, height, threads, tile_size, std::nullopt, exposure, std::nullopt, msaa), frame);
       },
       py::arg("scene"), py::kw_only(), py::arg("width") = py::none(), py::arg("height") = py::none(),
       py::arg("threads") = py::none(), py::arg("tile_size") = py::none(), py::arg("exposure") = py::none(),

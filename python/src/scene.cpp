@@ -15,6 +15,7 @@
 
 #include "bindings.h"
 #include "softpbr/dmath/dmath.h"
+#include "softpbr/job/render_job.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/obj.h"
 #include "softpbr/pbr/environment.h"
@@ -156,39 +157,32 @@ const char* light_type_name(pbr::LightType t) {
 
 pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
 
-// A glTF model as a scene, as `softpbr render model.glb` makes it: pbr::gltf_scene_file
-// (docs/scene-format.md, "glTF models") with the same view.
+// A glTF model as a scene, as `softpbr render model.glb` makes it: the render job's
+// (job::load_model: pbr::gltf_scene_file, docs/scene-format.md "glTF models") with the same
+// view and the job's messages.
 std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
                                     std::optional<int> camera, bool environment) {
   require_readable(path);
-  if (width < 1 || width > raster::kMaxTargetSize || height < 1 || height > raster::kMaxTargetSize)
-    value_error("Scene.load_gltf: width and height: expected values in [1, 16384], got " + std::to_string(width) + "x" +
-                std::to_string(height));
-  if (camera && *camera < 0) value_error("Scene.load_gltf: camera: expected an index >= 0, got " + std::to_string(*camera));
-  auto s = std::make_shared<PyScene>();
-  pbr::GltfView view;
+  job::Settings view;
   view.width = width;
   view.height = height;
   view.yaw = static_cast<float>(yaw);
   view.pitch = static_cast<float>(pitch);
-  view.camera = camera ? *camera : -1;
-  view.environment = environment;
-  {
+  view.camera = camera;
+  if (!environment) view.env = "none";
+  auto s = std::make_shared<PyScene>();
+  std::string error;
+  try {
+    job::validate(view);
     py::gil_scoped_release unlocked;
-    raster::ThreadPool pool(0);
-    view.pool = &pool;  // builds the studio environment on first use (the same bits on any pool)
-    pbr::GltfScene g = pbr::load_gltf(path, {.pool = &pool});
-    try {
-      s->file = pbr::gltf_scene_file(std::move(g), view, path.string());
-    } catch (const std::invalid_argument& e) {
-      py::gil_scoped_acquire locked;
-      value_error(std::string("Scene.load_gltf: ") + e.what());
-    }
+    raster::ThreadPool pool(0);  // decodes images, builds the studio environment on first use (the same bits on any pool)
+    s->file = job::load_model(path.string(), view, pool);
+  } catch (const job::Error& e) {
+    error = e.what();
   }
+  if (!error.empty()) value_error("Scene.load_gltf: " + error);
   return s;
 }
-
-
 
 // softpbr.load_gltf: a glTF model's objects, lights and cameras as the file places them, to
 // add to a Scene (pbr::load_gltf).
@@ -268,8 +262,7 @@ float env_number(const char* what, double v, double lo, double hi) {
 
 // The environment's map, its memory counted with the scene's (as the loaders count it).
 void set_map(PyScene& s, std::shared_ptr<const pbr::Environment> map) {
-  if (const auto& old = s.file.scene.environment.map) s.file.mesh_bytes -= std::min<std::uint64_t>(s.file.mesh_bytes, old->bytes());
-  if (map) s.file.mesh_bytes += map->bytes();
+  s.file.environment_bytes = map ? map->bytes() : 0;
   s.file.scene.environment.map = std::move(map);
 }
 
@@ -616,14 +609,9 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
             if (s.file.scene.objects.size() >= pbr::kMaxObjects)
               value_error("Scene.add: a scene has at most " + std::to_string(pbr::kMaxObjects) + " objects");
             s.file.scene.objects.push_back({mesh, material.value_or(pbr::Material{}), matrix_from(transform)});
-            s.file.mesh_bytes += raster::draw_geometry_bytes(mesh->vertices.size(), mesh->triangle_count(), 18) +
-                                 mesh->vertices.size() * sizeof(pbr::MeshVertex) + mesh->indices.size() * 4;
             s.file.triangles += mesh->triangle_count();
-            // A glTF material's textures (softpbr.load_gltf), each counted once.
-            const pbr::Material& mat = s.file.scene.objects.back().material;
-            for (const pbr::TextureSlot* t : {&mat.base_color_texture, &mat.metallic_roughness_texture, &mat.normal_texture,
-                                              &mat.occlusion_texture, &mat.emissive_texture})
-              if (t->texture && s.counted_textures.insert(t->texture.get()).second) s.file.texture_bytes += t->texture->texel_bytes();
+            // Its draw, its mesh and a glTF material's textures (softpbr.load_gltf), each mesh and image counted once.
+            pbr::count_object_memory(s.file, s.file.scene.objects.back(), s.counted);
           },
           py::arg("mesh"), py::arg("material") = py::none(), py::arg("transform") = py::none(),
           "Adds an object: `mesh` with `material` (default: grey, roughness 0.5) placed by `transform` (4x4, default identity); "

@@ -78,11 +78,21 @@ def test_invalid_files_are_valueerrors(tmp_path):
     ({"height": 20000}, r"^height: expected a value in \[1, 16384\], got 20000$"),
     ({"tile_size": 7}, r"^tile_size: expected an even size in \[8, 4096\], got 7$"),
     ({"tonemap": "filmic"}, r'^tonemap: expected one of none, reinhard, aces, neutral, got "filmic"$'),
-    ({"exposure": 100.0}, r"^exposure: expected stops in \[-64, 64\]"),
+    ({"exposure": 100.0}, r"^exposure: expected a value in \[-64, 64\], got 100$"),
+    ({"gamma": 0.05}, r"^gamma: expected 0 \(the sRGB curve\) or a number in \[0\.1, 10\], got 0\.05$"),
+    ({"threads": 2000}, r"^threads: expected a value in \[0, 1024\], got 2000$"),
 ])
 def test_bad_render_options_are_valueerrors(options, message):
     with pytest.raises(ValueError, match=message):
         softpbr.render(small({}), **options)
+
+
+def test_a_scene_value_set_out_of_range_is_refused_when_it_renders():
+    # The scene's own settings are checked with the same messages as the keyword arguments.
+    scene = softpbr.Scene.from_dict(small({}))
+    scene.tile_size = 7
+    with pytest.raises(ValueError, match=r"^tile_size: expected an even size in \[8, 4096\], got 7$"):
+        softpbr.render(scene)
 
 
 def test_other_scene_types_are_typeerrors():

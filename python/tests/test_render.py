@@ -125,3 +125,10 @@ def test_a_gltf_model_renders_as_the_command_frames_it(cli, source_dir, tmp_path
         assert numpy.array_equal(image, softpbr.load_image(png)), args
     with pytest.raises(ValueError, match="has 0 cameras, no camera 2"):
         softpbr.Scene.load_gltf(model, camera=2)
+    # The view is checked with the render job's messages, as the command's --width, --camera, --pitch.
+    with pytest.raises(ValueError, match=r"^Scene\.load_gltf: width: expected a value in \[1, 16384\], got 0$"):
+        softpbr.Scene.load_gltf(model, width=0)
+    with pytest.raises(ValueError, match=r"^Scene\.load_gltf: camera: expected an index >= 0, got -1$"):
+        softpbr.Scene.load_gltf(model, camera=-1)
+    with pytest.raises(ValueError, match=r"^Scene\.load_gltf: pitch: expected degrees in \[-89, 89\], got 95$"):
+        softpbr.Scene.load_gltf(model, pitch=95)

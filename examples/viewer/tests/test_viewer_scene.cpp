@@ -66,8 +66,12 @@ TEST_CASE("with MSAA the viewer's transient target shows the image of a kept one
   raster::Renderer renderer({.threads = 2});
   raster::Target kept(96, 54, 4);
   const raster::Image8 want = render_view(s, meshes(), renderer, kept);
-  raster::Target transient(96, 54, 4, nullptr, raster::SampleStorage::Transient);  // as main.cpp makes it
+  raster::Target transient(96, 54, 4, nullptr, raster::SampleStorage::Transient);
   for (int frame = 0; frame < 2; ++frame) CHECK(render_view(s, meshes(), renderer, transient).rgba == want.rgba);
+  // main.cpp's: the render job's frame, its transient target kept from frame to frame.
+  softpbr::job::Frame job_frame;
+  for (int frame = 0; frame < 2; ++frame)
+    CHECK(render_view(s, meshes(), renderer, job_frame, 96, 54).rgba == want.rgba);
   // (At 96×54 the gallery's geometry outweighs the planes, so the frame runs in passes and
   // the target makes its planes; at window sizes it draws in tile blocks alone.)
   raster::Target one(96, 54);

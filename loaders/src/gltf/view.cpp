@@ -10,7 +10,6 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/pbr/environment.h"
-#include "softpbr/raster/renderer.h"
 
 namespace softpbr::pbr {
 
@@ -40,20 +39,13 @@ LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string
     f.scene.environment.map = Environment::studio(view.pool);
     f.scene.background_mode = BackgroundMode::Blur;
     f.scene.lights = std::move(g.lights);
-    f.mesh_bytes += f.scene.environment.map->bytes();
+    f.environment_bytes = f.scene.environment.map->bytes();
   } else {
     f.scene.lights = g.lights.empty() ? default_light_rig(f.scene.camera) : std::move(g.lights);
   }
-  // Memory: the meshes and their draws (18 varyings: the textured shader's), and textures.
-  std::set<const void*> seen;
-  for (const Object& o : f.scene.objects) {
-    f.mesh_bytes += raster::draw_geometry_bytes(o.mesh->vertices.size(), o.mesh->triangle_count(), 18);
-    if (seen.insert(o.mesh.get()).second)
-      f.mesh_bytes += o.mesh->vertices.size() * sizeof(MeshVertex) + o.mesh->indices.size() * 4;
-    for (const TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,
-                                 &o.material.normal_texture, &o.material.occlusion_texture, &o.material.emissive_texture})
-      if (t->texture && seen.insert(t->texture.get()).second) f.mesh_bytes += t->texture->texel_bytes();
-  }
+  // Memory: the meshes and their draws, and textures.
+  std::set<const void*> counted;
+  for (const Object& o : f.scene.objects) count_object_memory(f, o, counted);
   return f;
 }
 

@@ -34,6 +34,7 @@ void read_environment(const Reader& r, const Node& spec, const std::filesystem::
     e.map = Environment::studio();
   }
   budget.charge(spec, e.map->bytes(), "the environment");
+  out.environment_bytes = e.map->bytes();
   if (auto i = r.member(spec, "intensity")) e.intensity = r.number_f(*i, 0, 1e6);
   if (auto t = r.member(spec, "rotation")) e.rotation = r.number_f(*t, -1e6, 1e6);
   if (auto m = r.member(spec, "multiscatter")) e.multiscatter = r.boolean(*m);

@@ -138,8 +138,9 @@ struct GltfView {
   raster::ThreadPool* pool = nullptr;  // prefilters the studio environment (on first use) in parallel
 };
 
-// The scene of a loaded model as the command renders it, with its memory estimate (the
-// meshes, their draws with the textured shader's 18 varyings, and the textures). Throws
+// The scene of a loaded model as the command renders it, with its memory estimate: the
+// meshes and their draws (mesh_bytes) and the textures (texture_bytes), as
+// count_object_memory counts them, and the studio environment (environment_bytes). Throws
 // std::invalid_argument ("camera: … has N cameras, no camera K", "pitch: …") for a view
 // the model does not have.
 LoadedScene gltf_scene_file(GltfScene model, const GltfView& view, const std::string& name);

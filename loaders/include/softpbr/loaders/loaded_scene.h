@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -30,10 +31,18 @@ struct LoadedScene {
   Animation animation;
   std::uint64_t mesh_bytes = 0;   // memory the scene's meshes and their draws are estimated to need
   std::uint64_t texture_bytes = 0;  // texels of its textures, mip levels included (a shared image counts once)
+  std::uint64_t environment_bytes = 0;  // the prefiltered maps of its environment (Environment::bytes())
   std::uint64_t triangles = 0;    // drawn per frame (a shared mesh counts once per object)
   std::vector<std::string> warnings;  // e.g. from OBJ files, one line each, naming the file
   std::vector<std::string> inputs;    // the files read: the scene, models, MTL files, images
 };
+
+// Adds object `o`'s memory to `scene`'s estimate: its draw (raster::draw_geometry_bytes with
+// the varyings of the textured shader, the most any material needs) to mesh_bytes, its mesh
+// to mesh_bytes and its material's textures to texture_bytes unless `counted` holds them
+// (a mesh or image shared by several objects counts once). For scenes made object by
+// object (gltf_scene_file, Python's Scene.add); scene files count theirs as they load.
+void count_object_memory(LoadedScene& scene, const Object& o, std::set<const void*>& counted);
 
 // The name scene files (and code written before LoadedScene) give it: the same type.
 using SceneFile = LoadedScene;

@@ -1,0 +1,214 @@
+// The render job (softpbr::job, render_job.h) that the command, the Python module and the
+// viewer share: its one set of setting messages, its memory estimate by field, and that it
+// renders the bits the command's golden hashes and PNGs hold.
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "softpbr/image/load.h"
+#include "softpbr/job/render_job.h"
+#include "softpbr/loaders/format_bytes.h"
+#include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/scene_file.h"
+#include "softpbr/pbr/environment.h"
+#include "softpbr/pbr/gallery.h"
+#include "softpbr/pbr/scene.h"
+#include "softpbr/raster/raster.h"
+
+namespace job = softpbr::job;
+namespace pbr = softpbr::pbr;
+namespace raster = softpbr::raster;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kSource = fs::path(SOFTPBR_SOURCE_DIR);
+
+// validate()'s error for `s` as Python words it and as the command does, or "" twice.
+std::pair<std::string, std::string> errors_of(const job::Settings& s) {
+  try {
+    job::validate(s);
+  } catch (const job::Error& e) {
+    CHECK(e.kind() == job::Error::Kind::Setting);
+    return {e.what(), job::option_text(e)};
+  }
+  return {"", ""};
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "render_job_tests" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST_CASE("render job: every setting is checked with one message, named as Python's keyword or the command's option") {
+  using P = std::pair<std::string, std::string>;
+  CHECK(errors_of({}) == P{"", ""});
+  CHECK(errors_of({.width = 0}) == P{"width: expected a value in [1, 16384], got 0", "--width: expected a value in [1, 16384], got 0"});
+  CHECK(errors_of({.height = 20000}).first == "height: expected a value in [1, 16384], got 20000");
+  CHECK(errors_of({.msaa = 3}) == P{"msaa: expected 1, 4 or 8, got 3", "--msaa: expected 1, 4 or 8, got 3"});
+  CHECK(errors_of({.tonemap = "filmic"}).first == "tonemap: expected one of none, reinhard, aces, neutral, got \"filmic\"");
+  CHECK(errors_of({.exposure = 100.0f}).first == "exposure: expected a value in [-64, 64], got 100");
+  CHECK(errors_of({.exposure = NAN}).second == "--exposure: expected a value in [-64, 64], got nan");
+  CHECK(errors_of({.gamma = 0.05f}) == P{"gamma: expected 0 (the sRGB curve) or a number in [0.1, 10], got 0.05",
+                                        "--gamma: expected 0 (the sRGB curve) or a number in [0.1, 10], got 0.05"});
+  CHECK(errors_of({.gamma = 0.0f}).first.empty());
+  CHECK(errors_of({.gamma = 2.2f}).first.empty());
+  CHECK(errors_of({.threads = -1}).second == "--threads: expected a value in [0, 1024], got -1");
+  // The range and the parity of a tile size: one message, the separator '_' or '-'.
+  CHECK(errors_of({.tile_size = 7}) == P{"tile_size: expected an even size in [8, 4096], got 7",
+                                         "--tile-size: expected an even size in [8, 4096], got 7"});
+  CHECK(errors_of({.tile_size = 4}).first == "tile_size: expected an even size in [8, 4096], got 4");
+  CHECK(errors_of({.yaw = INFINITY}).second == "--yaw: expected a finite number of degrees, got inf");
+  CHECK(errors_of({.pitch = 90.0f}).second == "--pitch: expected degrees in [-89, 89], got 90");
+  CHECK(errors_of({.env_intensity = -1.0f}).second == "--env-intensity: expected a number in [0, 1e6], got -1");
+  CHECK(errors_of({.env_rotation = NAN}).second == "--env-rotation: expected a finite number of degrees");
+  CHECK(errors_of({.background = "pink"}).second ==
+        "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"pink\"");
+  CHECK(errors_of({.background = "0.1,0.2,0.3"}).first.empty());
+  CHECK(errors_of({.camera = -1}).second == "--camera: expected an index >= 0, got -1");
+  CHECK(errors_of({.max_memory_mib = 0.0}).second == "--max-memory: expected a number of MiB in (0, 1e9], got 0");
+  CHECK(errors_of({.roots = {"/no/such/folder"}}).second == "--root: /no/such/folder is not a folder");
+}
+
+TEST_CASE("render job: resolve() puts the settings over the scene's and checks the scene's own values too") {
+  pbr::RenderSettings scene;
+  const pbr::RenderSettings r = job::resolve(scene, {.width = 64, .msaa = 4, .tonemap = "aces", .gamma = 2.2f});
+  CHECK(r.width == 64);
+  CHECK(r.height == scene.height);
+  CHECK(r.msaa == 4);
+  CHECK(r.output.tone_map == pbr::ToneMap::Aces);
+  CHECK(r.output.gamma == 2.2f);
+  scene.tile_size = 7;  // Python's Scene.tile_size = 7 is only refused when it renders
+  CHECK_THROWS_WITH_AS(job::resolve(scene, {}), "tile_size: expected an even size in [8, 4096], got 7", job::Error);
+  CHECK(job::resolve(scene, {.tile_size = 16}).tile_size == 16);
+}
+
+TEST_CASE("render job: the memory estimate has the image, meshes, textures and environment in their own fields") {
+  raster::ThreadPool pool(2);
+  // Textures: textured.json's images, counted as texture bytes, none as mesh bytes.
+  const std::string textured = (kSource / "examples/scenes/textured.json").string();
+  const pbr::LoadedScene t = job::load(textured, {}, pool);
+  const pbr::RenderSettings ts = job::resolve(t.render, {.width = 100, .height = 50, .msaa = 4});
+  const job::MemoryEstimate m = job::estimate_memory(t, ts);
+  CHECK(m.image == pbr::image_memory(100, 50, 4));
+  CHECK(m.texture == t.texture_bytes);
+  CHECK(m.texture > 0);
+  CHECK(m.mesh == t.mesh_bytes);
+  CHECK(m.environment == 0);
+  CHECK(m.total() == m.image + m.mesh + m.texture + m.environment);
+  // The environment: the scene file's, then --env studio / none over it.
+  const fs::path dir = scratch("memory");
+  std::ofstream(dir / "env.json") << R"({"environment": {}, "objects": [{"mesh": {"type": "cube"}}]})";
+  const std::string env_scene = (dir / "env.json").string();
+  const pbr::LoadedScene e = job::load(env_scene, {}, pool);
+  const std::uint64_t studio = pbr::Environment::studio()->bytes();
+  CHECK(job::estimate_memory(e, e.render).environment == studio);
+  CHECK(e.mesh_bytes < studio);  // the cube alone
+  CHECK(job::estimate_memory(job::load(env_scene, {.env = "none"}, pool), e.render).environment == 0);
+  CHECK(job::estimate_memory(job::load(env_scene, {.env = "studio"}, pool), e.render).environment == studio);
+  // A glTF model: the studio it is lit by as environment bytes, its draws as mesh bytes.
+  const std::string boxes = (kSource / "examples/viewer/tests/boxes.gltf").string();
+  const pbr::LoadedScene g = job::load(boxes, {.width = 64, .height = 64}, pool);
+  CHECK(g.environment_bytes == studio);
+  CHECK(g.mesh_bytes > 0);
+  CHECK(g.mesh_bytes < studio);
+  CHECK(g.render.width == 64);
+  // Over the limit: one message; the limit is bounded by the machine's memory.
+  const job::MemoryLimit small{1000, false};
+  const std::string over =
+      "a 100x50 render of this scene needs an estimated " + pbr::format_bytes(m.total()) + ", over the limit of 1000 B";
+  CHECK_THROWS_WITH_AS(job::check_memory(m, ts, small), over.c_str(), job::Error);
+  CHECK_NOTHROW(job::check_memory(m, ts, job::memory_limit(pbr::kDefaultMemoryLimit)));
+  if (const std::uint64_t physical = job::physical_memory()) {
+    CHECK(job::memory_limit(physical * 2).machine);
+    CHECK(job::memory_limit(physical * 2).bytes == physical);
+    CHECK_FALSE(job::memory_limit(physical / 2).machine);
+  }
+}
+
+TEST_CASE("render job: a setting the input cannot take, and an environment that cannot be read") {
+  raster::ThreadPool pool(2);
+  const std::string boxes = (kSource / "examples/viewer/tests/boxes.gltf").string();
+  try {
+    job::load(boxes, {.camera = 3}, pool);
+    FAIL("camera 3 of a model without cameras loaded");
+  } catch (const job::Error& e) {
+    CHECK(e.kind() == job::Error::Kind::Setting);
+    CHECK(job::option_text(e) == "--camera: " + boxes + " has 0 cameras, no camera 3");
+  }
+  const fs::path dir = scratch("input");
+  std::ofstream(dir / "plain.json") << R"({"objects": [{"mesh": {"type": "cube"}}]})";
+  CHECK_THROWS_WITH_AS(job::load((dir / "plain.json").string(), {.background = "blur"}, pool),
+                       "--background blur: the scene has no environment (give --env)", job::Error);
+  try {
+    job::load((dir / "plain.json").string(), {.env = (dir / "missing.hdr").string()}, pool);
+    FAIL("a missing environment file loaded");
+  } catch (const job::Error& e) {
+    CHECK(e.kind() == job::Error::Kind::Input);
+    CHECK(e.setting() == "env");
+  }
+}
+
+TEST_CASE("render job: the command's golden hash and PNG of lights.json") {
+  // cli/tests/scenes.hashes and cli/tests/goldens/lights.png: what `softpbr render` wrote
+  // before the job existed (640x400, 2 threads, 64-pixel tiles).
+  std::ifstream hashes(kSource / "cli/tests/scenes.hashes");
+  std::string name, want;
+  while (hashes >> name >> want && name != "lights") {}
+  REQUIRE(name == "lights");
+  raster::ThreadPool pool(2);
+  const job::Settings settings{.threads = 2, .tile_size = 64};
+  const pbr::LoadedScene file = job::load((kSource / "examples/scenes/lights.json").string(), settings, pool);
+  const pbr::RenderSettings s = job::resolve(file.render, settings);
+  raster::Renderer renderer({s.threads, s.tile_size});
+  job::Frame frame;
+  frame.render(pbr::animate(file, 0), s, renderer, {.rgba8 = true, .linear = true});
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(raster::hash_colors(frame.linear())));
+  CHECK(std::string(hex) == want);
+  const std::vector<std::uint8_t> png = job::encode(frame, job::Format::Png, s.output, "lights.png");
+  const auto golden = softpbr::image::load_png(kSource / "cli/tests/goldens/lights.png");
+  CHECK(softpbr::image::load_png(png, "lights.png").rgba == golden.rgba);
+}
+
+TEST_CASE("render job: a frame with MSAA is pbr::render_outputs' image and resolve, the target kept between frames") {
+  pbr::GalleryOptions options;
+  options.segments = 12;
+  const pbr::Scene scene = pbr::make_gallery(options);
+  raster::Renderer renderer({.threads = 2, .tile_size = 16});
+  pbr::RenderSettings s;
+  s.width = 96;
+  s.height = 54;
+  s.msaa = 4;
+  s.output = pbr::gallery_output();
+  // As the command and Python rendered before: a transient target, the resolve beside it.
+  raster::Target samples(s.width, s.height, s.msaa, &renderer.pool(), raster::SampleStorage::Transient);
+  raster::Target resolve(s.width, s.height);
+  raster::Image8 want;
+  pbr::render_outputs(scene, renderer, samples, s.output, &want, &resolve);
+  job::Frame frame;
+  for (int i = 0; i < 2; ++i) {
+    frame.render(scene, s, renderer, {.rgba8 = true, .linear = true});
+    CHECK(frame.rgba().rgba == want.rgba);
+    CHECK(raster::hash_colors(frame.linear()) == raster::hash_colors(resolve));
+  }
+  // Only the image (Python's render(), the viewer): no linear colour is kept.
+  frame.render(scene, s, renderer, {.rgba8 = true});
+  CHECK(frame.rgba().rgba == want.rgba);
+  CHECK_THROWS_AS(frame.linear(), std::logic_error);
+  // Only the linear colour (Python's render_hdr): taken out of the frame.
+  frame.render(scene, s, renderer, {.linear = true});
+  const raster::Target taken = frame.take_linear();
+  CHECK(raster::hash_colors(taken) == raster::hash_colors(resolve));
+}
