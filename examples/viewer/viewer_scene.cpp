@@ -11,6 +11,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/obj.h"
+#include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/tonemap.h"

@@ -702,6 +702,11 @@ PreparedEnvironment prepare_environment(const EnvironmentLighting& e) {
   if (!std::isfinite(e.rotation)) throw std::invalid_argument("environment.rotation must be finite");
   PreparedEnvironment p;
   p.map = e.map.get();
+  p.sh = p.map->irradiance_sh().data();
+  for (int l = 0; l < kEnvironmentLevels; ++l) {
+    p.levels[static_cast<std::size_t>(l)] = &p.map->level(l);
+    p.level_sizes[static_cast<std::size_t>(l)] = p.map->level_size(l);
+  }
   const double r = dmath::radians(static_cast<double>(e.rotation));
   p.cos_r = static_cast<float>(dmath::cos(r));
   p.sin_r = static_cast<float>(dmath::sin(r));

@@ -12,7 +12,7 @@
 
 #include <cstddef>
 
-#include "softpbr/pbr/environment.h"
+#include "softpbr/pbr/environment_lookup.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/pbr/textured_shading.h"
 #include "softpbr/raster/renderer.h"

@@ -8,6 +8,7 @@
 
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/obj.h"
+#include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/raster/raster.h"
 #include "viewer_scene.h"

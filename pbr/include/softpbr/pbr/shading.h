@@ -27,7 +27,7 @@
 #include <glm/vec4.hpp>
 
 #include "softpbr/pbr/brdf.h"
-#include "softpbr/pbr/environment.h"
+#include "softpbr/pbr/environment_lookup.h"
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
