@@ -16,12 +16,11 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "softpbr/pbr/light.h"
 #include "softpbr/raster/texture.h"
 #include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
-
-class Environment;  // environment.h
 
 // The prefiltered levels of an environment (roughness 0, 0.2, …, 1) and its irradiance
 // coefficients (spherical harmonics of bands 0–2): Environment::kLevels and kShCount.
@@ -38,14 +37,6 @@ const raster::Texture& dfg_table();
 // `samples` Hammersley samples (the tests' reference).
 glm::dvec2 dfg_reference(double NoV, double roughness, int samples);
 
-// The environment as the shaders see it: the map with its rotation and intensity.
-struct EnvironmentLighting {
-  std::shared_ptr<const Environment> map;
-  float intensity = 1.0f;
-  float rotation = 0.0f;      // degrees about +Y
-  bool multiscatter = true;   // Fdez-Agüera 2019 energy compensation
-};
-
 // What the shaders read, prepared once per frame.
 struct PreparedEnvironment {
   const Environment* map = nullptr;
@@ -59,8 +50,9 @@ struct PreparedEnvironment {
   bool multiscatter = true;
 };
 
-// Throws std::invalid_argument naming the field (non-finite or negative intensity,
-// non-finite rotation).
+// The environment of a scene (EnvironmentLighting, light.h) prepared for a frame. Throws
+// std::invalid_argument naming the field (non-finite or negative intensity, non-finite
+// rotation).
 PreparedEnvironment prepare_environment(const EnvironmentLighting& e);
 
 // --- Lookups in lane form (F = float or simd lanes; the same bits per lane at any width). ---

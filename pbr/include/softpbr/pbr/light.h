@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -101,5 +102,17 @@ inline LightSample sample_light(const PreparedLight& p, const glm::vec3& positio
   const LightSampleLanes<float> s = sample_light(p, simd::Vec3<float>(position.x, position.y, position.z));
   return {{s.to_light.x, s.to_light.y, s.to_light.z}, p.radiance * s.falloff};
 }
+
+class Environment;  // environment.h
+
+// Image-based lighting, a scene's light from every direction: an environment map
+// (environment.h) with its rotation and intensity. The shaders read it prepared
+// (prepare_environment, environment_lookup.h).
+struct EnvironmentLighting {
+  std::shared_ptr<const Environment> map;
+  float intensity = 1.0f;
+  float rotation = 0.0f;      // degrees about +Y
+  bool multiscatter = true;   // Fdez-Agüera 2019 energy compensation
+};
 
 }  // namespace softpbr::pbr

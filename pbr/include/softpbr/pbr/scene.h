@@ -10,7 +10,6 @@
 #include <glm/vec4.hpp>
 
 #include "softpbr/pbr/camera.h"
-#include "softpbr/pbr/environment_lookup.h"
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
