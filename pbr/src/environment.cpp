@@ -703,10 +703,7 @@ PreparedEnvironment prepare_environment(const EnvironmentLighting& e) {
   PreparedEnvironment p;
   p.map = e.map.get();
   p.sh = p.map->irradiance_sh().data();
-  for (int l = 0; l < kEnvironmentLevels; ++l) {
-    p.levels[static_cast<std::size_t>(l)] = &p.map->level(l);
-    p.level_sizes[static_cast<std::size_t>(l)] = p.map->level_size(l);
-  }
+  for (int l = 0; l < kEnvironmentLevels; ++l) p.levels[static_cast<std::size_t>(l)] = &p.map->level(l);
   const double r = dmath::radians(static_cast<double>(e.rotation));
   p.cos_r = static_cast<float>(dmath::cos(r));
   p.sin_r = static_cast<float>(dmath::sin(r));

@@ -44,7 +44,6 @@ struct PreparedEnvironment {
   // coefficients (kEnvironmentShCount, Environment::irradiance_sh()) and levels.
   const glm::vec3* sh = nullptr;
   std::array<const raster::Texture*, kEnvironmentLevels> levels{};
-  std::array<int, kEnvironmentLevels> level_sizes{};  // Environment::level_size()
   float cos_r = 1.0f, sin_r = 0.0f;  // the rotation, by dmath
   float intensity = 1.0f;
   bool multiscatter = true;
@@ -183,8 +182,9 @@ inline EnvVec3<F> env_radiance(const PreparedEnvironment& e, const EnvVec3<F>& d
     const F w = simd::max(one - simd::max(dl, zero - dl), zero);
     if (!simd::any(w > zero)) continue;
     F u, v;
-    env_octahedral(d, e.level_sizes[static_cast<std::size_t>(l)], u, v);
-    const EnvVec3<F> c = env_bilinear(*e.levels[static_cast<std::size_t>(l)], u, v);
+    const raster::Texture& level = *e.levels[static_cast<std::size_t>(l)];
+    env_octahedral(d, level.width() - 2, u, v);  // Environment::level_size()
+    const EnvVec3<F> c = env_bilinear(level, u, v);
     r = r + w * c.x;
     g = g + w * c.y;
     b = b + w * c.z;
@@ -204,8 +204,9 @@ inline EnvVec3<F> env_radiance_uniform(const PreparedEnvironment& e, const EnvVe
     const float w = simd::max(1.0f - simd::max(dl, 0.0f - dl), 0.0f);
     if (!(w > 0.0f)) continue;
     F u, v;
-    env_octahedral(d, e.level_sizes[static_cast<std::size_t>(l)], u, v);
-    const EnvVec3<F> c = env_bilinear(*e.levels[static_cast<std::size_t>(l)], u, v);
+    const raster::Texture& level = *e.levels[static_cast<std::size_t>(l)];
+    env_octahedral(d, level.width() - 2, u, v);  // Environment::level_size()
+    const EnvVec3<F> c = env_bilinear(level, u, v);
     r = r + F(w) * c.x;
     g = g + F(w) * c.y;
     b = b + F(w) * c.z;
