@@ -556,6 +556,12 @@ $(cat out.txt)"
     || fail "broken.gltf: $("$softpbr" info broken.gltf 2>&1)"
   "$softpbr" info huge.glb 2>&1 | grep -q "30000x30000" && pass "huge.glb: refused by its header's size" || fail "huge.glb: $("$softpbr" info huge.glb 2>&1)"
   expect_error 2 "notes.txt: expected an .obj, .gltf or .glb model or a .json scene" info notes.txt
+  # Compressed meshes (what gltfpack and gltf-transform write): listed as the file has them.
+  for model in meshopt.glb draco.glb; do
+    "$softpbr" info "$src/fuzz/corpus/gltf/$model" >out.txt 2>err.txt; rc=$?
+    [ $rc -eq 0 ] && grep -Eq "^  drawn      [0-9]+ primitives?, [1-9][0-9]* triangles" out.txt \
+      && pass "info $model (compressed): exit 0, its triangles listed" || fail "info $model: exit $rc, $(cat err.txt) $(cat out.txt)"
+  done
   ;;
 version)
   "$softpbr" --version >out.txt 2>err.txt; rc=$?

@@ -133,7 +133,7 @@ pbr::LoadedScene load_model(const std::string& input, const Settings& s, raster:
   try {
     g = pbr::load_gltf(input, {.pool = &pool, .memory_limit = requested_memory_limit(s), .roots = s.roots});
   } catch (const std::bad_alloc&) {
-    throw Error(Error::Kind::Input, "",
+    throw Error(Error::Kind::Memory, "",
                 input + ": out of memory while loading it (the process's memory or address-space limit)");
   }
   pbr::GltfView view;

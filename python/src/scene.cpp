@@ -172,6 +172,7 @@ std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width
   if (!environment) view.env = "none";
   auto s = std::make_shared<PyScene>();
   std::string error;
+  bool out_of_memory = false;
   try {
     job::validate(view);
     py::gil_scoped_release unlocked;
@@ -179,6 +180,11 @@ std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width
     s->file = job::load_model(path.string(), view, pool);
   } catch (const job::Error& e) {
     error = e.what();
+    out_of_memory = e.kind() == job::Error::Kind::Memory;
+  }
+  if (out_of_memory) {
+    PyErr_SetString(PyExc_MemoryError, ("Scene.load_gltf: " + error).c_str());
+    throw py::error_already_set();
   }
   if (!error.empty()) value_error("Scene.load_gltf: " + error);
   return s;

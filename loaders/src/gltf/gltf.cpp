@@ -106,9 +106,8 @@ std::string first_line(const std::string& s) {
   return line;
 }
 
-// load_gltf; with `info`, also what inspect_gltf lists of the model tinygltf parsed, unless
-// the pre-pass rewrote the file for tinygltf (`info` is then left empty: that model is not
-// the file as written, which inspect_gltf describes).
+// load_gltf; with `info`, also what inspect_gltf lists of the model tinygltf parsed (with
+// what the pre-pass changed put back: restore_prepass).
 GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, const std::filesystem::path& base,
                const GltfOptions& options, std::optional<GltfInfo>* info) {
   if (bytes.size() > options.max_file_bytes || bytes.size() > std::numeric_limits<unsigned>::max())
@@ -172,9 +171,13 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     if (end == std::string::npos) break;
     start = end + 1;
   }
+  // What the pre-pass changed, for the listing (restore_prepass) before the scene graph takes it.
+  std::map<int, std::uint64_t> placeholders;
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_listed;
+  if (info != nullptr && !as_written) placeholders = fallback, draco_listed = draco_indices;
   gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, std::move(fallback), std::move(draco_indices))
       .load();
-  if (info != nullptr && as_written) {
+  if (info != nullptr) {
     std::map<int, image::ImageHeader> headers;
     std::map<int, std::size_t> sizes;
     for (const int i : images.kept) {
@@ -183,6 +186,7 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
       sizes[i] = encoded.size();
     }
     *info = gltf::describe(model, file, base_dir, warn, std::move(headers), std::move(sizes), options);
+    gltf::restore_prepass(**info, model, draco_listed, placeholders);
   }
   return out;
 }
@@ -204,8 +208,7 @@ GltfModelInfo load_and_inspect_gltf(const std::filesystem::path& path, const Glt
   std::optional<GltfInfo> info;
   GltfModelInfo out;
   out.scene = load(bytes, path.string(), path.parent_path(), options, &info);
-  // A file the pre-pass rewrote for tinygltf: described as written, parsed once more.
-  out.info = info ? std::move(*info) : inspect_gltf(path, options);
+  out.info = std::move(*info);
   return out;
 }
 

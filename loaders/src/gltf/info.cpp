@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <span>
+#include <utility>
+#include <vector>
 
 #include "gltf/document.h"
 #include "gltf/files.h"
@@ -51,22 +54,28 @@ std::string first_line(const std::string& s) {
   return line;
 }
 
-std::size_t primitive_triangles(const tg::Model& m, const tg::Primitive& p) {
-  std::size_t count = 0;
-  auto accessor_count = [&](int a) -> std::size_t {
-    return a >= 0 && static_cast<std::size_t>(a) < m.accessors.size() ? m.accessors[static_cast<std::size_t>(a)].count : 0;
-  };
-  if (p.indices >= 0) {
-    count = accessor_count(p.indices);
-  } else if (auto it = p.attributes.find("POSITION"); it != p.attributes.end()) {
-    count = accessor_count(it->second);
-  }
-  switch (p.mode) {
+// Triangles of `count` vertices (or indices) drawn with glTF mode `mode`.
+std::size_t triangles_of(std::size_t count, int mode) {
+  switch (mode) {
     case TINYGLTF_MODE_TRIANGLES: return count / 3;
     case TINYGLTF_MODE_TRIANGLE_STRIP:
     case TINYGLTF_MODE_TRIANGLE_FAN: return count >= 3 ? count - 2 : 0;
     default: return 0;
   }
+}
+
+std::size_t accessor_count(const tg::Model& m, int a) {
+  return a >= 0 && static_cast<std::size_t>(a) < m.accessors.size() ? m.accessors[static_cast<std::size_t>(a)].count : 0;
+}
+
+std::size_t primitive_triangles(const tg::Model& m, const tg::Primitive& p) {
+  std::size_t count = 0;
+  if (p.indices >= 0) {
+    count = accessor_count(m, p.indices);
+  } else if (auto it = p.attributes.find("POSITION"); it != p.attributes.end()) {
+    count = accessor_count(m, it->second);
+  }
+  return triangles_of(count, p.mode);
 }
 
 std::vector<std::string> keys(const tg::ExtensionMap& map) {
@@ -103,6 +112,21 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
     if (!read_whole_file(&bytes, &err, file, &probe)) throw LoadError(first_line(err));
   }
   if (bytes.size() > std::numeric_limits<unsigned>::max()) throw LoadError(file + ": over the size limit");
+  // The document as load_gltf reads it (gltf/document.h): the container, the JSON's limits,
+  // and the pre-pass that rewrites EXT_meshopt_compression's placeholder buffers and Draco
+  // primitives' indices, which tinygltf refuses; restore_prepass lists them as written.
+  const gltf::Container container = gltf::read_container(bytes);
+  if (!container.bin_problem.empty()) throw LoadError(file + ": " + container.bin_problem);
+  gltf::check_json(container, file, options.memory_limit);
+  std::vector<std::uint8_t> rewritten;
+  std::map<int, std::uint64_t> placeholders;
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
+  std::span<const std::uint8_t> parsed(bytes);
+  {
+    nlohmann::json dom = gltf::parse_json(container.json);
+    parsed = gltf::prepare_for_tinygltf(parsed, container, dom, rewritten, placeholders, draco_indices);
+  }
+  if (parsed.size() > std::numeric_limits<unsigned>::max()) throw LoadError(file + ": over the size limit");
   Context ctx{options.max_file_bytes, &options.roots, {}, {}};
   tg::TinyGLTF parser;
   parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &ctx});
@@ -112,11 +136,11 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   const std::string base_dir = path.parent_path().string();
   bool ok = false;
   try {
-    if (gltf::read_container(bytes).binary)
-      ok = parser.LoadBinaryFromMemory(&m, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base_dir);
+    if (container.binary)
+      ok = parser.LoadBinaryFromMemory(&m, &err, &warn, parsed.data(), static_cast<unsigned>(parsed.size()), base_dir);
     else
-      ok = parser.LoadASCIIFromString(&m, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                      static_cast<unsigned>(bytes.size()), base_dir);
+      ok = parser.LoadASCIIFromString(&m, &err, &warn, reinterpret_cast<const char*>(parsed.data()),
+                                      static_cast<unsigned>(parsed.size()), base_dir);
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
@@ -124,7 +148,9 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   }
   if (!ok) throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
 
-  return gltf::describe(m, file, base_dir, warn, std::move(ctx.headers), std::move(ctx.sizes), options);
+  GltfInfo info = gltf::describe(m, file, base_dir, warn, std::move(ctx.headers), std::move(ctx.sizes), options);
+  if (parsed.data() != bytes.data()) gltf::restore_prepass(info, m, draco_indices, placeholders);
+  return info;
 }
 
 }  // namespace softpbr::pbr
@@ -222,6 +248,26 @@ GltfInfo describe(const tg::Model& m, const std::string& file, const std::string
   info.extensions_used = m.extensionsUsed;
   info.extensions_required = m.extensionsRequired;
   return info;
+}
+
+void restore_prepass(GltfInfo& info, const tg::Model& m,
+                     const std::map<std::pair<std::size_t, std::size_t>, int>& draco_indices,
+                     const std::map<int, std::uint64_t>& placeholders) {
+  for (const auto& [at, accessor] : draco_indices) {
+    const auto [mesh, primitive] = at;
+    if (mesh >= info.meshes.size() || primitive >= info.meshes[mesh].primitives.size()) continue;
+    GltfMeshInfo& mi = info.meshes[mesh];
+    GltfPrimitiveInfo& pi = mi.primitives[primitive];
+    mi.triangles -= pi.triangles;
+    pi.indexed = true;
+    pi.triangles = triangles_of(accessor_count(m, accessor), pi.mode);
+    mi.triangles += pi.triangles;
+  }
+  for (const auto& [index, declared] : placeholders) {
+    (void)declared;
+    const auto i = static_cast<std::size_t>(index);
+    if (i < m.buffers.size()) info.buffer_bytes -= m.buffers[i].data.size();
+  }
 }
 
 }  // namespace softpbr::pbr::gltf

@@ -21,12 +21,13 @@ namespace softpbr::job {
 
 // A setting the job refuses (Kind::Setting: a bad value, before any work) or an input it
 // cannot render (Kind::Input: an environment file that cannot be read, a render over the
-// memory limit). setting() names the setting as Python's keyword does ("tile_size", empty
+// memory limit; Kind::Memory: the process ran out of memory loading it — Python's
+// MemoryError, the command's input error). setting() names the setting as Python's keyword does ("tile_size", empty
 // for none), detail() says what is wrong; what() is "tile_size: expected ...". The command
 // writes the setting as its option: option_text(e) is "--tile-size: expected ...".
 class Error : public std::runtime_error {
  public:
-  enum class Kind { Setting, Input };
+  enum class Kind { Setting, Input, Memory };
   Error(Kind kind, std::string setting, std::string detail);
   Kind kind() const { return kind_; }
   const std::string& setting() const { return setting_; }

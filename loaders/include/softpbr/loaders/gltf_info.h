@@ -84,14 +84,15 @@ struct GltfInfo {
 };
 
 // Throws LoadError (load_error.h) with one line starting with the file when it cannot be read or
-// parsed as glTF. Only options.max_file_bytes and options.roots are used.
+// parsed as glTF. Only options.max_file_bytes, options.roots and options.memory_limit (the
+// JSON's estimate, as load_gltf checks it) are used.
 GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
 
 // load_gltf and inspect_gltf of one file, as `softpbr info` shows it: the same scene and
 // the same listing as the two calls, with the file read and its JSON parsed once for both
-// (inspect_gltf's listing comes from the model load_gltf parsed). A file with
-// EXT_meshopt_compression or Draco that load_gltf rewrites for tinygltf (docs/design.md,
-// "glTF") is read and parsed once more by inspect_gltf, which lists it as written.
+// (inspect_gltf's listing comes from the model load_gltf parsed; a file with
+// EXT_meshopt_compression or Draco, which both rewrite for tinygltf — docs/design.md,
+// "glTF" —, is listed as written).
 struct GltfModelInfo {
   GltfScene scene;
   GltfInfo info;
