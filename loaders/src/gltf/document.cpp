@@ -8,6 +8,7 @@
 
 #include "gltf/draco.h"
 #include "gltf/meshopt.h"
+#include "gltf/schema.h"
 #include "json_reader.h"
 #include "softpbr/loaders/format_bytes.h"
 #include "softpbr/loaders/load_error.h"
@@ -241,6 +242,20 @@ std::string tinygltf_error_with_pointer(const ErrorHints& hints, const std::stri
   if (err.rfind("primitive indices accessor out of bounds", 0) == 0) return hints.indices_range;
   if (err.rfind("accessor[", 0) == 0 && err.find("] invalid bufferView") != std::string::npos) return hints.indices_view;
   return {};
+}
+
+Document read_document(std::span<const std::uint8_t> bytes, const std::string& file, std::uint64_t memory_limit,
+                       bool schema) {
+  Document d;
+  d.container = read_container(bytes);
+  if (!d.container.bin_problem.empty()) throw LoadError(file + ": " + d.container.bin_problem);
+  check_json(d.container, file, memory_limit);
+  nlohmann::json dom = parse_json(d.container.json);
+  if (schema)
+    if (const auto problem = check_schema(dom)) throw LoadError(file + ": " + *problem);
+  d.bytes = prepare_for_tinygltf(bytes, d.container, dom, d.storage, d.placeholders, d.draco_indices);
+  d.hints = error_hints(dom);
+  return d;
 }
 
 }  // namespace softpbr::pbr::gltf

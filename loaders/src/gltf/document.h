@@ -88,4 +88,20 @@ ErrorHints error_hints(const nlohmann::json& dom);
 // file that does not exist. Empty when `err` is none of those or the value is not found.
 std::string tinygltf_error_with_pointer(const ErrorHints& hints, const std::string& err);
 
+// The document steps load_gltf and inspect_gltf both take, in order: the container (its BIN
+// problem thrown), check_json, the one DOM, with `schema` the schema check (load_gltf's),
+// the pre-pass and the error hints; the DOM is freed before this returns, so that it is
+// gone before tinygltf builds its own. Throws LoadError ("file: ...").
+struct Document {
+  Container container;
+  std::span<const std::uint8_t> bytes;  // what tinygltf parses: the file, or the rewrite
+  std::vector<std::uint8_t> storage;    // the rewrite, when there is one
+  std::map<int, std::uint64_t> placeholders;  // prepare_for_tinygltf's `declared`
+  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
+  ErrorHints hints;
+  bool rewritten() const { return !storage.empty(); }
+};
+Document read_document(std::span<const std::uint8_t> bytes, const std::string& file, std::uint64_t memory_limit,
+                       bool schema);
+
 }  // namespace softpbr::pbr::gltf

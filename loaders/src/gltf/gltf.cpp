@@ -114,25 +114,11 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(options.max_file_bytes));
   // The document: the .glb container, the JSON's limits (a streaming pass), its one DOM,
-  // the schema check and the pre-pass on that DOM (gltf/document.h).
-  const gltf::Container container = gltf::read_container(bytes);
-  if (!container.bin_problem.empty()) throw LoadError(file + ": " + container.bin_problem);
-  gltf::check_json(container, file, options.memory_limit);
-  gltf::ErrorHints hints;
-  std::vector<std::uint8_t> rewritten;
-  std::map<int, std::uint64_t> fallback;
-  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
-  bool as_written = true;  // tinygltf parses the file itself, not the pre-pass's rewrite
-  {
-    nlohmann::json dom = gltf::parse_json(container.json);
-    if (const auto problem = gltf::check_schema(dom)) throw LoadError(file + ": " + *problem);
-    // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices, which
-    // tinygltf refuses, rewritten.
-    const std::uint8_t* const file_bytes = bytes.data();
-    bytes = gltf::prepare_for_tinygltf(bytes, container, dom, rewritten, fallback, draco_indices);
-    as_written = bytes.data() == file_bytes;
-    hints = gltf::error_hints(dom);
-  }  // the DOM is freed before tinygltf builds its own
+  // the schema check and the pre-pass on that DOM (gltf/document.h), which rewrites
+  // EXT_meshopt_compression's placeholder buffers and Draco primitives' indices for tinygltf.
+  gltf::Document doc = gltf::read_document(bytes, file, options.memory_limit, /*schema=*/true);
+  const gltf::Container& container = doc.container;
+  bytes = doc.bytes;
   if (bytes.size() > std::numeric_limits<unsigned>::max())
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(std::numeric_limits<unsigned>::max()));
@@ -158,7 +144,7 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
   }
   if (!ok) {
     // A few references tinygltf checks itself: said with their JSON pointer when found.
-    const std::string pointed = gltf::tinygltf_error_with_pointer(hints, err);
+    const std::string pointed = gltf::tinygltf_error_with_pointer(doc.hints, err);
     if (!pointed.empty()) throw LoadError(file + ": " + pointed);
     throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
   }
@@ -171,12 +157,7 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     if (end == std::string::npos) break;
     start = end + 1;
   }
-  // What the pre-pass changed, for the listing (restore_prepass) before the scene graph takes it.
-  std::map<int, std::uint64_t> placeholders;
-  std::map<std::pair<std::size_t, std::size_t>, int> draco_listed;
-  if (info != nullptr && !as_written) placeholders = fallback, draco_listed = draco_indices;
-  gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, std::move(fallback), std::move(draco_indices))
-      .load();
+  gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, doc.placeholders, doc.draco_indices).load();
   if (info != nullptr) {
     std::map<int, image::ImageHeader> headers;
     std::map<int, std::size_t> sizes;
@@ -186,7 +167,7 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
       sizes[i] = encoded.size();
     }
     *info = gltf::describe(model, file, base_dir, warn, std::move(headers), std::move(sizes), options);
-    gltf::restore_prepass(**info, model, draco_listed, placeholders);
+    if (doc.rewritten()) gltf::restore_prepass(**info, model, doc.draco_indices, doc.placeholders);
   }
   return out;
 }

@@ -112,20 +112,11 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
     if (!read_whole_file(&bytes, &err, file, &probe)) throw LoadError(first_line(err));
   }
   if (bytes.size() > std::numeric_limits<unsigned>::max()) throw LoadError(file + ": over the size limit");
-  // The document as load_gltf reads it (gltf/document.h): the container, the JSON's limits,
-  // and the pre-pass that rewrites EXT_meshopt_compression's placeholder buffers and Draco
-  // primitives' indices, which tinygltf refuses; restore_prepass lists them as written.
-  const gltf::Container container = gltf::read_container(bytes);
-  if (!container.bin_problem.empty()) throw LoadError(file + ": " + container.bin_problem);
-  gltf::check_json(container, file, options.memory_limit);
-  std::vector<std::uint8_t> rewritten;
-  std::map<int, std::uint64_t> placeholders;
-  std::map<std::pair<std::size_t, std::size_t>, int> draco_indices;
-  std::span<const std::uint8_t> parsed(bytes);
-  {
-    nlohmann::json dom = gltf::parse_json(container.json);
-    parsed = gltf::prepare_for_tinygltf(parsed, container, dom, rewritten, placeholders, draco_indices);
-  }
+  // The document as load_gltf reads it (gltf/document.h), but for the schema check: the
+  // pre-pass rewrites EXT_meshopt_compression's placeholder buffers and Draco primitives'
+  // indices, which tinygltf refuses; restore_prepass lists them as written.
+  const gltf::Document doc = gltf::read_document(bytes, file, options.memory_limit, /*schema=*/false);
+  const std::span<const std::uint8_t> parsed = doc.bytes;
   if (parsed.size() > std::numeric_limits<unsigned>::max()) throw LoadError(file + ": over the size limit");
   Context ctx{options.max_file_bytes, &options.roots, {}, {}};
   tg::TinyGLTF parser;
@@ -136,7 +127,7 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   const std::string base_dir = path.parent_path().string();
   bool ok = false;
   try {
-    if (container.binary)
+    if (doc.container.binary)
       ok = parser.LoadBinaryFromMemory(&m, &err, &warn, parsed.data(), static_cast<unsigned>(parsed.size()), base_dir);
     else
       ok = parser.LoadASCIIFromString(&m, &err, &warn, reinterpret_cast<const char*>(parsed.data()),
@@ -149,7 +140,7 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   if (!ok) throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
 
   GltfInfo info = gltf::describe(m, file, base_dir, warn, std::move(ctx.headers), std::move(ctx.sizes), options);
-  if (parsed.data() != bytes.data()) gltf::restore_prepass(info, m, draco_indices, placeholders);
+  if (doc.rewritten()) gltf::restore_prepass(info, m, doc.draco_indices, doc.placeholders);
   return info;
 }
 
