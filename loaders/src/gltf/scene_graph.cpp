@@ -150,10 +150,10 @@ void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string&
     }
     // A Draco primitive's indices accessor only describes the Draco data's triangles.
     meshes_.check_draco_indices(static_cast<std::size_t>(index), k, pp);
-    const Material& material = materials_.material(p.material, pp + "/material");
+    // The material is validated (and prepared, once) in the order its primitives come.
+    materials_.material(p.material, pp + "/material");
     const bool normal_mapped =
         p.material >= 0 && m_.materials[static_cast<std::size_t>(p.material)].normalTexture.index >= 0;
-    (void)material;
     placed_.push_back({meshes_.primitive(index, k, mirrored, pp, normal_mapped), p.material, transform});
   }
 }

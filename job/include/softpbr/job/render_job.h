@@ -79,8 +79,8 @@ std::uint64_t requested_memory_limit(const Settings& settings);
 // background applied, images decoded on `pool`. Throws pbr::LoadError (a model) or
 // pbr::SceneFileError (a scene file) naming the file, and Error: Kind::Setting for a
 // setting this input cannot take (camera N of a file with fewer, a blurred background
-// without an environment), Kind::Input for an environment file that cannot be read or a
-// model that does not fit in memory. `settings` must have passed validate().
+// without an environment), Kind::Input for an environment file that cannot be read,
+// Kind::Memory for a model that does not fit in the process's memory. `settings` must have passed validate().
 pbr::LoadedScene load(const std::string& input, const Settings& settings, raster::ThreadPool& pool);
 
 // A glTF model alone as load() shows it, without the environment overrides (but env
