@@ -57,7 +57,7 @@ void prefilter(benchmark::State& state, const image::ImageF* map) {
   if (threads > 1) pool.emplace(threads);
   for (auto _ : state) {
     pbr::Environment env(image::ImageViewF(*map), "bench", {}, pool ? &*pool : nullptr);
-    benchmark::DoNotOptimize(env.irradiance_sh());
+    benchmark::DoNotOptimize(env.irradiance());
   }
   state.counters["Mtexels_in"] = static_cast<double>(map->width) * map->height / 1e6;
 }

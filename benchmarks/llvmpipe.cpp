@@ -78,28 +78,24 @@ vec3 output_transform(vec3 c) {
 )";
 
 // With IBL defined: pbr/environment.h's lookups and pbr/shading.h's ibl(), term for term, on
-// the same prefiltered data — the Environment's 6 octahedral levels (with their one-texel
-// borders) and dfg_table() as GL_RGBA32F textures, GL_LINEAR, clamp to edge, level 0 only
-// (textureLod 0, as sample_lod with Environment::level_sampler()), the 9 SH coefficients
-// as uniforms. As in softpbr, a level is read only when its weight is above 0 (uniform per
-// draw: the roughness is the material's).
+// the same prefiltered data — the Environment's 8 octahedral levels and its irradiance map
+// (with their one-texel borders) and dfg_table() as GL_RGBA32F textures, GL_LINEAR, clamp
+// to edge, level 0 only (textureLod 0, as sample_lod with Environment::level_sampler()), the
+// levels' α as uniforms. As in softpbr, a level is read only when its weight is above 0
+// (uniform per draw: the roughness is the material's).
 const char* kEnvironment = R"(
-uniform sampler2D u_env_level[6];
-uniform vec3 u_env_oct[6];  // per level: 0.5 size, 0.5 size + 1, 1 / (size + 2)
+uniform sampler2D u_env_level[8];
+uniform vec3 u_env_oct[8];  // per level: 0.5 size, 0.5 size + 1, 1 / (size + 2)
+uniform float u_level_alpha[8];
+uniform float u_level_inv[7];  // 1 / (α_{l+1} − α_l)
+uniform sampler2D u_irradiance;
+uniform vec3 u_irradiance_oct;
 uniform sampler2D u_dfg;
-uniform vec3 u_sh[9];
 uniform float u_env_cos;
 uniform float u_env_sin;
 uniform float u_env_intensity;
 vec3 to_environment(vec3 d) {
   return vec3(u_env_cos * d.x - u_env_sin * d.z, d.y, u_env_sin * d.x + u_env_cos * d.z);
-}
-vec3 env_irradiance(vec3 d) {
-  float b[9] = float[9](1.0, d.y, d.z, d.x, d.x * d.y, d.y * d.z, 3.0 * d.z * d.z - 1.0, d.x * d.z,
-                        d.x * d.x - d.y * d.y);
-  vec3 c = u_sh[0];
-  for (int i = 1; i < 9; ++i) c = c + u_sh[i] * b[i];
-  return max(c, vec3(0.0)) * u_env_intensity;
 }
 vec2 env_octahedral(vec3 d, vec3 oct) {
   float l1 = abs(d.x) + abs(d.y) + abs(d.z);
@@ -111,6 +107,9 @@ vec2 env_octahedral(vec3 d, vec3 oct) {
   pz = lower ? fz : pz;
   return vec2((px * oct.x + oct.y) * oct.z, (pz * oct.x + oct.y) * oct.z);
 }
+vec3 env_irradiance(vec3 d) {
+  return textureLod(u_irradiance, env_octahedral(d, u_irradiance_oct), 0.0).rgb * u_env_intensity;
+}
 #define ENV_LEVEL(L)                                                     \
   {                                                                      \
     float dl = lod - float(L);                                           \
@@ -118,9 +117,10 @@ vec2 env_octahedral(vec3 d, vec3 oct) {
     if (w > 0.0) c = c + w * textureLod(u_env_level[L], env_octahedral(d, u_env_oct[L]), 0.0).rgb; \
   }
 vec3 env_radiance(vec3 d, float roughness) {
-  float lod = clamp(roughness, 0.0, 1.0) * 5.0;
+  float r = clamp(roughness, 0.0, 1.0), alpha = r * r, lod = 0.0;
+  for (int l = 0; l < 7; ++l) lod = lod + clamp((alpha - u_level_alpha[l]) * u_level_inv[l], 0.0, 1.0);
   vec3 c = vec3(0.0);
-  ENV_LEVEL(0) ENV_LEVEL(1) ENV_LEVEL(2) ENV_LEVEL(3) ENV_LEVEL(4) ENV_LEVEL(5)
+  ENV_LEVEL(0) ENV_LEVEL(1) ENV_LEVEL(2) ENV_LEVEL(3) ENV_LEVEL(4) ENV_LEVEL(5) ENV_LEVEL(6) ENV_LEVEL(7)
   return c * u_env_intensity;
 }
 )";
@@ -343,6 +343,7 @@ struct LlvmpipeRenderer::Impl {
   std::map<std::string, Program> programs;
   // The environment: its levels and the DFG table as textures, the background pass.
   GLuint env_levels[pbr::Environment::kLevels] = {};
+  GLuint env_irradiance = 0;
   GLuint dfg = 0;
   const pbr::Environment* env_map = nullptr;  // what env_levels hold
   GLuint background_program = 0;
@@ -436,13 +437,17 @@ struct LlvmpipeRenderer::Impl {
     return id;
   }
 
-  // The environment's textures (units 1–6: the levels, 7: the DFG table) and uniforms.
-  static constexpr int kLevelUnit = 1, kDfgUnit = 1 + pbr::Environment::kLevels;
+  // The environment's textures (units 1–8: the levels, 9: the irradiance map, 10: the DFG
+  // table) and uniforms.
+  static constexpr int kLevelUnit = 1, kIrradianceUnit = 1 + pbr::Environment::kLevels,
+                       kDfgUnit = 2 + pbr::Environment::kLevels;
   void upload_environment(const pbr::Environment& env) {
     if (env_map != &env) {
       for (GLuint& id : env_levels)
         if (id != 0) glDeleteTextures(1, &id);
       for (int i = 0; i < pbr::Environment::kLevels; ++i) env_levels[i] = upload_float(env.level(i));
+      if (env_irradiance != 0) glDeleteTextures(1, &env_irradiance);
+      env_irradiance = upload_float(env.irradiance());
       env_map = &env;
     }
     if (dfg == 0) dfg = upload_float(pbr::dfg_table());
@@ -450,6 +455,8 @@ struct LlvmpipeRenderer::Impl {
       glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + kLevelUnit + i));
       glBindTexture(GL_TEXTURE_2D, env_levels[i]);
     }
+    glActiveTexture(GL_TEXTURE0 + kIrradianceUnit);
+    glBindTexture(GL_TEXTURE_2D, env_irradiance);
     glActiveTexture(GL_TEXTURE0 + kDfgUnit);
     glBindTexture(GL_TEXTURE_2D, dfg);
     glActiveTexture(GL_TEXTURE0);
@@ -466,10 +473,17 @@ struct LlvmpipeRenderer::Impl {
       const glm::vec3 oct(0.5f * static_cast<float>(size), 0.5f * static_cast<float>(size) + 1.0f,
                           1.0f / static_cast<float>(size + 2));
       glUniform3fv(glGetUniformLocation(p, ("u_env_oct" + idx).c_str()), 1, glm::value_ptr(oct));
+      glUniform1f(glGetUniformLocation(p, ("u_level_alpha" + idx).c_str()), pbr::kEnvironmentLevelAlpha[i]);
+      if (i + 1 < pbr::Environment::kLevels)
+        glUniform1f(glGetUniformLocation(p, ("u_level_inv" + idx).c_str()),
+                    1.0f / (pbr::kEnvironmentLevelAlpha[i + 1] - pbr::kEnvironmentLevelAlpha[i]));
     }
+    const int isize = pbr::kIrradianceSize;
+    const glm::vec3 ioct(0.5f * static_cast<float>(isize), 0.5f * static_cast<float>(isize) + 1.0f,
+                         1.0f / static_cast<float>(isize + 2));
+    glUniform1i(glGetUniformLocation(p, "u_irradiance"), kIrradianceUnit);
+    glUniform3fv(glGetUniformLocation(p, "u_irradiance_oct"), 1, glm::value_ptr(ioct));
     glUniform1i(glGetUniformLocation(p, "u_dfg"), kDfgUnit);
-    const auto& sh = e.map->irradiance_sh();
-    glUniform3fv(glGetUniformLocation(p, "u_sh"), pbr::Environment::kShCount, glm::value_ptr(sh[0]));
     glUniform1f(glGetUniformLocation(p, "u_env_cos"), e.cos_r);
     glUniform1f(glGetUniformLocation(p, "u_env_sin"), e.sin_r);
     glUniform1f(glGetUniformLocation(p, "u_env_intensity"), e.intensity);
@@ -553,6 +567,7 @@ LlvmpipeRenderer::~LlvmpipeRenderer() {
     if (pr.id) glDeleteProgram(pr.id);
   for (GLuint id : impl_->env_levels)
     if (id != 0) glDeleteTextures(1, &id);
+  if (impl_->env_irradiance != 0) glDeleteTextures(1, &impl_->env_irradiance);
   if (impl_->dfg != 0) glDeleteTextures(1, &impl_->dfg);
   if (impl_->background_program != 0) glDeleteProgram(impl_->background_program);
   if (impl_->background_vao != 0) {

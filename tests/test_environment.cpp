@@ -1,8 +1,13 @@
-// Image-based lighting (environment.h): the octahedral maps, the spherical-harmonic
-// irradiance against brute-force integration, the prefiltered lobe against a Monte-Carlo
-// reference, the split-sum table, the white furnace, rotation, the caches, bad files, and
+// Image-based lighting (environment.h): the octahedral maps, the irradiance map against
+// brute-force integration of the cosine, the prefiltered levels against Monte-Carlo
+// references (a smooth sky, and a small sun, mirrors included), the split-sum table, the white furnace, rotation, the caches, bad files, and
 // the same bits for every thread count.
+#include <algorithm>
 #include <bit>
+#include <cstring>
+#include <set>
+
+#include <sys/stat.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -112,6 +117,20 @@ std::vector<glm::dvec3> test_directions() {
   return dirs;
 }
 
+std::uint32_t bit_reverse(std::uint32_t i) {
+  i = (i << 16) | (i >> 16);
+  i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
+  i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
+  i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
+  return ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
+}
+
+// Two serialized environments hold the same maps (the key and the checksum aside).
+bool same_blob_content(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+  return a.size() == b.size() && a.size() > 24 && std::equal(a.begin(), a.begin() + 8, b.begin()) &&
+         std::equal(a.begin() + 16, a.end() - 8, b.begin() + 16);
+}
+
 double max_component(const glm::dvec3& v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 
 fs::path shared_envmaps() { return fs::path(SOFTPBR_SOURCE_DIR) / ".." / "shared" / "envmaps"; }
@@ -205,36 +224,43 @@ TEST_CASE("octahedral coordinates: decode inverts encode, and the border continu
   }
 }
 
-TEST_CASE("SH irradiance equals brute-force integration for a band-limited sky, within 1e-4") {
-  // Radiance of bands 0–2 only: its irradiance is exactly what 9 coefficients hold, so the
-  // only error is the quadrature's.
+TEST_CASE("the irradiance map equals brute-force cosine integration of a smooth sky, within 0.3%") {
+  // The map's only errors are its cells' quadrature and the bilinear lookup of a 32² map.
   const image::ImageF sky = equirect(256, 128, [](const glm::dvec3& d) {
     return glm::dvec3(1.0 + 0.5 * d.y + 0.3 * d.x * d.z, 0.8 - 0.2 * d.x + 0.4 * d.y * d.y, 0.6 + 0.3 * d.z);
   });
-  const pbr::Environment env(sky, "band-limited", {.size = 16, .samples = 8});
+  const pbr::Environment env(sky, "smooth", {.size = 16, .samples = 8});
+  double worst = 0.0;
   for (const glm::dvec3& n : test_directions()) {
     const glm::dvec3 ref = brute_irradiance(sky, n), got = irradiance(env, n);
     CAPTURE(n.x);
     CAPTURE(n.y);
     CAPTURE(n.z);
-    CHECK(max_component(got - ref) < 1e-4 * max_component(ref) + 1e-5);
+    worst = std::max(worst, max_component(got - ref) / max_component(ref));
+    CHECK(max_component(got - ref) < 3e-3 * max_component(ref));
   }
+  MESSAGE("worst irradiance error, smooth sky: " << worst * 100.0 << "%");
 }
 
-TEST_CASE("SH irradiance of a sky with a bright lobe: within 3% of the mean radiance of brute-force integration") {
+TEST_CASE("the irradiance map of a sky with a bright lobe: within 1.5% of brute-force integration at every direction") {
   const image::ImageF sky = lobe_sky(256, 128);
   const pbr::Environment env(sky, "lobe", {.size = 16, .samples = 8});
-  double mean = 0.0;
-  for (const glm::dvec3& n : test_directions()) mean += max_component(brute_irradiance(sky, n));
-  mean /= static_cast<double>(test_directions().size());
   double worst = 0.0;
-  for (const glm::dvec3& n : test_directions())
-    worst = std::max(worst, max_component(irradiance(env, n) - brute_irradiance(sky, n)) / mean);
-  MESSAGE("worst SH irradiance error, lobe sky: " << worst * 100.0 << "% of the mean");
-  CHECK(worst < 0.03);
+  for (const glm::dvec3& n : test_directions()) {
+    const glm::dvec3 ref = brute_irradiance(sky, n);
+    worst = std::max(worst, max_component(irradiance(env, n) - ref) / max_component(ref));
+  }
+  MESSAGE("worst irradiance error, lobe sky: " << worst * 100.0 << "%");
+  CHECK(worst < 0.015);
 }
 
-TEST_CASE("the shared environments' SH irradiance against brute force (error bound stated in docs/design.md)") {
+TEST_CASE("the shared environments' irradiance against brute force: 2% along the axes, 7% of the mean anywhere "
+          "(docs/design.md)") {
+  // 9 spherical-harmonic coefficients, before the irradiance map, were 0.70× the exact
+  // integral looking down into studio_small_03 and 1.22–1.27× toward ±X. The map's worst
+  // error is where a bright lamp grazes the cosine's horizon: the irradiance bends there
+  // faster than the bilinear lookup of 32² texels follows (studio_small_03: 0.37 for 0.24
+  // below the horizon, against a mean of 2.6).
   for (const char* file : {"studio_small_03_1k.hdr", "venice_sunset_1k.hdr"}) {
     const fs::path p = shared_envmaps() / file;
     if (!fs::exists(p)) {
@@ -247,10 +273,19 @@ TEST_CASE("the shared environments' SH irradiance against brute force (error bou
     double mean = 0.0, worst = 0.0;
     for (const glm::dvec3& n : test_directions()) mean += max_component(brute_irradiance(sky, n));
     mean /= static_cast<double>(test_directions().size());
-    for (const glm::dvec3& n : test_directions())
-      worst = std::max(worst, max_component(irradiance(env, n) - brute_irradiance(sky, n)) / mean);
-    MESSAGE(std::string(file) << ": worst SH irradiance error " << worst * 100.0 << "% of the mean irradiance");
-    CHECK(worst < 0.25);
+    for (std::size_t i = 0; i < test_directions().size(); ++i) {
+      const glm::dvec3 n = test_directions()[i];
+      const glm::dvec3 ref = brute_irradiance(sky, n), got = irradiance(env, n);
+      CAPTURE(i);
+      if (i < 6) {  // the axes
+        MESSAGE(std::string(file) << " toward (" << n.x << ", " << n.y << ", " << n.z << "): " << got.x / ref.x
+                                  << "× the exact integral");
+        CHECK(max_component(got - ref) < 0.02 * max_component(ref));
+      }
+      worst = std::max(worst, max_component(got - ref) / mean);
+    }
+    MESSAGE(std::string(file) << ": worst irradiance error " << worst * 100.0 << "% of the mean irradiance");
+    CHECK(worst < 0.07);
   }
 }
 
@@ -293,6 +328,80 @@ TEST_CASE("the prefiltered lobe matches a Monte-Carlo reference in double") {
       CAPTURE(rn.z);
       CHECK(max_component(got - ref) < 0.04 * max_component(ref));
     }
+}
+
+TEST_CASE("the prefiltered levels against a double-precision Monte Carlo integral of a sky with a small sun, mirrors included") {
+  // A sun of angular radius 2° and radiance 40 over a smooth sky, drawn into a 2048×1024
+  // image with 4×4 samples a texel. The reference for direction r and roughness is the
+  // split-sum lobe (n = v = r): ∫ L(l) (r·l) D(h) dl / ∫ (r·l) D(h) dl by 2¹⁸ GGX samples in
+  // double of the sky as a function (not the image). Near the sun's edge the image's texels
+  // and the map's resolution blur what the function has sharp; the directions are the
+  // sun's centre, inside it and outside it by a few lobe widths.
+  //
+  // Measured (docs/design.md): a mirror reads the map exactly; at a level's own α the
+  // error is under 8% (the narrow levels lose a little of the sun's peak to the source's
+  // mips); between two levels the linear blend in α overstates a sun of the lobe's size by
+  // up to a third at its centre (roughness 0.2 and 0.3: 28% and 32%), while the sky around
+  // it stays within 11%.
+  const glm::dvec3 sun = glm::normalize(glm::dvec3(0.35, 0.6, -0.72));
+  const double radius = 2.0 * kPi / 180.0;
+  auto sky_at = [&](const glm::dvec3& d) {
+    return dmath::angle_between(d, sun) < radius ? glm::dvec3(40.0, 38.0, 36.0)
+                                                 : glm::dvec3(0.5 + 0.3 * d.y, 0.45 + 0.3 * d.y, 0.4 + 0.35 * d.y);
+  };
+  const int w = 2048, h = 1024;
+  image::ImageF sky{w, h, std::vector<float>(static_cast<std::size_t>(w) * h * 4)};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      glm::dvec3 c(0.0);
+      for (int sy = 0; sy < 4; ++sy)
+        for (int sx = 0; sx < 4; ++sx) {
+          const double theta = kPi * (y + (sy + 0.5) / 4) / h, phi = 2.0 * kPi * ((x + (sx + 0.5) / 4) / w - 0.5);
+          c += sky_at({std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)});
+        }
+      float* p = &sky.rgba[(static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x)) * 4];
+      p[0] = static_cast<float>(c.x / 16), p[1] = static_cast<float>(c.y / 16), p[2] = static_cast<float>(c.z / 16), p[3] = 1;
+    }
+  const pbr::Environment env(sky, "sun", {});
+  const glm::dvec3 t = glm::normalize(glm::cross(glm::dvec3(0, 1, 0), sun)), b = glm::cross(sun, t);
+  auto reference = [&](const glm::dvec3& r, double alpha) {
+    const double a2 = alpha * alpha;
+    const glm::dvec3 rt = glm::normalize(glm::cross(glm::dvec3(0, 1, 0), r)), rb = glm::cross(r, rt);
+    glm::dvec3 sum(0.0);
+    double weight = 0.0;
+    constexpr std::uint32_t kCount = 1u << 18;
+    for (std::uint32_t i = 0; i < kCount; ++i) {
+      const double xi1 = (i + 0.5) / kCount, xi2 = static_cast<double>(bit_reverse(i)) / 4294967296.0;
+      const double ct = std::sqrt((1.0 - xi1) / (1.0 + (a2 - 1.0) * xi1)), st = std::sqrt(std::max(0.0, 1.0 - ct * ct));
+      const glm::dvec3 hv = rt * (st * std::cos(2 * kPi * xi2)) + rb * (st * std::sin(2 * kPi * xi2)) + r * ct;
+      const glm::dvec3 l = hv * (2.0 * glm::dot(r, hv)) - r;
+      const double nl = glm::dot(r, l);
+      if (nl <= 0.0) continue;
+      sum += sky_at(l) * nl;
+      weight += nl;
+    }
+    return sum / weight;
+  };
+  double worst = 0.0;
+  for (const double roughness : {0.0, 0.0894, 0.1, 0.1414, 0.2, 0.2236, 0.3, 0.3317, 0.469, 0.6708, 0.85, 1.0}) {
+    const double r = std::max(roughness, static_cast<double>(pbr::kMinRoughness)), alpha = r * r;
+    for (const double offset : {0.0, 0.5 * radius, radius + std::min(4.0 * alpha + 0.02, 0.5), radius + std::min(10.0 * alpha + 0.03, 1.0)}) {
+      const glm::dvec3 d = glm::normalize(sun * std::cos(offset) + (t * 0.6 + b * 0.8) * std::sin(offset));
+      const glm::dvec3 ref = roughness == 0.0 ? sky_at(d) : reference(d, alpha), got = radiance(env, d, static_cast<float>(roughness));
+      const double error = max_component(got - ref) / max_component(ref);
+      MESSAGE("roughness " << roughness << ", " << offset * 180.0 / kPi << "° from the sun's centre: " << got.x
+                           << " against " << ref.x << " (" << error * 100.0 << "%)");
+      CAPTURE(roughness);
+      CAPTURE(offset);
+      worst = std::max(worst, error);
+      const bool level = roughness == 0.0 || roughness == 0.0894 || roughness == 0.1414 || roughness == 0.2236 ||
+                         roughness == 0.3317 || roughness == 0.469 || roughness == 0.6708 || roughness == 1.0;
+      if (roughness == 0.0) CHECK(error < 1e-5);
+      else if (offset > radius) CHECK(error < 0.12);  // the sky beside the sun
+      else CHECK(error < (level ? 0.08 : 0.35));
+    }
+  }
+  MESSAGE("worst prefiltered error against the integral: " << worst * 100.0 << "%");
 }
 
 TEST_CASE("a sun in the map gives a smooth highlight at every roughness: no level has a sparkle") {
@@ -470,7 +579,7 @@ TEST_CASE("prefiltering gives the same bits on any thread count, and survives it
   }
   const auto back = pbr::Environment::from_bytes(bytes, "cache");
   CHECK(back->to_bytes() == bytes);
-  CHECK(back->irradiance_sh() == one.irradiance_sh());
+  CHECK(std::ranges::equal(back->irradiance().texels_f(), one.irradiance().texels_f()));
   // Damaged blobs are refused with the name.
   std::vector<std::uint8_t> cut(bytes.begin(), bytes.end() - 5);
   CHECK_THROWS_WITH_AS(pbr::Environment::from_bytes(cut, "c.spenv"), doctest::Contains("c.spenv: "), std::invalid_argument);
@@ -493,8 +602,8 @@ TEST_CASE("load_environment: cached in memory and on disk, bad files are refused
   for (const auto& e : fs::directory_iterator(dir / "cache")) {
     ++cached;
     CHECK(e.path().extension() == ".spenv");
-    const auto c = pbr::Environment::from_bytes(image::read_file(e.path()), "x");
-    CHECK(c->to_bytes() == a->to_bytes());
+    // The same content as a's own blob, but for its key (bytes 8–15) and the checksum.
+    CHECK(same_blob_content(image::read_file(e.path()), a->to_bytes()));
   }
   CHECK(cached == 1);
   // Found in memory, it is still stored in a cache folder it is not in yet (the test's
@@ -504,7 +613,7 @@ TEST_CASE("load_environment: cached in memory and on disk, bad files are refused
   int cached2 = 0;
   for (const auto& f : fs::directory_iterator(dir / "cache2")) {
     ++cached2;
-    CHECK(image::read_file(f.path()) == a->to_bytes());
+    CHECK(same_blob_content(image::read_file(f.path()), a->to_bytes()));
   }
   CHECK(cached2 == 1);
   // Other options: another environment.
@@ -529,6 +638,103 @@ TEST_CASE("load_environment: cached in memory and on disk, bad files are refused
   l.map = a;
   l.intensity = -1.0f;
   CHECK_THROWS_AS(pbr::prepare_environment(l), std::invalid_argument);
+}
+
+TEST_CASE("the environment cache heals: a damaged, stale, foreign or unusable entry is ignored and replaced") {
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "environment-cache-heal";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "cache");
+  const pbr::EnvironmentOptions o{.size = 16, .samples = 8};
+  // A map per case (its own bytes: the in-memory cache never answers for another case).
+  int serial = 0;
+  auto fresh_map = [&](const std::string& name) {
+    const double k = 1.0 + 0.01 * ++serial;
+    image::write_hdr(dir / name, equirect(64, 32, [&](const glm::dvec3& d) { return glm::dvec3(k + d.y, k, k - 0.5 * d.y); }));
+    return dir / name;
+  };
+  auto entry_of = [&](const fs::path& map) {
+    // The one entry written for `map`: load it with a cache once, find the new file.
+    std::set<fs::path> before;
+    for (const auto& e : fs::directory_iterator(dir / "cache")) before.insert(e.path());
+    (void)pbr::load_environment(map, o, nullptr, dir / "cache");
+    for (const auto& e : fs::directory_iterator(dir / "cache"))
+      if (!before.count(e.path())) return e.path();
+    return fs::path();
+  };
+  auto expected = [&](const fs::path& map) {  // prefiltered without any cache
+    return pbr::Environment(image::load_imagef(image::read_file(map), map.string()), "x", o).to_bytes();
+  };
+  // The memory cache holds the last 4 maps: 4 others push a map out of it, so that its
+  // next load reads the disk.
+  auto evict = [&](const std::string& tag) {
+    for (int i = 0; i < 4; ++i) (void)pbr::load_environment(fresh_map("evict-" + tag + std::to_string(i) + ".hdr"), o);
+  };
+
+  SUBCASE("one value changed, a NaN, a truncated file: ignored, prefiltered again, replaced") {
+    for (const int damage : {0, 1, 2}) {
+      CAPTURE(damage);
+      const fs::path map = fresh_map("damaged" + std::to_string(damage) + ".hdr");
+      const fs::path entry = entry_of(map);
+      REQUIRE(!entry.empty());
+      std::vector<std::uint8_t> bytes = image::read_file(entry);
+      const std::vector<std::uint8_t> good = bytes;
+      if (damage == 0) bytes[bytes.size() / 2] ^= 0x40;  // one float changed
+      if (damage == 1) {  // a NaN, with the checksum made to match it
+        const std::uint32_t nan = 0x7fc00000u;
+        std::memcpy(&bytes[(bytes.size() / 2) & ~std::size_t{3}], &nan, 4);
+        std::uint64_t h = 0xcbf29ce484222325ull;
+        for (std::size_t i = 0; i + 8 < bytes.size(); ++i) h = (h ^ bytes[i]) * 0x100000001b3ull;
+        for (int i = 0; i < 8; ++i) bytes[bytes.size() - 8 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(h >> (8 * i));
+      }
+      if (damage == 2) bytes.resize(bytes.size() / 3);
+      image::write_file_atomic(entry, bytes);
+      CHECK_THROWS_AS(pbr::Environment::from_bytes(bytes, "entry"), std::invalid_argument);
+      evict("damaged" + std::to_string(damage));
+      std::vector<std::string> warnings;
+      const auto env = pbr::load_environment(map, o, nullptr, dir / "cache", {}, &warnings);
+      CHECK(same_blob_content(env->to_bytes(), expected(map)));
+      CHECK(warnings.empty());
+      CHECK(same_blob_content(image::read_file(entry), good));  // replaced by a good one
+    }
+  }
+  SUBCASE("another map's entry under this map's name is not used") {
+    const fs::path a = fresh_map("a.hdr"), b = fresh_map("b.hdr");
+    const fs::path ea = entry_of(a), eb = entry_of(b);
+    REQUIRE((!ea.empty() && !eb.empty()));
+    fs::copy_file(eb, ea, fs::copy_options::overwrite_existing);
+    evict("ab");
+    const auto env = pbr::load_environment(a, o, nullptr, dir / "cache");
+    CHECK(same_blob_content(env->to_bytes(), expected(a)));
+    CHECK(!same_blob_content(env->to_bytes(), expected(b)));
+  }
+  SUBCASE("an entry that is a folder, a pipe or a link to /dev/zero; a cache path that is a file") {
+    for (const int kind : {0, 1, 2, 3}) {
+      CAPTURE(kind);
+      const fs::path map = fresh_map("odd" + std::to_string(kind) + ".hdr");
+      const fs::path entry = entry_of(map);
+      REQUIRE(!entry.empty());
+      fs::remove(entry);
+      fs::path cache = dir / "cache";
+      if (kind == 0) fs::create_directory(entry);
+      if (kind == 1) REQUIRE(::mkfifo(entry.c_str(), 0600) == 0);
+      if (kind == 2) fs::create_symlink("/dev/zero", entry);
+      if (kind == 3) {
+        cache = dir / "a-file";
+        std::ofstream(cache) << "not a folder";
+      }
+      evict("odd" + std::to_string(kind));
+      std::vector<std::string> warnings;
+      const auto env = pbr::load_environment(map, o, nullptr, cache, {}, &warnings);
+      CHECK(same_blob_content(env->to_bytes(), expected(map)));
+      if (kind == 3) {
+        REQUIRE(warnings.size() == 1);
+        CHECK(warnings[0].find("a-file") != std::string::npos);
+      } else {
+        CHECK(fs::is_regular_file(fs::symlink_status(entry)));  // replaced by a good entry
+        CHECK(warnings.empty());
+      }
+    }
+  }
 }
 
 TEST_CASE("scene files: /environment loads a map or the studio, bad values name the JSON pointer") {

@@ -177,7 +177,7 @@ void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPoo
         f.inputs.push_back(*a.env);  // never an output (like the scene file, roots do not confine it)
         image::Limits limits;
         try {
-          s.environment.map = pbr::load_environment(*a.env, {}, &pool, a.env_cache, limits);
+          s.environment.map = pbr::load_environment(*a.env, {}, &pool, a.env_cache, limits, &f.warnings);
         } catch (const std::invalid_argument& e) {
           throw Error(Error::Kind::Input, "env", e.what());
         } catch (const std::runtime_error& e) {

@@ -195,10 +195,10 @@ struct LobeSample {
   double frac;
 };
 
-// The GGX lobe of roughness `roughness` as `count` samples for filtered importance
-// sampling of a source whose level 0 has side `source_size` (and `mips` levels).
-std::vector<LobeSample> lobe(double roughness, std::uint32_t count, int source_size, int mips) {
-  const double alpha = roughness * roughness, a2 = alpha * alpha;
+// The GGX lobe of α (roughness²) as `count` samples for filtered importance sampling of a
+// source whose level 0 has side `source_size` (and `mips` levels).
+std::vector<LobeSample> lobe(double alpha, std::uint32_t count, int source_size, int mips) {
+  const double a2 = alpha * alpha;
   const double texel_solid_angle = 4.0 * kPi / (static_cast<double>(source_size) * source_size);
   std::vector<LobeSample> samples;
   samples.reserve(count);
@@ -212,9 +212,10 @@ std::vector<LobeSample> lobe(double roughness, std::uint32_t count, int source_s
     const double D = a2 / (kPi * d * d);
     const double pdf = D / 4.0;
     const double sample_solid_angle = 1.0 / (count * pdf);
-    // Křivánek & Colbert: the mip whose texels cover the sample's solid angle, one level
-    // coarser (their bias of 1) for a smooth result.
-    double lod = 0.5 * (dmath::log(sample_solid_angle / texel_solid_angle) / kLn2) + 0.5;
+    // Křivánek & Colbert: the mip whose texels cover the sample's solid angle, without a
+    // bias toward coarser mips (half a level blurred the narrow lobes: a near-mirror lost
+    // 9% of a small sun's peak, test_environment's Monte Carlo case).
+    double lod = 0.5 * (dmath::log(sample_solid_angle / texel_solid_angle) / kLn2);
     lod = std::clamp(lod, 0.0, static_cast<double>(mips - 1));
     const int lod0 = std::min(static_cast<int>(std::floor(lod)), mips - 1);
     samples.push_back({l, l.z, lod0, lod - lod0});
@@ -222,10 +223,10 @@ std::vector<LobeSample> lobe(double roughness, std::uint32_t count, int source_s
   return samples;
 }
 
-// A level prefiltered from the source chain.
-OctMap prefilter(const std::vector<OctMap>& source, int size, double roughness, std::uint32_t count,
+// A level prefiltered from the source chain with the GGX lobe of α.
+OctMap prefilter(const std::vector<OctMap>& source, int size, double alpha, std::uint32_t count,
                  raster::ThreadPool* pool) {
-  const std::vector<LobeSample> samples = lobe(roughness, count, source[0].size, static_cast<int>(source.size()));
+  const std::vector<LobeSample> samples = lobe(alpha, count, source[0].size, static_cast<int>(source.size()));
   OctMap m(size);
   for_each_index(pool, static_cast<std::size_t>(size), [&](std::size_t row) {
     const int y = static_cast<int>(row);
@@ -250,57 +251,64 @@ OctMap prefilter(const std::vector<OctMap>& source, int size, double roughness, 
   return m;
 }
 
-// The irradiance coefficients by integration over the equirectangular texels, each with
-// its exact solid angle (2π / W)(cos θ₀ − cos θ₁); rows summed in order.
-std::array<glm::vec3, Environment::kShCount> project_irradiance(const Equirect& src, raster::ThreadPool* pool) {
-  using Row = std::array<glm::dvec3, Environment::kShCount>;
-  std::vector<Row> rows(static_cast<std::size_t>(src.height));
-  std::vector<double> sin_phi(static_cast<std::size_t>(src.width)), cos_phi(static_cast<std::size_t>(src.width));
-  for (int x = 0; x < src.width; ++x) {
-    const double phi = 2.0 * kPi * ((x + 0.5) / src.width - 0.5);
-    sin_phi[static_cast<std::size_t>(x)] = dmath::sin(phi);
-    cos_phi[static_cast<std::size_t>(x)] = dmath::cos(phi);
-  }
-  for_each_index(pool, static_cast<std::size_t>(src.height), [&](std::size_t row) {
-    const int y = static_cast<int>(row);
-    const double theta = kPi * (y + 0.5) / src.height;
+// The irradiance map: for each texel's direction n, (1/π) ∫ L(ω) max(0, n·ω) dω, summed over
+// cells of the equirectangular image (at most kCellsX × kCellsY; each the solid-angle
+// weighted sum of the texels whose centres fall in it, at its centre direction): exact
+// for the map up to the cells' size (2.8°, where the clamped cosine is smooth). Rows of
+// the output are split over the pool; every sum runs in a fixed order.
+OctMap irradiance_map(const Equirect& src, raster::ThreadPool* pool) {
+  constexpr int kCellsX = 128, kCellsY = 64;
+  const int cw = std::min(kCellsX, src.width), ch = std::min(kCellsY, src.height);
+  struct Cell {
+    glm::dvec3 dir;
+    glm::dvec3 power;  // Σ L Ω over its texels
+  };
+  std::vector<Cell> cells(static_cast<std::size_t>(cw) * static_cast<std::size_t>(ch));
+  for (int y = 0; y < src.height; ++y) {
     const double solid_angle = (2.0 * kPi / src.width) *
                                (dmath::cos(kPi * y / src.height) - dmath::cos(kPi * (y + 1) / src.height));
-    const double st = dmath::sin(theta), ct = dmath::cos(theta);
-    Row acc{};
+    const auto cy = static_cast<std::size_t>(static_cast<std::int64_t>(y) * ch / src.height);
     for (int x = 0; x < src.width; ++x) {
-      const glm::dvec3 d(st * sin_phi[static_cast<std::size_t>(x)], ct, -st * cos_phi[static_cast<std::size_t>(x)]);
-      const std::array<double, Environment::kShCount> y_lm = sh_basis(d);
-      const glm::dvec3 l = src.texel(x, y) * solid_angle;
-      for (int i = 0; i < Environment::kShCount; ++i) acc[static_cast<std::size_t>(i)] += l * y_lm[static_cast<std::size_t>(i)];
+      const auto cx = static_cast<std::size_t>(static_cast<std::int64_t>(x) * cw / src.width);
+      cells[cy * static_cast<std::size_t>(cw) + cx].power += src.texel(x, y) * solid_angle;
     }
-    rows[row] = acc;
+  }
+  for (int y = 0; y < ch; ++y) {
+    // The cell's centre: the middle of the texel rows and columns it holds.
+    const int y0 = (y * src.height + ch - 1) / ch, y1 = ((y + 1) * src.height + ch - 1) / ch;
+    const double theta = kPi * (0.5 * (y0 + y1)) / src.height;
+    const double st = dmath::sin(theta), ct = dmath::cos(theta);
+    for (int x = 0; x < cw; ++x) {
+      const int x0 = (x * src.width + cw - 1) / cw, x1 = ((x + 1) * src.width + cw - 1) / cw;
+      const double phi = 2.0 * kPi * (0.5 * (x0 + x1) / src.width - 0.5);
+      cells[static_cast<std::size_t>(y) * static_cast<std::size_t>(cw) + static_cast<std::size_t>(x)].dir =
+          glm::dvec3(st * dmath::sin(phi), ct, -st * dmath::cos(phi));
+    }
+  }
+  OctMap m(kIrradianceSize);
+  for_each_index(pool, static_cast<std::size_t>(kIrradianceSize), [&](std::size_t row) {
+    const int y = static_cast<int>(row);
+    for (int x = 0; x < kIrradianceSize; ++x) {
+      const glm::dvec3 n = octahedral_decode({(x + 0.5) / kIrradianceSize, (y + 0.5) / kIrradianceSize});
+      glm::dvec3 sum(0.0);
+      for (const Cell& c : cells) {
+        const double cosine = n.x * c.dir.x + n.y * c.dir.y + n.z * c.dir.z;
+        if (cosine > 0.0) sum += c.power * cosine;
+      }
+      m.interior(x, y) = sum * (1.0 / kPi);
+    }
   });
-  Row total{};
-  for (const Row& r : rows)
-    for (int i = 0; i < Environment::kShCount; ++i) total[static_cast<std::size_t>(i)] += r[static_cast<std::size_t>(i)];
-  // Convolution with the clamped cosine (Â₀ = π, Â₁ = 2π/3, Â₂ = π/4) over π, and each
-  // basis function's constant, so that the shader evaluates the bare polynomials.
-  const double k0 = 0.5 * std::sqrt(1.0 / kPi), k1 = std::sqrt(3.0 / (4.0 * kPi)), k2 = 0.5 * std::sqrt(15.0 / kPi);
-  const double k20 = 0.25 * std::sqrt(5.0 / kPi), k22 = 0.25 * std::sqrt(15.0 / kPi);
-  const double scale[Environment::kShCount] = {k0,
-                                               k1 * 2.0 / 3.0,
-                                               k1 * 2.0 / 3.0,
-                                               k1 * 2.0 / 3.0,
-                                               k2 * 0.25,
-                                               k2 * 0.25,
-                                               k20 * 0.25,
-                                               k2 * 0.25,
-                                               k22 * 0.25};
-  std::array<glm::vec3, Environment::kShCount> c{};
-  for (int i = 0; i < Environment::kShCount; ++i) c[static_cast<std::size_t>(i)] = glm::vec3(total[static_cast<std::size_t>(i)] * scale[i]);
-  return c;
+  m.fill_border();
+  return m;
 }
 
-// Side of prefiltered level i: level 0 is the map; level 1 (roughness 0.2, a lobe about
-// 10° across) a quarter of it, each next level half the last, at least 32 (a smaller map's
-// bilinear diamonds show on rough spheres) and at most the map.
-int level_side(int size, int i) { return i == 0 ? size : std::min(size, std::max(32, size >> (i + 1))); }
+// GGX samples a texel for level i (i ≥ 1) from options.samples, the count at α = 0.05.
+std::uint32_t level_samples(int samples, int i) {
+  static constexpr int kScale[kEnvironmentLevels] = {0, -2, -1, 0, 1, 2, 3, 3};  // log2 of the factor
+  const int k = kScale[i];
+  const int n = k < 0 ? samples >> -k : samples << k;
+  return static_cast<std::uint32_t>(std::max(n, 8));
+}
 
 int default_size(int width, int height) {
   const double texels = static_cast<double>(width) * height;
@@ -319,18 +327,12 @@ void validate(const EnvironmentOptions& o) {
     throw std::invalid_argument("environment samples " + std::to_string(o.samples) + " is outside [8, 4096]");
 }
 
-std::array<double, Environment::kShCount> sh_basis(const glm::dvec3& d) {
-  const double k0 = 0.5 * std::sqrt(1.0 / kPi), k1 = std::sqrt(3.0 / (4.0 * kPi)), k2 = 0.5 * std::sqrt(15.0 / kPi);
-  const double k20 = 0.25 * std::sqrt(5.0 / kPi), k22 = 0.25 * std::sqrt(15.0 / kPi);
-  return {k0,
-          k1 * d.y,
-          k1 * d.z,
-          k1 * d.x,
-          k2 * d.x * d.y,
-          k2 * d.y * d.z,
-          k20 * (3.0 * d.z * d.z - 1.0),
-          k2 * d.x * d.z,
-          k22 * (d.x * d.x - d.y * d.y)};
+int Environment::level_side(int size, int i) {
+  if (i == 0) return size;
+  const double want = 8.0 / static_cast<double>(kEnvironmentLevelAlpha[i]);
+  int side = 32;
+  while (side < size && side * 2 <= want) side *= 2;  // the largest power of two ≤ `want`, in [32, size]
+  return std::min(side, size);
 }
 
 glm::dvec2 octahedral_encode(const glm::dvec3& d) {
@@ -391,23 +393,21 @@ Environment::Environment(const image::ImageViewF& equirect, std::string name, co
   }
   const Equirect src{equirect.width, equirect.height, equirect.rgba.data()};
   size_ = options.size != 0 ? options.size : default_size(equirect.width, equirect.height);
-  sh_ = project_irradiance(src, pool);
+  irradiance_ = irradiance_map(src, pool).texture();
 
   std::vector<OctMap> chain;
   chain.push_back(resample(src, size_, pool));
   while (chain.back().size > 1) chain.push_back(chain.back().half());
 
   levels_.push_back(chain[0].texture());
-  for (int i = 1; i < kLevels; ++i) {
-    const int s = level_side(size_, i);
-    // Rougher lobes spread wider: twice the samples each level, up to 8× the first.
-    const auto count = static_cast<std::uint32_t>(options.samples) << std::min(i - 1, 3);
-    levels_.push_back(prefilter(chain, s, static_cast<double>(i) / (kLevels - 1), count, pool).texture());
-  }
+  for (int i = 1; i < kLevels; ++i)
+    levels_.push_back(prefilter(chain, level_side(size_, i), static_cast<double>(kEnvironmentLevelAlpha[i]),
+                                level_samples(options.samples, i), pool)
+                          .texture());
 }
 
 std::size_t Environment::bytes() const {
-  std::size_t n = 0;
+  std::size_t n = irradiance_->texel_bytes();
   for (const auto& l : levels_) n += l->texel_bytes();
   return n;
 }
@@ -473,54 +473,89 @@ std::shared_ptr<const Environment> Environment::studio(raster::ThreadPool* pool)
 // --- Serialization. ---
 
 namespace {
-constexpr char kMagic[8] = {'S', 'P', 'E', 'N', 'V', '0', '0', '1'};
+// Version 2: the key, the irradiance map instead of SH coefficients, 8 levels, RGB texels,
+// a checksum. A file of another version is ignored and replaced (load_environment).
+constexpr char kMagic[8] = {'S', 'P', 'E', 'N', 'V', '0', '0', '2'};
+
+std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::uint8_t b : bytes) h = (h ^ b) * 0x100000001b3ull;
+  return h;
+}
 
 void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
 }
-void put_f32(std::vector<std::uint8_t>& out, float f) {
-  std::uint32_t v;
-  std::memcpy(&v, &f, 4);
-  put_u32(out, v);
+void put_u64(std::vector<std::uint8_t>& out, std::uint64_t v) {
+  for (int i = 0; i < 8; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
 }
+void put_texture(std::vector<std::uint8_t>& out, const raster::Texture& t) {
+  put_u32(out, static_cast<std::uint32_t>(t.width()));
+  const std::span<const float> texels = t.texels_f();
+  for (std::size_t i = 0; i < texels.size(); ++i) {
+    if (i % 4 == 3) continue;  // RGB: alpha is 1
+    std::uint32_t v;
+    std::memcpy(&v, &texels[i], 4);
+    put_u32(out, v);
+  }
+}
+
 struct Reader {
   std::span<const std::uint8_t> bytes;
   std::size_t at = 0;
   const std::string& name;
-  std::uint32_t u32() {
-    if (bytes.size() - at < 4) fail(name, "the environment cache file is truncated");
-    std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(bytes[at + static_cast<std::size_t>(i)]) << (8 * i);
-    at += 4;
+  std::uint64_t bits(int n) {
+    if (bytes.size() - at < static_cast<std::size_t>(n)) fail(name, "the environment cache file is truncated");
+    std::uint64_t v = 0;
+    for (int i = 0; i < n; ++i) v |= static_cast<std::uint64_t>(bytes[at + static_cast<std::size_t>(i)]) << (8 * i);
+    at += static_cast<std::size_t>(n);
     return v;
   }
-  float f32() {
-    const std::uint32_t v = u32();
-    float f;
-    std::memcpy(&f, &v, 4);
-    return f;
+  std::uint32_t u32() { return static_cast<std::uint32_t>(bits(4)); }
+  // A square RGB texture of side `full`, each value finite and ≥ 0.
+  std::shared_ptr<const raster::Texture> texture(std::uint32_t full) {
+    if (u32() != full) fail(name, "bad map size in the environment cache file");
+    const std::size_t n = static_cast<std::size_t>(full) * full;
+    if ((bytes.size() - at) / 12 < n) fail(name, "the environment cache file is truncated");
+    std::vector<float> rgba(n * 4, 1.0f);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const std::uint32_t v = u32();
+        float f;
+        std::memcpy(&f, &v, 4);
+        if (!std::isfinite(f) || f < 0.0f) fail(name, "a value in the environment cache file is negative or not finite");
+        rgba[4 * i + static_cast<std::size_t>(c)] = f;
+      }
+    return std::make_shared<const raster::Texture>(
+        image::ImageViewF(static_cast<int>(full), static_cast<int>(full), rgba), raster::TextureOptions{.mipmaps = false});
   }
 };
 }  // namespace
 
-std::vector<std::uint8_t> Environment::to_bytes() const {
+std::vector<std::uint8_t> Environment::to_bytes(std::uint64_t key) const {
   std::vector<std::uint8_t> out(kMagic, kMagic + 8);
+  put_u64(out, key);
   put_u32(out, static_cast<std::uint32_t>(options_.size));
   put_u32(out, static_cast<std::uint32_t>(options_.samples));
   put_u32(out, static_cast<std::uint32_t>(size_));
-  for (const glm::vec3& c : sh_) put_f32(out, c.x), put_f32(out, c.y), put_f32(out, c.z);
+  put_texture(out, *irradiance_);
   put_u32(out, static_cast<std::uint32_t>(levels_.size()));
-  for (const auto& l : levels_) {
-    put_u32(out, static_cast<std::uint32_t>(l->width()));
-    for (float f : l->texels_f()) put_f32(out, f);
-  }
+  for (const auto& l : levels_) put_texture(out, *l);
+  put_u64(out, fnv1a(out));
   return out;
 }
 
-std::shared_ptr<const Environment> Environment::from_bytes(std::span<const std::uint8_t> bytes, std::string name) {
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0)
+std::shared_ptr<const Environment> Environment::from_bytes(std::span<const std::uint8_t> bytes, std::string name,
+                                                           std::uint64_t key) {
+  if (bytes.size() < 16 || std::memcmp(bytes.data(), kMagic, 8) != 0)
     fail(name, "not an environment cache file of this version");
-  Reader r{bytes, 8, name};
+  {
+    Reader tail{bytes, bytes.size() - 8, name};
+    if (tail.bits(8) != fnv1a(bytes.first(bytes.size() - 8)))
+      fail(name, "the environment cache file is damaged (its checksum does not match)");
+  }
+  Reader r{bytes.first(bytes.size() - 8), 8, name};
+  if (r.bits(8) != key) fail(name, "the environment cache file was made from another map");
   auto env = std::shared_ptr<Environment>(new Environment());
   env->name_ = std::move(name);
   env->options_.size = static_cast<int>(r.u32());
@@ -532,47 +567,38 @@ std::shared_ptr<const Environment> Environment::from_bytes(std::span<const std::
   }
   env->size_ = static_cast<int>(r.u32());
   if (!is_pow2(env->size_) || env->size_ < 8 || env->size_ > 2048) fail(env->name_, "bad map size in the cache file");
-  for (glm::vec3& c : env->sh_) {
-    c.x = r.f32();
-    c.y = r.f32();
-    c.z = r.f32();
-  }
+  env->irradiance_ = r.texture(kIrradianceSize + 2);
   if (r.u32() != kLevels) fail(env->name_, "bad level count in the cache file");
-  for (int i = 0; i < kLevels; ++i) {
-    const std::uint32_t full = r.u32();
-    const std::uint32_t expect = static_cast<std::uint32_t>(level_side(env->size_, i) + 2);
-    if (full != expect) fail(env->name_, "bad level size in the cache file");
-    const std::size_t n = static_cast<std::size_t>(full) * full * 4;
-    if ((bytes.size() - r.at) / 4 < n) fail(env->name_, "the environment cache file is truncated");
-    std::vector<float> rgba(n);
-    for (float& f : rgba) f = r.f32();
-    env->levels_.push_back(std::make_shared<const raster::Texture>(
-        image::ImageViewF(static_cast<int>(full), static_cast<int>(full), rgba), raster::TextureOptions{.mipmaps = false}));
-  }
-  if (r.at != bytes.size()) fail(env->name_, "trailing bytes in the environment cache file");
+  for (int i = 0; i < kLevels; ++i)
+    env->levels_.push_back(r.texture(static_cast<std::uint32_t>(level_side(env->size_, i) + 2)));
+  if (r.at != r.bytes.size()) fail(env->name_, "trailing bytes in the environment cache file");
   return env;
 }
 
 // --- Loading with the caches. ---
 
 namespace {
-std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (std::uint8_t b : bytes) h = (h ^ b) * 0x100000001b3ull;
-  return h;
-}
-
 struct CacheEntry {
   std::uint64_t hash;
   std::size_t length;
   EnvironmentOptions options;
   std::shared_ptr<const Environment> env;
 };
+
+// The largest cache file: a 2048 map's levels and irradiance map, RGB floats, and headers.
+std::uint64_t max_cache_bytes() {
+  std::uint64_t n = 4096 + 12ull * (kIrradianceSize + 2) * (kIrradianceSize + 2);
+  for (int i = 0; i < kEnvironmentLevels; ++i) {
+    const std::uint64_t full = static_cast<std::uint64_t>(Environment::level_side(2048, i)) + 2;
+    n += 12 * full * full + 4;
+  }
+  return n;
+}
 }  // namespace
 
 std::shared_ptr<const Environment> load_environment(const std::filesystem::path& path, const EnvironmentOptions& options,
                                                     raster::ThreadPool* pool, const std::filesystem::path& cache_dir,
-                                                    const image::Limits& limits) {
+                                                    const image::Limits& limits, std::vector<std::string>* warnings) {
   const std::string name = path.string();
   try {
     validate(options);
@@ -581,21 +607,43 @@ std::shared_ptr<const Environment> load_environment(const std::filesystem::path&
   }
   const std::vector<std::uint8_t> bytes = image::read_file(path, limits);
   const std::uint64_t hash = fnv1a(bytes);
+  // What a cache entry must have been made from: these bytes, their length and the
+  // options (the format's version is the file's magic).
+  const std::uint64_t key = hash ^ (static_cast<std::uint64_t>(bytes.size()) * 0x9e3779b97f4a7c15ull) ^
+                            (static_cast<std::uint64_t>(static_cast<std::uint32_t>(options.size)) << 32) ^
+                            static_cast<std::uint64_t>(static_cast<std::uint32_t>(options.samples));
   std::filesystem::path cached;
   if (!cache_dir.empty()) {
-    char key[64];
-    std::snprintf(key, sizeof key, "%016llx-%zu-s%d-n%d.spenv", static_cast<unsigned long long>(hash), bytes.size(),
+    char file[64];
+    std::snprintf(file, sizeof file, "%016llx-%zu-s%d-n%d.spenv", static_cast<unsigned long long>(hash), bytes.size(),
                   options.size, options.samples);
-    cached = cache_dir / key;
+    cached = cache_dir / file;
   }
+  // A cache is an optimisation: what cannot be read, made or written there is a warning
+  // (once per call), and the render goes on.
+  bool warned = false;
+  const auto warn = [&](const std::string& what) {
+    if (warned || warnings == nullptr) return;
+    warned = true;
+    warnings->push_back(what);
+  };
   // The on-disk cache gets every environment loaded with it, including one found in
   // memory (loaded earlier without a cache folder, or with another one).
   const auto store = [&](const Environment& env, bool replace) {
+    if (cached.empty()) return;
     std::error_code ec;
-    if (cached.empty() || (!replace && std::filesystem::is_regular_file(cached, ec))) return;
-    std::filesystem::create_directories(cache_dir, ec);
-    if (ec) throw std::runtime_error(cache_dir.string() + ": cannot create the environment cache: " + ec.message());
-    image::write_file_atomic(cached, env.to_bytes());
+    if (!replace && std::filesystem::is_regular_file(cached, ec)) return;
+    try {
+      // An entry that is not a regular file (a link, a pipe, an empty folder) is removed
+      // first: write_file_atomic replaces only files.
+      const auto st = std::filesystem::symlink_status(cached, ec);
+      if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st)) std::filesystem::remove(cached, ec);
+      std::filesystem::create_directories(cache_dir, ec);
+      if (ec) throw std::runtime_error(cache_dir.string() + ": cannot create it: " + ec.message());
+      image::write_file_atomic(cached, env.to_bytes(key));
+    } catch (const std::exception& e) {
+      warn(std::string("environment cache not written (the render goes on): ") + e.what());
+    }
   };
   // In memory: the last few environments, by content and options.
   static std::mutex mutex;
@@ -615,20 +663,26 @@ std::shared_ptr<const Environment> load_environment(const std::filesystem::path&
     store(*env, false);
     return env;
   }
+  bool replace = false;
   if (!cached.empty()) {
     std::error_code ec;
-    if (std::filesystem::is_regular_file(cached, ec)) {
+    const auto status = std::filesystem::symlink_status(cached, ec);
+    if (std::filesystem::exists(status)) {
+      replace = true;
       try {
-        env = Environment::from_bytes(image::read_file(cached), name);
+        image::Limits cache_limits;
+        cache_limits.max_file_bytes = max_cache_bytes();
+        env = Environment::from_bytes(image::read_file(cached, cache_limits), name, key);
+        if (env->options() != options) throw std::invalid_argument("made with other options");
       } catch (const std::exception&) {
-        env = nullptr;  // unreadable or stale: prefiltered again and replaced below
+        env = nullptr;  // damaged, stale or not a file: prefiltered again and replaced below
       }
     }
   }
   if (!env) {
     const image::ImageF im = image::load_imagef(bytes, name, limits);
     env = std::make_shared<const Environment>(image::ImageViewF(im), name, options, pool);
-    store(*env, true);  // replaces a stale file
+    store(*env, replace);
   }
   const std::lock_guard<std::mutex> lock(mutex);
   recent.push_front({hash, bytes.size(), options, env});
@@ -702,7 +756,7 @@ PreparedEnvironment prepare_environment(const EnvironmentLighting& e) {
   if (!std::isfinite(e.rotation)) throw std::invalid_argument("environment.rotation must be finite");
   PreparedEnvironment p;
   p.map = e.map.get();
-  p.sh = p.map->irradiance_sh().data();
+  p.irradiance = &p.map->irradiance();
   for (int l = 0; l < kEnvironmentLevels; ++l) p.levels[static_cast<std::size_t>(l)] = &p.map->level(l);
   const double r = dmath::radians(static_cast<double>(e.rotation));
   p.cos_r = static_cast<float>(dmath::cos(r));

@@ -233,11 +233,12 @@ std::shared_ptr<PyEnvironment> load_environment_file(const std::filesystem::path
   }
   auto env = std::make_shared<PyEnvironment>();
   std::string error;
+  std::vector<std::string> warnings;
   {
     py::gil_scoped_release unlocked;
     raster::ThreadPool pool(0);
     try {
-      env->map = pbr::load_environment(path, options, &pool, cache_dir.value_or(std::filesystem::path{}));
+      env->map = pbr::load_environment(path, options, &pool, cache_dir.value_or(std::filesystem::path{}), {}, &warnings);
     } catch (const std::invalid_argument& e) {
       error = e.what();
     } catch (const std::runtime_error& e) {
@@ -245,6 +246,8 @@ std::shared_ptr<PyEnvironment> load_environment_file(const std::filesystem::path
     }
   }
   if (!error.empty()) value_error(error);  // names the file, as the scene file's /environment/file
+  for (const std::string& w : warnings)  // an unusable cache folder: a RuntimeWarning, the map is loaded
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, w.c_str(), 1) != 0) throw py::error_already_set();
   return env;
 }
 

@@ -24,7 +24,7 @@ void read_environment(const Reader& r, const Node& spec, const std::filesystem::
     image::Limits limits;
     limits.max_decoded_bytes = std::max<std::uint64_t>(1, budget.left());
     try {
-      e.map = load_environment(path, eo, options.pool, options.environment_cache, limits);
+      e.map = load_environment(path, eo, options.pool, options.environment_cache, limits, &out.warnings);
     } catch (const std::exception& ex) {
       r.fail(*f, ex.what());
     }

@@ -8,13 +8,14 @@
 //
 // An Environment is built once from an equirectangular linear image (an .hdr or .exr)
 // and is then immutable, shared between frames, renders and threads:
-//   - diffuse: the irradiance as 9 spherical-harmonic coefficients (Ramamoorthi & Hanrahan
-//     2001), already convolved with the clamped cosine and divided by π, so irradiance(n)
-//     is the radiance a white Lambertian surface with normal n reflects;
-//   - specular: kLevels octahedral maps of the radiance prefiltered with the GGX lobe for
-//     perceptual roughness i / (kLevels − 1) (level 0 is the map itself), importance-sampled
-//     with a fixed Hammersley set and filtered importance sampling (Křivánek & Colbert
-//     2008), so a sun of radiance in the thousands gives a smooth highlight;
+//   - diffuse: the irradiance map, an octahedral map (kIrradianceSize a side) of the map's
+//     exact convolution with the clamped cosine, divided by π, so irradiance(n) is the
+//     radiance a white Lambertian surface with normal n reflects;
+//   - specular: kLevels octahedral maps of the radiance prefiltered with the GGX lobe of
+//     α = kEnvironmentLevelAlpha[i] (level 0 is the map itself), each sized to its lobe,
+//     importance-sampled with a fixed Hammersley set and filtered importance sampling
+//     (Křivánek & Colbert 2008), so a sun of radiance in the thousands gives a smooth
+//     highlight;
 //   - dfg_table(): the BRDF integration table (A, B) of the split sum, computed by the
 //     library, with Smith–Schlick-GGX visibility at k = α/2 (α = roughness²).
 // docs/design.md, "Image-based lighting", has the maths, the conventions and the
@@ -55,8 +56,9 @@ struct EnvironmentOptions {
   // mirror reflection and the background): a power of two in [8, 2048]; 0 chooses from
   // the image, the largest power of two ≤ √(width × height), at most 1024.
   int size = 0;
-  // GGX samples per texel of prefiltered level 1 (roughness 0.2); each next level takes
-  // twice as many, up to 8×: [8, 4096].
+  // GGX samples per texel of the prefiltered level of α = 0.05 (roughness 0.22); the
+  // narrower levels take a half and a quarter of it (at least 8), each wider level twice
+  // the last, up to 8×: [8, 4096].
   int samples = 64;
 
   bool operator==(const EnvironmentOptions&) const = default;
@@ -67,8 +69,7 @@ void validate(const EnvironmentOptions& options);
 
 class Environment {
  public:
-  static constexpr int kLevels = kEnvironmentLevels;  // prefiltered levels: roughness 0, 0.2, …, 1
-  static constexpr int kShCount = kEnvironmentShCount;
+  static constexpr int kLevels = kEnvironmentLevels;  // prefiltered levels, kEnvironmentLevelAlpha
 
   // Prefilters an equirectangular linear RGB image (alpha is ignored) of any size from
   // 1×1. Throws std::invalid_argument naming `name` for non-finite or negative values or
@@ -89,9 +90,10 @@ class Environment {
   const EnvironmentOptions& options() const { return options_; }
   int size() const { return size_; }
 
-  // Irradiance coefficients, in the order of sh_basis(): irradiance(n) = Σ c_i · Y_i(n).
-  const std::array<glm::vec3, kShCount>& irradiance_sh() const { return sh_; }
-  // Level i: the octahedral map prefiltered at roughness i / (kLevels − 1), stored with a
+  // The irradiance map / π: kIrradianceSize a side and a one-texel border (looked up as
+  // the levels are, env_irradiance).
+  const raster::Texture& irradiance() const { return *irradiance_; }
+  // Level i: the octahedral map prefiltered at α = kEnvironmentLevelAlpha[i], stored with a
   // one-texel border (size + 2 texels a side) so that bilinear lookups wrap as the sphere
   // does; lookups go through env_bilinear (the same filter as raster::sample_lod with
   // level_sampler(): bilinear, clamp to edge).
@@ -99,37 +101,48 @@ class Environment {
   int level_size(int i) const { return level(i).width() - 2; }
   static const raster::Sampler& level_sampler();
 
-  // Bytes held (the levels' texels).
+  // The side of level i for a map of side `size`: the map's for level 0, else the largest
+  // power of two ≤ 8 / α (about 4 texels across the lobe), in [32, size].
+  static int level_side(int size, int i);
+
+  // Bytes held (the levels' and the irradiance map's texels).
   std::size_t bytes() const;
 
-  // The serialized form (a versioned binary blob: header, options, SH, levels) for a disk
-  // cache, and back. from_bytes throws std::invalid_argument naming `name` when the blob
-  // is truncated, of another version or its sizes disagree.
-  std::vector<std::uint8_t> to_bytes() const;
-  static std::shared_ptr<const Environment> from_bytes(std::span<const std::uint8_t> bytes, std::string name);
+  // The serialized form for a disk cache, and back: a versioned binary blob (header, the
+  // key of what it was made from, options, the irradiance map, the levels) ending with a
+  // checksum of everything before it. `key` is the caller's (load_environment: the source
+  // file's hash and length). from_bytes throws std::invalid_argument naming `name` when
+  // the blob is truncated, of another version, made from another key, damaged (the
+  // checksum), or holds sizes that disagree or values that are not finite and ≥ 0.
+  std::vector<std::uint8_t> to_bytes(std::uint64_t key = 0) const;
+  static std::shared_ptr<const Environment> from_bytes(std::span<const std::uint8_t> bytes, std::string name,
+                                                       std::uint64_t key = 0);
 
  private:
   Environment() = default;
   std::string name_;
   EnvironmentOptions options_;
   int size_ = 0;
-  std::array<glm::vec3, kShCount> sh_{};
+  std::shared_ptr<const raster::Texture> irradiance_;
   std::vector<std::shared_ptr<const raster::Texture>> levels_;
 };
 
 // Loads an .hdr or .exr (by content) and prefilters it. Cached in memory by the file's
 // content hash and the options: the same file gives the same shared Environment across
 // renders. With a non-empty `cache_dir`, the prefiltered result is also stored there (and
-// read back) as <hash>-<options>.spenv, written atomically. Throws std::runtime_error /
-// std::invalid_argument naming the file.
+// read back) as <hash>-<options>.spenv, written atomically. A cache entry is used only when
+// it verifies (Environment::from_bytes: its version, the key of this file's bytes and the
+// options, its checksum, finite values); one that does not — damaged, stale, another map's,
+// not a regular file — is ignored, the map prefiltered again and the entry replaced where
+// the folder allows. A cache folder that cannot be made or written is one line in
+// `warnings` (when given) and the load goes on. Throws std::runtime_error /
+// std::invalid_argument naming the file for the map itself.
 std::shared_ptr<const Environment> load_environment(const std::filesystem::path& path,
                                                     const EnvironmentOptions& options = {},
                                                     raster::ThreadPool* pool = nullptr,
                                                     const std::filesystem::path& cache_dir = {},
-                                                    const image::Limits& limits = {});
-
-// The real spherical harmonics of bands 0–2 at a unit direction, in irradiance_sh()'s order.
-std::array<double, Environment::kShCount> sh_basis(const glm::dvec3& d);
+                                                    const image::Limits& limits = {},
+                                                    std::vector<std::string>* warnings = nullptr);
 
 // Direction ↔ octahedral coordinates in [0, 1]² (+Y at the centre, −Y at the corners).
 glm::dvec2 octahedral_encode(const glm::dvec3& d);

@@ -22,10 +22,19 @@
 
 namespace softpbr::pbr {
 
-// The prefiltered levels of an environment (roughness 0, 0.2, …, 1) and its irradiance
-// coefficients (spherical harmonics of bands 0–2): Environment::kLevels and kShCount.
-inline constexpr int kEnvironmentLevels = 6;
-inline constexpr int kEnvironmentShCount = 9;
+// The prefiltered levels of an environment and the lookup's key of each: level l holds the
+// radiance prefiltered with the GGX lobe of α = kEnvironmentLevelAlpha[l] (α = roughness²),
+// except level 0, the map itself, which the lookups read at α ≤ kEnvironmentLevelAlpha[0]
+// (the shading's roughness floor kMinRoughness, squared: a mirror reads the unfiltered map).
+// The levels double α about every step (Environment::level_side sizes each to its lobe), so
+// near-mirrors have levels of their own; between two levels the lookup blends linearly in
+// α (docs/design.md, "Image-based lighting").
+inline constexpr int kEnvironmentLevels = 8;
+inline constexpr float kEnvironmentLevelAlpha[kEnvironmentLevels] = {0.045f * 0.045f, 0.008f, 0.02f, 0.05f,
+                                                                     0.11f,           0.22f,  0.45f, 1.0f};
+// The irradiance map: an octahedral map of this side (and its one-texel border) of the
+// map's exact cosine convolution, divided by π.
+inline constexpr int kIrradianceSize = 32;
 
 // The split-sum BRDF table: kDfgSize² texels, u = n·v, v = perceptual roughness, at texel
 // centres; r = A, g = B (specular = F0·A + B), b = A + B (the single-scattering energy).
@@ -40,9 +49,9 @@ glm::dvec2 dfg_reference(double NoV, double roughness, int samples);
 // What the shaders read, prepared once per frame.
 struct PreparedEnvironment {
   const Environment* map = nullptr;
-  // What the lookups read of map, taken by prepare_environment: its irradiance
-  // coefficients (kEnvironmentShCount, Environment::irradiance_sh()) and levels.
-  const glm::vec3* sh = nullptr;
+  // What the lookups read of map, taken by prepare_environment: its irradiance map
+  // (Environment::irradiance()) and levels.
+  const raster::Texture* irradiance = nullptr;
   std::array<const raster::Texture*, kEnvironmentLevels> levels{};
   float cos_r = 1.0f, sin_r = 0.0f;  // the rotation, by dmath
   float intensity = 1.0f;
@@ -66,22 +75,6 @@ template <class F>
 inline EnvVec3<F> to_environment(const PreparedEnvironment& e, F x, F y, F z) {
   const F c(e.cos_r), s(e.sin_r);
   return {c * x - s * z, y, s * x + c * z};
-}
-
-// Irradiance / π at unit direction d (environment frame), times the intensity; never negative.
-template <class F>
-inline EnvVec3<F> env_irradiance(const PreparedEnvironment& e, const EnvVec3<F>& d) {
-  const glm::vec3* c = e.sh;
-  const F b[kEnvironmentShCount] = {F(1.0f), d.y, d.z, d.x, d.x * d.y, d.y * d.z,
-                                      F(3.0f) * d.z * d.z - F(1.0f), d.x * d.z, d.x * d.x - d.y * d.y};
-  F r(c[0].x), g(c[0].y), bl(c[0].z);
-  for (int i = 1; i < kEnvironmentShCount; ++i) {
-    r = r + F(c[i].x) * b[i];
-    g = g + F(c[i].y) * b[i];
-    bl = bl + F(c[i].z) * b[i];
-  }
-  const F k(e.intensity), zero(0.0f);
-  return {simd::max(r, zero) * k, simd::max(g, zero) * k, simd::max(bl, zero) * k};
 }
 
 // Octahedral texture coordinates of direction d (any non-zero length) on a level of side
@@ -168,15 +161,41 @@ inline EnvVec3<F> env_bilinear(const raster::Texture& t, F u, F v) {
   }
 }
 
-// The prefiltered radiance along d (environment frame) at perceptual roughness in [0, 1],
-// times the intensity: the two levels around roughness · (kLevels − 1), blended linearly.
-// Each lane adds w · c for its own two levels only (w = 1 − |lod − l|), so a lane has the
-// same bits whatever the other lanes' roughness.
+// Irradiance / π at direction d (environment frame, any non-zero length), times the
+// intensity: the irradiance map, bilinear.
+template <class F>
+inline EnvVec3<F> env_irradiance(const PreparedEnvironment& e, const EnvVec3<F>& d) {
+  F u, v;
+  env_octahedral(d, kIrradianceSize, u, v);
+  const EnvVec3<F> c = env_bilinear(*e.irradiance, u, v);
+  const F k(e.intensity);
+  return {c.x * k, c.y * k, c.z * k};
+}
+
+// The level coordinate of α: lod = l + (α − α_l) / (α_{l+1} − α_l) between levels l and
+// l + 1, 0 below α_0 and kEnvironmentLevels − 1 from α = 1: a sum of clamped ramps, one per
+// pair of levels, so every lane runs the same operations.
+template <class F>
+inline F env_lod(F alpha) {
+  const F zero(0.0f), one(1.0f);
+  F lod = zero;
+  for (int l = 0; l + 1 < kEnvironmentLevels; ++l) {
+    const float inv = 1.0f / (kEnvironmentLevelAlpha[l + 1] - kEnvironmentLevelAlpha[l]);
+    lod = lod + simd::clamp((alpha - F(kEnvironmentLevelAlpha[l])) * F(inv), zero, one);
+  }
+  return lod;
+}
+
+// The prefiltered radiance along d (environment frame) for perceptual roughness in [0, 1],
+// times the intensity: the two levels around env_lod(roughness²), blended linearly. Each
+// lane adds w · c for its own two levels only (w = 1 − |lod − l|), so a lane has the same
+// bits whatever the other lanes' roughness.
 template <class F>
 inline EnvVec3<F> env_radiance(const PreparedEnvironment& e, const EnvVec3<F>& d, F roughness) {
   const F zero(0.0f), one(1.0f);
-  const F lod = simd::clamp(roughness, zero, one) * F(static_cast<float>(kEnvironmentLevels - 1));
-  F r = zero, g = zero, b = zero;
+  const F r = simd::clamp(roughness, zero, one);
+  const F lod = env_lod(r * r);
+  F red = zero, g = zero, b = zero;
   for (int l = 0; l < kEnvironmentLevels; ++l) {
     const F dl = lod - F(static_cast<float>(l));
     const F w = simd::max(one - simd::max(dl, zero - dl), zero);
@@ -185,19 +204,20 @@ inline EnvVec3<F> env_radiance(const PreparedEnvironment& e, const EnvVec3<F>& d
     const raster::Texture& level = *e.levels[static_cast<std::size_t>(l)];
     env_octahedral(d, level.width() - 2, u, v);  // Environment::level_size()
     const EnvVec3<F> c = env_bilinear(level, u, v);
-    r = r + w * c.x;
+    red = red + w * c.x;
     g = g + w * c.y;
     b = b + w * c.z;
   }
   const F k(e.intensity);
-  return {r * k, g * k, b * k};
+  return {red * k, g * k, b * k};
 }
 
 // The same for a roughness shared by every lane (an untextured material, the background):
 // the levels and weights are found once, not per lane — the same bits as the lane form.
 template <class F>
 inline EnvVec3<F> env_radiance_uniform(const PreparedEnvironment& e, const EnvVec3<F>& d, float roughness) {
-  const float lod = simd::clamp(roughness, 0.0f, 1.0f) * static_cast<float>(kEnvironmentLevels - 1);
+  const float rc = simd::clamp(roughness, 0.0f, 1.0f);
+  const float lod = env_lod(rc * rc);
   F r(0.0f), g(0.0f), b(0.0f);
   for (int l = 0; l < kEnvironmentLevels; ++l) {
     const float dl = lod - static_cast<float>(l);

@@ -180,7 +180,7 @@ inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F
 
 // The light of an environment (split sum, Karis 2013) reflected at unit normal n toward
 // unit v: diffuse irradiance(n) and specular prefiltered(r, roughness) · (kS·A + B), with
-// r = reflect(−v, n), kS = F0 + (max(1 − roughness, F0) − F0)(1 − n·v)⁵ (Fresnel with
+// r = reflect(−v, n) bent toward n by the lobe's width (its dominant direction), kS = F0 + (max(1 − roughness, F0) − F0)(1 − n·v)⁵ (Fresnel with
 // roughness) and (A, B) = dfg_table(n·v, roughness). With multiple scattering (Fdez-Agüera
 // 2019): Ess = A + B, Ems = 1 − Ess, Favg = F0 + (1 − F0)/21,
 //   specular  = prefiltered · FssEss,   FssEss = kS·A + B
@@ -192,7 +192,13 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
   const F zero(0.0f), one(1.0f);
   const F n_dot_v = simd::dot(n, v);
   const F NoV = simd::clamp(n_dot_v, F(kMinNoV), one);
-  const Vec3L<F> r = n * (n_dot_v + n_dot_v) - v;
+  // The lobe's dominant direction (Lagarde & de Rousiers 2014, Frostbite): the mirror
+  // direction bent toward n as the lobe widens, f = (1 − α)(√(1 − α) + α) of the way from n
+  // to r (r at α = 0, n at α = 1); the lookups take any non-zero length.
+  const Vec3L<F> r0 = n * (n_dot_v + n_dot_v) - v;
+  const F s = one - m.alpha;
+  const F f = s * (simd::sqrt(s) + m.alpha);
+  const Vec3L<F> r = n + (r0 - n) * f;
   const EnvVec3<F> irr = env_irradiance(e, to_environment(e, n.x, n.y, n.z));
   const EnvVec3<F> rl = to_environment(e, r.x, r.y, r.z);
   const EnvVec3<F> pre = m.uniform_roughness >= 0.0f ? env_radiance_uniform(e, rl, m.uniform_roughness)
