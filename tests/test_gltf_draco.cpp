@@ -282,10 +282,14 @@ TEST_CASE("KHR_draco_mesh_compression: each invalid extension object is one line
     std::string message;
   };
   const std::vector<Case> cases = {
-      {"no_view", [&](Json& j) { ext(j).erase("bufferView"); }, x + ": has no bufferView (required)"},
-      {"bad_view", [&](Json& j) { ext(j)["bufferView"] = 7; }, x + "/bufferView: bufferView 7 does not exist"},
-      {"view_string", [&](Json& j) { ext(j)["bufferView"] = "0"; }, x + "/bufferView: must be an integer ≥ 0"},
-      {"no_attributes", [&](Json& j) { ext(j).erase("attributes"); }, x + "/attributes: must be an object (required)"},
+      {"no_view", [&](Json& j) { ext(j).erase("bufferView"); }, x + ": missing required property \"bufferView\""},
+      {"bad_view", [&](Json& j) { ext(j)["bufferView"] = 7; }, x + "/bufferView: bufferView 7 does not exist (1 bufferView)"},
+      // 2^32: tinygltf's Value read it as bufferView 0, and the file rendered.
+      {"view_2_32", [&](Json& j) { ext(j)["bufferView"] = 4294967296ull; }, x + "/bufferView: must be at most 2147483647, got 4294967296"},
+      {"attribute_2_32", [&](Json& j) { ext(j)["attributes"]["POSITION"] = 4294967296ull; },
+       x + "/attributes/POSITION: must be a Draco attribute id (an integer in 0 … 2147483647), got 4294967296"},
+      {"view_string", [&](Json& j) { ext(j)["bufferView"] = "0"; }, x + "/bufferView: must be an index (an integer >= 0), got \"0\""},
+      {"no_attributes", [&](Json& j) { ext(j).erase("attributes"); }, x + ": missing required property \"attributes\""},
       {"attribute_id", [&](Json& j) { ext(j)["attributes"]["NORMAL"] = 9; }, x + "/attributes/NORMAL: the Draco data has no attribute 9"},
       {"count", [&](Json& j) { j["accessors"][1]["count"] = 5; },
        "/accessors/1/count: is 5, but the Draco mesh has " + std::to_string(r.pos.size() / 3) + " points"},
