@@ -297,6 +297,16 @@ TEST_CASE("KHR_draco_mesh_compression: each invalid extension object is one line
        "/accessors/2/type: has 3 components, which /meshes/0/primitives/0/attributes/TEXCOORD_0 cannot use"},
       {"components", [&](Json& j) { j["accessors"][3]["type"] = "VEC3"; },
        "/accessors/3/type: has 3 components, but the Draco attribute has 4"},
+      // The decoded data is held to its accessors as stored data is (an indices accessor
+      // claiming 300 000 indices, or FLOAT indices, rendered Draco's triangles before).
+      {"indices_count", [&](Json& j) { j["accessors"][4]["count"] = 300000; },
+       "/accessors/4/count: is 300000, but the Draco mesh has " + std::to_string(r.indices.size()) + " indices (" +
+           std::to_string(r.indices.size() / 3) + " triangles)"},
+      {"indices_float", [&](Json& j) { j["accessors"][4]["componentType"] = 5126; },
+       "/accessors/4/componentType: indices must be unsigned bytes, shorts or ints"},
+      {"indices_vec2", [&](Json& j) { j["accessors"][4]["type"] = "VEC2"; }, "/accessors/4/type: indices must be SCALAR"},
+      {"float_integers", [&](Json& j) { j["accessors"][3]["componentType"] = 5126, j["accessors"][3].erase("normalized"); },
+       "/accessors/3/componentType: is FLOAT, but the Draco attribute holds integers"},
       {"integer_floats", [&](Json& j) {
          j["accessors"][2]["componentType"] = 5123;
          j["accessors"][2]["normalized"] = true;

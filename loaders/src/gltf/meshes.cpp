@@ -25,7 +25,10 @@ std::shared_ptr<const Mesh> Meshes::primitive(int mesh, std::size_t k, bool mirr
     const auto unmirrored = std::make_tuple(mesh, k, false);
     auto base = meshes_.find(unmirrored);
     const tg::Primitive& p = m_.meshes[static_cast<std::size_t>(mesh)].primitives[k];
-    std::shared_ptr<const Mesh> m = base != meshes_.end() ? base->second : primitive_mesh(p, pointer, normal_mapped);
+    const auto d = draco_indices_.find({static_cast<std::size_t>(mesh), k});
+    const int draco_indices = d != draco_indices_.end() ? d->second : -1;
+    std::shared_ptr<const Mesh> m =
+        base != meshes_.end() ? base->second : primitive_mesh(p, pointer, normal_mapped, draco_indices);
     if (base == meshes_.end()) meshes_[unmirrored] = m;
     if (mirrored) {
       // A mirroring transform turns counter-clockwise triangles clockwise on screen.
@@ -56,7 +59,8 @@ std::vector<std::uint32_t> Meshes::triangles(int mode, const std::vector<std::ui
   return t;
 }
 
-std::shared_ptr<const Mesh> Meshes::primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped) {
+std::shared_ptr<const Mesh> Meshes::primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped,
+                                                   int draco_indices) {
   auto attribute = [&](const char* name) {
     const auto it = p.attributes.find(name);
     return it == p.attributes.end() ? -1 : it->second;
@@ -98,7 +102,8 @@ std::shared_ptr<const Mesh> Meshes::primitive_mesh(const tg::Primitive& p, const
 
   std::vector<std::uint32_t> order;
   if (draco) {
-    order = draco->indices;  // triangles
+    // The triangles, held to their indices accessor's description when there is one.
+    order = draco_indices >= 0 ? resources_.draco_indices(*draco, draco_indices, pointer + "/indices") : draco->indices;
   } else if (p.indices >= 0) {
     order = resources_.read_indices(p.indices, n, pointer + "/indices");
   } else {

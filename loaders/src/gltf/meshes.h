@@ -37,7 +37,9 @@ class Meshes : public Context {
                                         bool normal_mapped);
 
  private:
-  std::shared_ptr<const Mesh> primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped);
+  // `draco_indices`: a Draco primitive's indices accessor (-1: none).
+  std::shared_ptr<const Mesh> primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped,
+                                             int draco_indices);
   std::vector<std::uint32_t> triangles(int mode, const std::vector<std::uint32_t>& v) const;
   static void flat_normals(Mesh& mesh);
 
