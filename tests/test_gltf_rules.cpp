@@ -240,3 +240,34 @@ TEST_CASE("glTF skins and animations: every reference names something that exist
        "/accessors/2/count: must be at most 268435456, got 1073741824"},
   });
 }
+
+TEST_CASE("glTF instancing: the draws of every mesh instance are counted from the JSON before any mesh is built") {
+  // One mesh of 1000 triangles (3000 positions without a bufferView: zeros, allowed) placed
+  // by `nodes` nodes. 2000 instances need far more than 32 MiB of draws: refused before the
+  // mesh is built (20 000 instances of a 130 000-triangle mesh took 8.6 s to be refused).
+  auto model = [](int nodes) {
+    Json g = {{"asset", {{"version", "2.0"}}},
+              {"meshes", Json::parse(R"([{"primitives": [{"attributes": {"POSITION": 0}}]}])")},
+              {"accessors", Json::parse(R"([{"componentType": 5126, "count": 3000, "type": "VEC3"}])")}};
+    std::vector<int> roots;
+    for (int i = 0; i < nodes; ++i) {
+      g["nodes"].push_back({{"mesh", 0}, {"translation", {i, 0, 0}}});
+      roots.push_back(i);
+    }
+    g["scenes"] = {{{"nodes", roots}}};
+    const std::string text = g.dump();
+    return std::vector<std::uint8_t>(text.begin(), text.end());
+  };
+  pbr::GltfOptions options;
+  options.memory_limit = std::uint64_t{32} << 20;
+  CHECK(pbr::load_gltf(model(1), "one.gltf", "/nonexistent-folder", options).objects.size() == 1);
+  std::string message = "(no error)";
+  try {
+    pbr::load_gltf(model(2000), "many.gltf", "/nonexistent-folder", options);
+  } catch (const pbr::LoadError& e) {
+    message = e.what();
+  }
+  CAPTURE(message);
+  CHECK(message.rfind("many.gltf: /scenes/0/nodes: its nodes place 2000 mesh instances, whose draws need an estimated ", 0) == 0);
+  CHECK(message.find("over the memory limit of 32.0 MiB (counted before any mesh is built)") != std::string::npos);
+}

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -106,9 +107,12 @@ LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string
 
 Bounds world_bounds(const std::vector<Object>& objects) {
   Bounds all{glm::vec3(std::numeric_limits<float>::infinity()), glm::vec3(-std::numeric_limits<float>::infinity())};
+  std::map<const Mesh*, Bounds> of_mesh;  // each mesh's bounds once, however many its instances
   for (const Object& o : objects) {
     if (!o.mesh) continue;
-    const Bounds b = bounds(*o.mesh);
+    auto [it, added] = of_mesh.try_emplace(o.mesh.get());
+    if (added) it->second = bounds(*o.mesh);
+    const Bounds b = it->second;
     if (b.empty()) continue;
     for (int k = 0; k < 8; ++k) {
       const glm::vec3 corner((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z);
