@@ -161,8 +161,11 @@ int info_gltf(const std::string& path) {
   }
   // What the scene draws: each primitive of each node that has a mesh (instances counted).
   std::size_t degenerate = 0, drawn = 0;
+  std::map<const pbr::Mesh*, std::size_t> degenerate_of;  // each mesh examined once, however many its instances
   for (const pbr::Object& o : scene.objects) {
-    degenerate += find_problems(*o.mesh).degenerate;
+    auto [it, added] = degenerate_of.try_emplace(o.mesh.get(), 0);
+    if (added) it->second = find_problems(*o.mesh).degenerate;
+    degenerate += it->second;
     drawn += o.mesh->triangle_count();
   }
   std::printf("  drawn      %zu primitive%s, %zu triangles (the scene's nodes)\n", scene.objects.size(),

@@ -4,7 +4,8 @@
 // not exist, so only embedded buffers and images (data URIs, .glb chunks) are read. A
 // LoadError is a fine outcome; anything else thrown, a crash, a hang or a sanitizer report
 // is a finding. A scene that loads must be drawable: every index names a vertex, every
-// position is finite, every non-empty stream has one entry per vertex.
+// position is finite, every non-empty stream has one entry per vertex; the automatic camera
+// frames it (pbr::gltf_scene_file) or refuses it with a LoadError.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -14,6 +15,8 @@
 #include "fuzz_support.h"
 
 #include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/loaded_scene.h"
+#include "softpbr/pbr/camera.h"
 
 namespace pbr = softpbr::pbr;
 
@@ -41,6 +44,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           finding("a position that is not finite");
       pbr::validate_streams(m);
     }
+    // The automatic camera frames it, or says why not (a LoadError naming the file): never
+    // an invalid camera (std::invalid_argument). Yaw far outside ±180 or not, by the size.
+    pbr::GltfView view;
+    view.width = 16;
+    view.height = 12;
+    view.environment = false;
+    view.yaw = size % 2 != 0 ? 1e25f : -190.0f;
+    const pbr::LoadedScene framed = pbr::gltf_scene_file(g, view, "fuzz.gltf");
+    pbr::validate(framed.scene.camera);
   } catch (const pbr::LoadError&) {
   } catch (const std::bad_alloc&) {
     finding("out of memory: a limit was not checked before allocating");

@@ -374,3 +374,66 @@ TEST_CASE("the automatic camera looks from the front, 15 degrees above: a model 
   CHECK(seen > 150);
   CHECK(edge_on < 20);
 }
+
+TEST_CASE("the automatic camera: bounds float cannot frame are one line naming the file, yaw is reduced modulo 360 exactly") {
+  // The triangle (0..1) placed by its node: scaled to 1e38 (the view distance squared
+  // overflows float), to 1e-40 (denormal: eye and target coincide in float), moved to 3e38
+  // and scaled to 1e37 (the same), and spanning -7e38 … 3e38 (beyond float). Each was "softpbr: internal error: camera …" (exit 5), no file named.
+  struct Case {
+    const char* name;
+    std::string node;
+    std::string message;
+  };
+  const std::vector<Case> cases = {
+      {"huge.gltf", R"("matrix": [1e38, 0, 0, 0, 0, 1e38, 0, 0, 0, 0, 1e38, 0, 0, 0, 0, 1])",
+       "the automatic camera cannot frame the model's bounds (0, 0, 0) to (1e+38, 1e+38, 0) in float precision"},
+      {"tiny.gltf", R"("scale": [1e-40, 1e-40, 1e-40])", "the automatic camera cannot frame the model's bounds"},
+      {"far.gltf", R"("translation": [3e38, 3e38, 3e38], "scale": [1e37, 1e37, 1e37])",
+       "the automatic camera cannot frame the model's bounds"},
+      {"overflow.gltf", R"("translation": [3e38, 0, 0], "scale": [-1e39, 1, 1])", "reach beyond float's range"},
+  };
+  pbr::GltfView view;
+  view.width = 32;
+  view.height = 24;
+  view.environment = false;
+  for (const Case& c : cases) {
+    const std::string name = c.name;
+    CAPTURE(name);
+    std::string text = camera_gltf(kOrtho);
+    const std::string node = R"({"mesh": 0})";
+    text.replace(text.find(node), node.size(), "{\"mesh\": 0, " + c.node + "}");
+    const fs::path model = write_file(c.name, text);
+    std::string message = "(no error)";
+    try {
+      pbr::gltf_scene_file(pbr::load_gltf(model), view, model.string());
+    } catch (const pbr::LoadError& e) {
+      message = e.what();
+    }
+    CAPTURE(message);
+    CHECK(message.rfind(model.string() + ": ", 0) == 0);
+    CHECK(message.find(c.message) != std::string::npos);
+    CHECK(message.find('\n') == std::string::npos);
+  }
+
+  // Yaw: 1e25° frames as its remainder modulo 360 (computed here in 128-bit integers: the
+  // float 1e25 is an integer), −1e25 as its negation; 540° as 180°, −190° as 170°.
+  const fs::path model = write_file("yaw.gltf", camera_gltf(kOrtho));
+  auto camera_at = [&](float yaw) {
+    pbr::GltfView v = view;
+    v.yaw = yaw;
+    return pbr::gltf_scene_file(pbr::load_gltf(model), v, model.string()).scene.camera;
+  };
+  const float big = 1e25f;
+  const auto exact = static_cast<unsigned __int128>(static_cast<long double>(big));
+  const auto remainder = static_cast<int>(exact % 360);  // in [0, 360)
+  const float reduced = static_cast<float>(remainder > 180 ? remainder - 360 : remainder);
+  const std::vector<std::pair<float, float>> same = {{big, reduced}, {-big, -reduced}, {540.0f, 180.0f}, {-190.0f, 170.0f},
+                                                     {720.25f, 0.25f}};
+  for (const auto& [yaw, equivalent] : same) {
+    CAPTURE(yaw);
+    const pbr::Camera a = camera_at(yaw), b = camera_at(equivalent);
+    CHECK(a.position == b.position);
+    CHECK(a.target == b.target);
+    CHECK(a.up == b.up);
+  }
+}

@@ -282,10 +282,14 @@ TEST_CASE("KHR_draco_mesh_compression: each invalid extension object is one line
     std::string message;
   };
   const std::vector<Case> cases = {
-      {"no_view", [&](Json& j) { ext(j).erase("bufferView"); }, x + ": has no bufferView (required)"},
-      {"bad_view", [&](Json& j) { ext(j)["bufferView"] = 7; }, x + "/bufferView: bufferView 7 does not exist"},
-      {"view_string", [&](Json& j) { ext(j)["bufferView"] = "0"; }, x + "/bufferView: must be an integer ≥ 0"},
-      {"no_attributes", [&](Json& j) { ext(j).erase("attributes"); }, x + "/attributes: must be an object (required)"},
+      {"no_view", [&](Json& j) { ext(j).erase("bufferView"); }, x + ": missing required property \"bufferView\""},
+      {"bad_view", [&](Json& j) { ext(j)["bufferView"] = 7; }, x + "/bufferView: bufferView 7 does not exist (1 bufferView)"},
+      // 2^32: tinygltf's Value read it as bufferView 0, and the file rendered.
+      {"view_2_32", [&](Json& j) { ext(j)["bufferView"] = 4294967296ull; }, x + "/bufferView: must be at most 2147483647, got 4294967296"},
+      {"attribute_2_32", [&](Json& j) { ext(j)["attributes"]["POSITION"] = 4294967296ull; },
+       x + "/attributes/POSITION: must be a Draco attribute id (an integer in 0 … 2147483647), got 4294967296"},
+      {"view_string", [&](Json& j) { ext(j)["bufferView"] = "0"; }, x + "/bufferView: must be an index (an integer >= 0), got \"0\""},
+      {"no_attributes", [&](Json& j) { ext(j).erase("attributes"); }, x + ": missing required property \"attributes\""},
       {"attribute_id", [&](Json& j) { ext(j)["attributes"]["NORMAL"] = 9; }, x + "/attributes/NORMAL: the Draco data has no attribute 9"},
       {"count", [&](Json& j) { j["accessors"][1]["count"] = 5; },
        "/accessors/1/count: is 5, but the Draco mesh has " + std::to_string(r.pos.size() / 3) + " points"},
@@ -293,6 +297,16 @@ TEST_CASE("KHR_draco_mesh_compression: each invalid extension object is one line
        "/accessors/2/type: has 3 components, which /meshes/0/primitives/0/attributes/TEXCOORD_0 cannot use"},
       {"components", [&](Json& j) { j["accessors"][3]["type"] = "VEC3"; },
        "/accessors/3/type: has 3 components, but the Draco attribute has 4"},
+      // The decoded data is held to its accessors as stored data is (an indices accessor
+      // claiming 300 000 indices, or FLOAT indices, rendered Draco's triangles before).
+      {"indices_count", [&](Json& j) { j["accessors"][4]["count"] = 300000; },
+       "/accessors/4/count: is 300000, but the Draco mesh has " + std::to_string(r.indices.size()) + " indices (" +
+           std::to_string(r.indices.size() / 3) + " triangles)"},
+      {"indices_float", [&](Json& j) { j["accessors"][4]["componentType"] = 5126; },
+       "/accessors/4/componentType: indices must be unsigned bytes, shorts or ints"},
+      {"indices_vec2", [&](Json& j) { j["accessors"][4]["type"] = "VEC2"; }, "/accessors/4/type: indices must be SCALAR"},
+      {"float_integers", [&](Json& j) { j["accessors"][3]["componentType"] = 5126, j["accessors"][3].erase("normalized"); },
+       "/accessors/3/componentType: is FLOAT, but the Draco attribute holds integers"},
       {"integer_floats", [&](Json& j) {
          j["accessors"][2]["componentType"] = 5123;
          j["accessors"][2]["normalized"] = true;

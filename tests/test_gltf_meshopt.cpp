@@ -417,9 +417,9 @@ TEST_CASE("EXT_meshopt_compression: each invalid extension object or placeholder
   const std::vector<Case> cases = {
       {"mode", [&](Json& j) { ext(j, 1)["mode"] = "STRIPS"; }, x + "/mode: must be ATTRIBUTES, TRIANGLES or INDICES"},
       {"filter", [&](Json& j) { ext(j, 1)["filter"] = "LOG"; }, x + "/filter: must be NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL"},
-      {"no_count", [&](Json& j) { ext(j, 1).erase("count"); }, x + ": has no count (required)"},
+      {"no_count", [&](Json& j) { ext(j, 1).erase("count"); }, x + ": missing required property \"count\""},
       {"no_mode", [&](Json& j) { ext(j, 1).erase("mode"); }, x + ": has no mode (required)"},
-      {"count_string", [&](Json& j) { ext(j, 1)["count"] = "81"; }, x + "/count: must be an integer ≥ 0"},
+      {"count_string", [&](Json& j) { ext(j, 1)["count"] = "81"; }, x + "/count: must be an index (an integer >= 0), got \"81\""},
       {"stride_mismatch", [&](Json& j) { j["bufferViews"][1]["byteStride"] = 8; },
        x + "/byteStride: is 4, but the bufferView's byteStride is 8"},
       {"length", [&](Json& j) { ext(j, 1)["count"] = 80; },
@@ -454,7 +454,16 @@ TEST_CASE("EXT_meshopt_compression: each invalid extension object or placeholder
       {"past_buffer", [&](Json& j) { ext(j, 1)["byteOffset"] = 1000000; },
        x + ": " + std::to_string(good["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]["byteLength"].get<int>()) +
            " bytes at offset 1000000 run past buffer 0 (" + std::to_string(bin.size()) + " bytes)"},
-      {"no_buffer", [&](Json& j) { ext(j, 1)["buffer"] = 5; }, x + "/buffer: buffer 5 does not exist"},
+      {"no_buffer", [&](Json& j) { ext(j, 1)["buffer"] = 5; }, x + "/buffer: buffer 5 does not exist (2 buffers)"},
+      // Integers beyond int (tinygltf's Value read them modulo 2^32: 2^33 was offset 0, and
+      // the file rendered as the valid one).
+      {"offset_2_33", [&](Json& j) { ext(j, 1)["byteOffset"] = 8589934592ull; },
+       x + "/byteOffset: must be at most 2147483647, got 8589934592"},
+      {"length_2_32", [&](Json& j) { ext(j, 1)["byteLength"] = 4294967296ull + ext(j, 1)["byteLength"].get<std::uint64_t>(); },
+       x + "/byteLength: must be at most 2147483647, got " +
+           std::to_string(4294967296ull + good["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]["byteLength"].get<std::uint64_t>())},
+      {"count_2_32", [&](Json& j) { ext(j, 1)["count"] = 4294967296ull + 81; }, x + "/count: must be at most 2147483647, got 4294967377"},
+      {"count_2_31", [&](Json& j) { ext(j, 1)["count"] = 2147483648ull; }, x + "/count: must be at most 2147483647, got 2147483648"},
       {"fallback_source", [&](Json& j) { ext(j, 1)["buffer"] = 1; },
        x + "/buffer: buffer 1 has no data (it has no uri): compressed data must be in a buffer that has"},
       {"truncated", [&](Json& j) { ext(j, 1)["byteLength"] = 20; },

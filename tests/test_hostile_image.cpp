@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "softpbr/image/load.h"
+#include "softpbr/image/write.h"
 
 namespace image = softpbr::image;
 namespace fs = std::filesystem;
@@ -182,4 +183,27 @@ TEST_CASE("image headers claiming more than kMaxTargetSize a side are refused be
   } catch (const std::runtime_error& e) {
     CHECK(std::string(e.what()).find("100000x100000") != std::string::npos);
   }
+}
+
+TEST_CASE("a PNG whose compressed data is far too short for its declared size is refused before the image is allocated") {
+  // IHDR: 4096 x 4096 RGBA (64 MiB decoded), then 1000 bytes of IDAT: deflate expands at
+  // most 1032-fold, so they cannot hold the image (libspng allocated it, then said "IDAT
+  // stream too short"; a 1.4 kB .glb declaring 16384² reached 1 GiB and 1.9 s).
+  auto chunk = [](const std::string& type, const std::string& data) {
+    const auto n = static_cast<std::uint32_t>(data.size());
+    std::string c = {static_cast<char>(n >> 24), static_cast<char>(n >> 16), static_cast<char>(n >> 8), static_cast<char>(n)};
+    return c + type + data + std::string(4, '\0');  // (the CRC: never reached)
+  };
+  const std::string ihdr("\x00\x00\x10\x00\x00\x00\x10\x00\x08\x06\x00\x00\x00", 13);
+  const std::string png = "\x89PNG\r\n\x1a\n" + chunk("IHDR", ihdr) + chunk("IDAT", std::string(1000, 'x')) + chunk("IEND", "");
+  const fs::path path = scratch("short-idat.png");
+  write(path, png);
+  check_refused(load_png, path,
+                "cannot decode (truncated: its 1000 bytes of compressed image data (IDAT) cannot hold the 4096x4096 image "
+                "it declares (67108864 bytes; deflate expands at most 1032-fold))");
+  // A uniform image compresses close to that limit, and loads.
+  image::Image8 flat(2048, 2048, image::PixelVector<std::uint8_t>(std::size_t{2048} * 2048 * 4, 200));
+  const std::vector<std::uint8_t> encoded = image::encode_png(flat, "flat.png");
+  CAPTURE(encoded.size());
+  CHECK(image::load_png(encoded, "flat.png").rgba == flat.rgba);
 }

@@ -254,6 +254,21 @@ PY
 import json; g = json.load(open('tri.gltf')); g['extras'] = list(range(20000)); open('tri-extras.gltf', 'w').write(json.dumps(g))"
   expect_error 3 "tri-extras.gltf: parsing its JSON (20063 values) needs an estimated 3.8 MiB, over the memory limit of 1.0 MiB" \
     render tri-extras.gltf -o memory.png --width 32 --height 24 --max-memory 1
+  # Bounds the automatic camera cannot frame in float: exit 3 naming the file (was exit 5,
+  # "softpbr: internal error: camera position: ..."); a glTF 3.0 file is refused; --yaw
+  # 1e25 frames as its exact remainder modulo 360 (issue 52).
+  python3 -c "
+import json; g = json.load(open('tri.gltf'))
+g['nodes'][0]['matrix'] = [1e38, 0, 0, 0, 0, 1e38, 0, 0, 0, 0, 1e38, 0, 0, 0, 0, 1]; open('tri-scaled.gltf', 'w').write(json.dumps(g))
+g = json.load(open('tri.gltf')); g['asset']['version'] = '3.0'; open('tri-v3.gltf', 'w').write(json.dumps(g))"
+  expect_error 3 "tri-scaled.gltf: the automatic camera cannot frame the model's bounds (0, 0, 0) to (1e+38, 1e+38, 0) in float precision (camera position: must be less than 1e19 from the target (the view matrix squares the distance in float))" \
+    render tri-scaled.gltf -o scaled.png --width 32 --height 24
+  expect_error 3 "tri-v3.gltf: /asset/version: glTF 3.0 is not glTF 2: this reader reads glTF 2.x files only" \
+    render tri-v3.gltf -o v3.png --width 32 --height 24
+  reduced=$(python3 -c "
+import struct; r = int(struct.unpack('<f', struct.pack('<f', 1e25))[0]) % 360; print(r - 360 if r > 180 else r)")
+  far=$("$softpbr" render tri.gltf -o yaw-far.png --width 32 --height 24 --yaw 1e25) && near=$("$softpbr" render tri.gltf -o yaw-near.png --width 32 --height 24 --yaw "$reduced") \
+    && [ "${far##*hash }" = "${near##*hash }" ] && pass "--yaw 1e25 renders as --yaw $reduced" || fail "--yaw 1e25: ${far:-failed}, --yaw $reduced: ${near:-failed}"
   # Out of the process's memory while tinygltf parses (a limit the estimate does not know):
   # one line naming the file, exit 3. Not under ASan, which reserves terabytes of address space.
   if ! ldd "$softpbr" 2>/dev/null | grep -q libasan; then

@@ -13,7 +13,9 @@
 namespace softpbr::image::detail {
 
 // Walks `file` (a whole file with the PNG signature) up to the IEND chunk. Returns "" when
-// every chunk's data lies inside the file, else which chunk runs past the end.
+// every chunk's data lies inside the file and its IDAT chunks' compressed bytes can inflate
+// to the image IHDR declares (deflate expands at most 1032-fold), else which chunk runs past
+// the end, or that the compressed data is too short: before the decoder allocates the image.
 std::string png_truncation(std::span<const std::uint8_t> file);
 
 }  // namespace softpbr::image::detail

@@ -13,8 +13,12 @@ constexpr int kDrawVaryings = raster::kVaryingCount<TexturedPbrShader::Varyings>
 static_assert(kDrawVaryings >= raster::kVaryingCount<PbrShader::Varyings>);
 }  // namespace
 
+std::uint64_t object_draw_bytes(std::uint64_t vertices, std::uint64_t triangles) {
+  return raster::draw_geometry_bytes(static_cast<std::size_t>(vertices), static_cast<std::size_t>(triangles), kDrawVaryings);
+}
+
 void count_object_memory(LoadedScene& f, const Object& o, std::set<const void*>& counted) {
-  f.mesh_bytes += raster::draw_geometry_bytes(o.mesh->vertices.size(), o.mesh->triangle_count(), kDrawVaryings);
+  f.mesh_bytes += object_draw_bytes(o.mesh->vertices.size(), o.mesh->triangle_count());
   if (counted.insert(o.mesh.get()).second)
     f.mesh_bytes += o.mesh->vertices.size() * sizeof(MeshVertex) + o.mesh->indices.size() * 4;
   for (const TextureSlot* t : {&o.material.base_color_texture, &o.material.metallic_roughness_texture,

@@ -53,6 +53,11 @@ Container read_container(std::span<const std::uint8_t> bytes) {
     c.json = text;
     return c;
   }
+  // glTF 2.0 §4.4.3.1: a glTF 2 binary file's header says version 2 (glTF 1.0's binary
+  // extension wrote 1, with another layout).
+  if (bytes.size() >= 8 && le32(bytes.data() + 4) != 2)
+    c.version_problem = "the .glb header's version is " + std::to_string(le32(bytes.data() + 4)) +
+                        ": glTF 2.0 binary files are version 2";
   if (bytes.size() < 20) return c;
   // The binary chunk follows the JSON chunk (whatever its type), within the header's length.
   const std::uint64_t end = std::min<std::uint64_t>(le32(bytes.data() + 8), bytes.size());
@@ -248,6 +253,7 @@ Document read_document(std::span<const std::uint8_t> bytes, const std::string& f
                        bool schema) {
   Document d;
   d.container = read_container(bytes);
+  if (!d.container.version_problem.empty()) throw LoadError(file + ": " + d.container.version_problem);
   if (!d.container.bin_problem.empty()) throw LoadError(file + ": " + d.container.bin_problem);
   check_json(d.container, file, memory_limit);
   nlohmann::json dom = parse_json(d.container.json);

@@ -32,6 +32,8 @@ struct Container {
   // file's): tinygltf 2.7 leaves the chunk's 8-byte header out of its check and then
   // copies up to 8 bytes from past the end (fuzz_gltf). What is wrong, else "".
   std::string bin_problem;
+  // A .glb header's version other than 2, else "".
+  std::string version_problem;
 };
 
 Container read_container(std::span<const std::uint8_t> bytes);

@@ -1,6 +1,7 @@
 // The glTF reader's meshes (see meshes.h).
 #include "gltf/meshes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -8,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "gltf/draco.h"
+#include "softpbr/loaders/loaded_scene.h"
 
 namespace softpbr::pbr::gltf {
 
@@ -15,6 +17,28 @@ void Meshes::check_draco_indices(std::size_t mesh, std::size_t k, const std::str
   if (const auto d = draco_indices_.find({mesh, k}); d != draco_indices_.end())
     if (d->second < 0 || static_cast<std::size_t>(d->second) >= m_.accessors.size())
       fail(pointer + "/indices", "accessor " + std::to_string(d->second) + " does not exist");
+}
+
+std::uint64_t Meshes::draw_bytes_lower_bound(int index) const {
+  const tg::Mesh& mesh = m_.meshes[static_cast<std::size_t>(index)];
+  auto count = [&](int a) -> std::uint64_t {
+    return a >= 0 && static_cast<std::size_t>(a) < m_.accessors.size() ? m_.accessors[static_cast<std::size_t>(a)].count : 0;
+  };
+  std::uint64_t bytes = 0;
+  for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
+    const tg::Primitive& p = mesh.primitives[k];
+    const auto position = p.attributes.find("POSITION");
+    const std::uint64_t vertices = position != p.attributes.end() ? count(position->second) : 0;
+    const auto d = draco_indices_.find({static_cast<std::size_t>(index), k});
+    const std::uint64_t corners = d != draco_indices_.end() ? count(d->second) : p.indices >= 0 ? count(p.indices) : vertices;
+    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    const std::uint64_t triangles = mode == TINYGLTF_MODE_TRIANGLES ? corners / 3
+                                    : mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN
+                                        ? (corners >= 2 ? corners - 2 : 0)
+                                        : 0;
+    if (triangles > 0) bytes += object_draw_bytes(std::min(vertices, kMaxElements), std::min(triangles, kMaxElements));
+  }
+  return bytes;
 }
 
 std::shared_ptr<const Mesh> Meshes::primitive(int mesh, std::size_t k, bool mirrored, const std::string& pointer,
@@ -25,7 +49,10 @@ std::shared_ptr<const Mesh> Meshes::primitive(int mesh, std::size_t k, bool mirr
     const auto unmirrored = std::make_tuple(mesh, k, false);
     auto base = meshes_.find(unmirrored);
     const tg::Primitive& p = m_.meshes[static_cast<std::size_t>(mesh)].primitives[k];
-    std::shared_ptr<const Mesh> m = base != meshes_.end() ? base->second : primitive_mesh(p, pointer, normal_mapped);
+    const auto d = draco_indices_.find({static_cast<std::size_t>(mesh), k});
+    const int draco_indices = d != draco_indices_.end() ? d->second : -1;
+    std::shared_ptr<const Mesh> m =
+        base != meshes_.end() ? base->second : primitive_mesh(p, pointer, normal_mapped, draco_indices);
     if (base == meshes_.end()) meshes_[unmirrored] = m;
     if (mirrored) {
       // A mirroring transform turns counter-clockwise triangles clockwise on screen.
@@ -56,7 +83,8 @@ std::vector<std::uint32_t> Meshes::triangles(int mode, const std::vector<std::ui
   return t;
 }
 
-std::shared_ptr<const Mesh> Meshes::primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped) {
+std::shared_ptr<const Mesh> Meshes::primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped,
+                                                   int draco_indices) {
   auto attribute = [&](const char* name) {
     const auto it = p.attributes.find(name);
     return it == p.attributes.end() ? -1 : it->second;
@@ -98,7 +126,8 @@ std::shared_ptr<const Mesh> Meshes::primitive_mesh(const tg::Primitive& p, const
 
   std::vector<std::uint32_t> order;
   if (draco) {
-    order = draco->indices;  // triangles
+    // The triangles, held to their indices accessor's description when there is one.
+    order = draco_indices >= 0 ? resources_.draco_indices(*draco, draco_indices, pointer + "/indices") : draco->indices;
   } else if (p.indices >= 0) {
     order = resources_.read_indices(p.indices, n, pointer + "/indices");
   } else {

@@ -30,6 +30,12 @@ class Meshes : public Context {
   // must exist.
   void check_draco_indices(std::size_t mesh, std::size_t k, const std::string& pointer) const;
 
+  // A lower bound of the draw memory of one instance of mesh `index` (a valid index), from
+  // its accessors' counts alone (nothing decoded): each primitive's triangles (of its
+  // indices' or positions' count, by its mode) and its positions' count, as
+  // object_draw_bytes counts them once the mesh is built.
+  std::uint64_t draw_bytes_lower_bound(int index) const;
+
   // Primitive `k` of mesh `mesh` (at `pointer`), made once; `mirrored`: with each
   // triangle's winding reversed (a mirroring transform turns counter-clockwise triangles
   // clockwise on screen).
@@ -37,7 +43,9 @@ class Meshes : public Context {
                                         bool normal_mapped);
 
  private:
-  std::shared_ptr<const Mesh> primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped);
+  // `draco_indices`: a Draco primitive's indices accessor (-1: none).
+  std::shared_ptr<const Mesh> primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped,
+                                             int draco_indices);
   std::vector<std::uint32_t> triangles(int mode, const std::vector<std::uint32_t>& v) const;
   static void flat_normals(Mesh& mesh);
 

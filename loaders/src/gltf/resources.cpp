@@ -187,7 +187,9 @@ std::vector<float> Resources::read_floats(int index, const std::string& referrer
   return out;
 }
 
-std::vector<std::uint32_t> Resources::read_indices(int index, std::size_t vertex_count, const std::string& referrer) const {
+// An indices accessor's rules, for stored and for Draco-decoded indices alike: it exists,
+// its count is in range, it is SCALAR of an unsigned type, not sparse.
+Resources::Elements Resources::index_elements(int index, const std::string& referrer) const {
   const Elements e = elements(index, referrer);
   const std::string pointer = "/accessors/" + std::to_string(index);
   if (e.components != 1) fail(pointer + "/type", "indices must be SCALAR");
@@ -197,6 +199,40 @@ std::vector<std::uint32_t> Resources::read_indices(int index, std::size_t vertex
     fail(pointer + "/componentType", "indices must be unsigned bytes, shorts or ints");
   if (m_.accessors[static_cast<std::size_t>(index)].sparse.isSparse)
     fail(pointer + "/sparse", "sparse index accessors are not supported");
+  return e;
+}
+
+// The largest value a component of `type` holds (integer types), and its name.
+static std::pair<double, const char*> integer_range(int type, double& lowest) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: lowest = -128; return {127, "BYTE"};
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: lowest = 0; return {255, "UNSIGNED_BYTE"};
+    case TINYGLTF_COMPONENT_TYPE_SHORT: lowest = -32768; return {32767, "SHORT"};
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: lowest = 0; return {65535, "UNSIGNED_SHORT"};
+    default: lowest = 0; return {4294967295.0, "UNSIGNED_INT"};
+  }
+}
+
+std::vector<std::uint32_t> Resources::draco_indices(const DracoMesh& d, int index, const std::string& referrer) const {
+  const Elements e = index_elements(index, referrer);
+  const std::string pointer = "/accessors/" + std::to_string(index);
+  // KHR_draco_mesh_compression: the accessor describes the decoded triangles, as it would
+  // describe stored ones: their number and a type that holds every index.
+  if (e.count != d.indices.size())
+    fail(pointer + "/count", "is " + str(e.count) + ", but the Draco mesh has " + str(d.indices.size()) + " indices (" +
+                                 str(d.indices.size() / 3) + " triangles)");
+  double lowest = 0;
+  const auto [highest, name] = integer_range(e.component_type, lowest);
+  for (std::size_t i = 0; i < d.indices.size(); ++i)
+    if (d.indices[i] > highest)
+      fail(pointer + "/componentType", std::string(name) + " cannot hold the Draco mesh's index " +
+                                           std::to_string(d.indices[i]) + " (element " + str(i) + ")");
+  return d.indices;
+}
+
+std::vector<std::uint32_t> Resources::read_indices(int index, std::size_t vertex_count, const std::string& referrer) const {
+  const Elements e = index_elements(index, referrer);
+  const std::string pointer = "/accessors/" + std::to_string(index);
   if (e.base == nullptr) fail(pointer, "indices need a bufferView");
   std::vector<std::uint32_t> out(e.count);
   for (std::size_t i = 0; i < e.count; ++i) {
@@ -245,10 +281,21 @@ std::vector<float> Resources::draco_values(const DracoMesh& d, const std::string
                                 std::to_string(da.components));
   if (acc.count != d.points)
     fail(pointer + "/count", "is " + str(acc.count) + ", but the Draco mesh has " + str(d.points) + " points");
+  if (acc.sparse.isSparse) fail(pointer + "/sparse", "a Draco attribute's accessor cannot be sparse");
   std::vector<float> v = da.values;
+  // The accessor describes the decoded values as it would stored ones: floats for FLOAT,
+  // integers its component type holds otherwise.
+  if (acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT && !da.dequantized)
+    fail(pointer + "/componentType", "is FLOAT, but the Draco attribute holds integers");
   if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT) {
     if (da.dequantized)
       fail(pointer + "/componentType", "is an integer type, but the Draco attribute holds floats");
+    double lowest = 0;
+    const auto [highest, type_name] = integer_range(acc.componentType, lowest);
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!(v[i] >= lowest && v[i] <= highest))
+        fail(pointer + "/componentType", std::string(type_name) + " cannot hold the Draco attribute's value " +
+                                             std::to_string(static_cast<long long>(v[i])) + " (element " + str(i / static_cast<std::size_t>(comps)) + ")");
     if (acc.normalized) {
       const float scale = acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE             ? 127.0f
                           : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE  ? 255.0f

@@ -36,6 +36,11 @@ class Resources : public Context {
   // An indices accessor's values, each below `vertex_count`.
   std::vector<std::uint32_t> read_indices(int index, std::size_t vertex_count, const std::string& referrer) const;
 
+  // A Draco primitive's indices (the decoded triangles), held to the rules of read_indices'
+  // accessor: `index` must describe them (SCALAR, unsigned, their count, a type that holds
+  // each).
+  std::vector<std::uint32_t> draco_indices(const DracoMesh& d, int index, const std::string& referrer) const;
+
   // A primitive's KHR_draco_mesh_compression object, decoded.
   DracoMesh draco_mesh(const tg::Value& x, const std::string& ep) const;
   // A Draco attribute's values as the accessor `a` describes them (its type and count must
@@ -63,6 +68,7 @@ class Resources : public Context {
   static std::uint32_t index_value(const std::uint8_t* p, int type);
   std::pair<const std::uint8_t*, std::size_t> view_bytes(int view, const std::string& referrer) const;
   Elements elements(int index, const std::string& referrer) const;
+  Elements index_elements(int index, const std::string& referrer) const;
 
   void check_texture_memory(const std::vector<std::pair<int, raster::ColorSpace>>& jobs) const;
   void for_each_job(std::size_t count, const std::function<void(std::size_t)>& fn) const;

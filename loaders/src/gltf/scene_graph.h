@@ -38,6 +38,7 @@ class SceneGraph : public Context {
  private:
   void check_extensions() const;
   int pick_scene() const;
+  void check_draw_memory(const std::vector<int>& roots, const std::string& where) const;
   glm::dmat4 local_matrix(const tg::Node& n, const std::string& pointer) const;
   void visit(int index, const glm::dmat4& parent, const std::string& referrer, int depth, std::vector<bool>& on_path);
   void add_mesh(int index, const glm::dmat4& world, const std::string& referrer);

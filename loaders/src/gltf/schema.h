@@ -9,7 +9,15 @@
 // with its JSON pointer: every object that must be an object, every required property
 // (glTF 2.0 §5, the schema's "required"), the JSON type of every property softpbr reads,
 // and the enums (componentType, type, mode, filters, wrap modes, alphaMode, camera type).
-// Numeric ranges stay with the loader, which checks the values it uses (with their
+// Then the specification's MUST rules across properties: asset.version and minVersion
+// (a 2.x file, needing no more than 2.0), every integer as the exact value it is (within
+// int where tinygltf holds an int — indices, and every integer inside "extensions" — and
+// an accessor's count within the reader's 2^28), one parent a node, no cycle, scenes
+// listing root nodes once, a node's matrix or TRS and an affine matrix, normalized only on
+// integer types below UNSIGNED_INT, the component types of vertex attributes (integers
+// only with KHR_mesh_quantization), and the references of skins, animations and the
+// extensions softpbr reads (KHR_lights_punctual, Draco, EXT_meshopt_compression). Other
+// numeric ranges stay with the loader, which checks the values it uses (with their
 // pointers too).
 #pragma once
 

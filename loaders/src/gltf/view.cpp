@@ -2,16 +2,59 @@
 // them, the light rig without lights, and GltfView's scene (gltf_scene_file).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <limits>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
 
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/load_error.h"
 #include "softpbr/pbr/environment.h"
 
 namespace softpbr::pbr {
+
+namespace {
+
+// `degrees` (finite) reduced modulo 360 into (−180, 180], exactly: an angle of 1e25° is
+// the angle it is modulo 360 (sin and cos of its radians would be of a rounded value, far
+// outside the range dmath's reduction is exact in). Angles already in (−180, 180] are
+// returned unchanged, so they frame as before. No fmod: below 2^52 the quotient's floor
+// leaves an exact remainder (x − 360q is a multiple of x's last place below 720, which
+// fits 53 bits, and 360q < 2^52 is exact); from 2^52 on x is an integer m · 2^k, and its
+// remainder is (m mod 360) · (2^k mod 360) mod 360 in integers.
+double reduce_degrees(double x) {
+  if (x > -180.0 && x <= 180.0) return x;
+  double r = 0.0;
+  if (std::fabs(x) < 4503599627370496.0) {  // 2^52
+    const double q = std::floor(x / 360.0);
+    r = x - 360.0 * q;
+    if (r < 0.0) r += 360.0;
+    if (r >= 360.0) r -= 360.0;
+  } else {
+    int e = 0;
+    const double m = std::ldexp(std::frexp(std::fabs(x), &e), 53);  // |x| = m · 2^(e − 53), m an integer
+    std::uint64_t power = 1;                                          // 2^(e − 53) mod 360
+    for (int k = 53; k < e; ++k) power = power * 2 % 360;
+    const std::uint64_t rest = static_cast<std::uint64_t>(m) % 360 * power % 360;
+    r = static_cast<double>(x < 0.0 ? (360 - rest) % 360 : rest);
+  }
+  return r > 180.0 ? r - 360.0 : r;
+}
+
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string show(const glm::vec3& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%g, %g, %g)", static_cast<double>(v.x), static_cast<double>(v.y),
+                static_cast<double>(v.z));
+  return text;
+}
+
+}  // namespace
 
 LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string& name) {
   LoadedScene f;
@@ -28,10 +71,23 @@ LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string
   } else {
     if (!(view.pitch >= -89.0f && view.pitch <= 89.0f) || !std::isfinite(view.yaw))
       throw std::invalid_argument("pitch: expected degrees in [-89, 89]; yaw: a finite number of degrees");
-    f.scene.camera = framing_camera(world_bounds(f.scene.objects),
-                                    static_cast<float>(view.width) / static_cast<float>(view.height),
-                                    static_cast<float>(dmath::radians(view.yaw)),
+    // A model whose bounds float cannot hold, or which is too large or too small for a
+    // camera in float to frame (positions near 3.4e38, a node scaling by 1e38, a model
+    // 1e-40 across), is an input error naming the file, not an invalid camera later.
+    const Bounds b = world_bounds(f.scene.objects);
+    if (!b.empty() && (!finite3(b.min) || !finite3(b.max)))
+      throw LoadError(name + ": the automatic camera cannot frame the model: its bounds " + show(b.min) + " to " +
+                      show(b.max) + " reach beyond float's range (a vertex or a node's transform near 3.4e38)");
+    f.scene.camera = framing_camera(b, static_cast<float>(view.width) / static_cast<float>(view.height),
+                                    static_cast<float>(dmath::radians(reduce_degrees(view.yaw))),
                                     static_cast<float>(dmath::radians(view.pitch)));
+    try {
+      validate(f.scene.camera);
+    } catch (const std::invalid_argument& e) {
+      throw LoadError(name + ": the automatic camera cannot frame the model's bounds " + show(b.min) + " to " +
+                      show(b.max) + " in float precision (" + e.what() + ")" +
+                      (g.cameras.empty() ? std::string() : "; its own cameras can (--camera)"));
+    }
   }
   f.scene.ambient = glm::vec3(kDefaultAmbient);
   f.scene.background = {0.05f, 0.05f, 0.06f, 1.0f};
@@ -51,9 +107,12 @@ LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string
 
 Bounds world_bounds(const std::vector<Object>& objects) {
   Bounds all{glm::vec3(std::numeric_limits<float>::infinity()), glm::vec3(-std::numeric_limits<float>::infinity())};
+  std::map<const Mesh*, Bounds> of_mesh;  // each mesh's bounds once, however many its instances
   for (const Object& o : objects) {
     if (!o.mesh) continue;
-    const Bounds b = bounds(*o.mesh);
+    auto [it, added] = of_mesh.try_emplace(o.mesh.get());
+    if (added) it->second = bounds(*o.mesh);
+    const Bounds b = it->second;
     if (b.empty()) continue;
     for (int k = 0; k < 8; ++k) {
       const glm::vec3 corner((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z);
@@ -72,8 +131,13 @@ Camera framing_camera(const Bounds& b, float aspect, float yaw, float pitch) {
   // The horizontal half-angle: atan(tan(φ/2) · aspect).
   const double half_h = dmath::atan2(dmath::tan(half_v) * aspect, 1.0);
   const double half = std::min(half_v, half_h);
-  const glm::dvec3 centre(b.centre());
-  const glm::dvec3 extent(b.extent());
+  glm::dvec3 centre(b.centre());
+  glm::dvec3 extent(b.extent());
+  // Bounds near float's range overflow the float sums: then in double.
+  if (!std::isfinite(centre.x + centre.y + centre.z + extent.x + extent.y + extent.z)) {
+    centre = (glm::dvec3(b.min) + glm::dvec3(b.max)) * 0.5;
+    extent = glm::dvec3(b.max) - glm::dvec3(b.min);
+  }
   double r = std::sqrt(glm::dot(extent, extent)) / 2.0;
   if (!(r > 0.0)) r = 1.0;
   const double d = r / dmath::sin(half) * 1.05;

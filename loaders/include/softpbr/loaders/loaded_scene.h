@@ -44,6 +44,10 @@ struct LoadedScene {
 // object (gltf_scene_file, Python's Scene.add); scene files count theirs as they load.
 void count_object_memory(LoadedScene& scene, const Object& o, std::set<const void*>& counted);
 
+// The draw part of that estimate, for an object of `vertices` and `triangles`: what a
+// loader counts before it builds the objects (glTF instancing: instances × triangles).
+std::uint64_t object_draw_bytes(std::uint64_t vertices, std::uint64_t triangles);
+
 // The name scene files (and code written before LoadedScene) give it: the same type.
 using SceneFile = LoadedScene;
 
