@@ -78,7 +78,7 @@ class Environment {
               raster::ThreadPool* pool = nullptr);
 
   // A studio: a soft grey dome, a darker floor and three softboxes (key, fill, rim),
-  // built procedurally (no file, the same bits everywhere). What `softpbr render
+  // built procedurally (no file, the same bits everywhere), prefiltered at size 128. What `softpbr render
   // model.glb` lights a model with when no environment is given. Built once per process,
   // on the first caller's `pool` when it gives one (the same bits either way).
   static std::shared_ptr<const Environment> studio(raster::ThreadPool* pool = nullptr);
