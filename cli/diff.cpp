@@ -8,6 +8,9 @@
 #include <cmath>
 #include <cerrno>
 #include <cstdio>
+#include <span>
+#include <utility>
+#include <vector>
 #include <cstring>
 #include <cstdint>
 #include <filesystem>
@@ -17,6 +20,7 @@
 #include "softpbr/golden/compare.h"
 #include "softpbr/golden/image.h"
 #include "softpbr/image/load.h"
+#include "softpbr/image/read_file.h"
 #include "softpbr/image/write.h"
 
 namespace softpbr::cli {
@@ -49,25 +53,17 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Why `path` cannot be read as an image, or "": a folder, a device or a pipe is not an
-// image file, and a missing file is named as such (the image library says "no such file"
-// for anything but a regular file).
+// Why `path` cannot be read as an image, or "": checked without blocking (a named pipe
+// with no writer is refused at once) and without reading it (read_file.h).
 std::string input_problem(const std::string& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return path + ": " + (errno == ENOENT ? "no such file" : std::strerror(errno));
-  if (S_ISDIR(st.st_mode)) return path + ": is a folder, not an image";
-  if (!S_ISREG(st.st_mode)) return path + ": not a regular file (a device, pipe or socket), not an image";
-  return {};
+  const image::FileProblem p = image::file_problem(path);
+  if (!p) return {};
+  return path + ": " + (p.folder ? "is a folder, not an image" : p.reason);
 }
 
 // A 16-bit PNG (IHDR bit depth 16): the 8-bit comparison would see only its high bytes.
-bool is_16_bit_png(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return false;
-  unsigned char h[25] = {};
-  const bool read = std::fread(h, 1, sizeof h, f) == sizeof h;
-  std::fclose(f);
-  return read && h[1] == 'P' && h[2] == 'N' && h[3] == 'G' && h[12] == 'I' && h[13] == 'H' && h[14] == 'D' &&
+bool is_16_bit_png(std::span<const std::uint8_t> h) {
+  return h.size() >= 25 && h[1] == 'P' && h[2] == 'N' && h[3] == 'G' && h[12] == 'I' && h[13] == 'H' && h[14] == 'D' &&
          h[15] == 'R' && h[24] == 16;
 }
 
@@ -126,11 +122,14 @@ int run_diff(const DiffArgs& a) {
     // user's own files, so only the side limit applies, not the default decoded-bytes bound.
     image::Limits limits;
     limits.max_decoded_bytes = std::numeric_limits<std::uint64_t>::max();
-    for (const std::string* p : {&a.expected, &a.actual})
-      if (!float_a && is_16_bit_png(*p))
-        throw Error(kExitUsage, *p + ": a 16-bit PNG: diff compares 8-bit PNGs (the low bytes would be ignored); "
-                                     "convert both to .exr or 8 bits first");
-    if (!float_a) return compare_and_report(a, image::load_png(a.expected, limits), image::load_png(a.actual, limits));
+    if (!float_a) {
+      const std::vector<std::uint8_t> expected = image::read_file(a.expected, limits), actual = image::read_file(a.actual, limits);
+      for (const auto& [bytes, p] : {std::pair{&expected, &a.expected}, std::pair{&actual, &a.actual}})
+        if (is_16_bit_png(*bytes))
+          throw Error(kExitUsage, *p + ": a 16-bit PNG: diff compares 8-bit PNGs (the low bytes would be ignored); "
+                                       "convert both to .exr or 8 bits first");
+      return compare_and_report(a, image::load_png(expected, a.expected, limits), image::load_png(actual, a.actual, limits));
+    }
     auto load = [&](const std::string& path, const std::string& ext) {
       return ext == ".exr" ? image::load_exr(path, limits) : image::load_hdr(path, limits);
     };

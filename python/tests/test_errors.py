@@ -4,7 +4,10 @@ values (the JSON pointer for dict scenes), OSError for files that cannot be read
 from __future__ import annotations
 
 import json
+import os
 import re
+import subprocess
+import sys
 
 import pytest
 
@@ -111,3 +114,22 @@ def test_an_invalid_material_is_refused_when_rendered():
     scene.add(softpbr.Mesh.cube(), softpbr.Material(roughness=3))
     with pytest.raises(ValueError, match="roughness"):
         softpbr.render(scene)
+
+
+@pytest.mark.parametrize("name, call", [
+    ("pipe.png", "softpbr.load_image(p)"),
+    ("pipe.hdr", "softpbr.Environment.load(p)"),
+    ("pipe.gltf", "softpbr.load_gltf(p)"),
+    ("pipe.glb", "softpbr.Scene.load_gltf(p)"),
+    ("pipe.obj", "softpbr.load_obj(p)"),
+    ("pipe.json", "softpbr.render(p)"),
+])
+def test_a_named_pipe_is_refused_at_once_not_waited_on(tmp_path, name, call):
+    # A FIFO with no writer: opening it blocked forever, holding the GIL. In a child process
+    # with a deadline, so that a regression fails instead of hanging the suite.
+    fifo = tmp_path / name
+    os.mkfifo(fifo)
+    code = f"import softpbr\np = {str(fifo)!r}\ntry:\n    {call}\nexcept OSError as e:\n    print('OSError:', e)\n"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert result.stdout == f"OSError: {fifo}: is a named pipe (FIFO), not a regular file\n", result.stderr
+

@@ -88,6 +88,11 @@ ErrorHints error_hints(const nlohmann::json& dom);
 // file that does not exist. Empty when `err` is none of those or the value is not found.
 std::string tinygltf_error_with_pointer(const ErrorHints& hints, const std::string& err);
 
+// The JSON pointer of the buffer whose file is `path` followed by ": ", or "" when no
+// buffer's URI (joined to base_dir as gltf::uri_path joins it, as tinygltf reads it) names
+// it: for a buffer's file that could not be read.
+std::string buffer_pointer(const ErrorHints& hints, const std::string& base_dir, const std::string& path);
+
 // The document steps load_gltf and inspect_gltf both take, in order: the container (its BIN
 // problem thrown), check_json, the one DOM, with `schema` the schema check (load_gltf's),
 // the pre-pass and the error hints; the DOM is freed before this returns, so that it is

@@ -24,4 +24,9 @@ bool is_external_uri(const std::string& uri);
 std::string read_external(const std::string& path, std::uint64_t limit, const std::vector<std::filesystem::path>& roots,
                           std::vector<unsigned char>& out);
 
+// tinygltf's FsCallbacks::FileExists: whether anything is at `path` (lstat), without
+// opening it. tinygltf's own opens the file (fopen), which waits forever on a named pipe
+// with no writer; what the thing found is, read_external then says, without blocking.
+bool file_exists(const std::string& path, void* user);
+
 }  // namespace softpbr::pbr::gltf

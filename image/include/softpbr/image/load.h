@@ -24,9 +24,10 @@
 
 namespace softpbr::image {
 
-// The whole of a regular file of at most limits.max_file_bytes (a device or a pipe would
-// be read without end), as the path overloads below read it. Throws std::runtime_error
-// "<path>: no such file" and the like.
+// The whole of a regular file of at most limits.max_file_bytes, as the path overloads below
+// read it: read_whole_file (read_file.h), which never blocks on a pipe or a device. Throws
+// std::runtime_error "<path>: no such file", "<path>: is a named pipe (FIFO), not a
+// regular file" and the like.
 std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits = {});
 
 // PNG as RGBA: grey and RGB get alpha 255, grey is replicated, 16-bit samples are reduced
