@@ -133,3 +133,15 @@ def test_a_named_pipe_is_refused_at_once_not_waited_on(tmp_path, name, call):
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert result.stdout == f"OSError: {fifo}: is a named pipe (FIFO), not a regular file\n", result.stderr
 
+
+@pytest.mark.parametrize("frame", [-1, 10_000_000, 2**40])
+def test_a_frame_outside_the_commands_range_is_refused(frame):
+    message = r"^frame: expected a frame in \[0, 9999999\], got " + str(frame) + "$"
+    with pytest.raises(ValueError, match=message):
+        softpbr.render(small({}), frame=frame)
+    with pytest.raises(ValueError, match=message):
+        softpbr.render_hdr(small({}), frame=frame)
+
+
+def test_the_last_frame_of_the_commands_range_renders():
+    assert softpbr.render(small({}), frame=9_999_999).shape == (16, 16, 4)

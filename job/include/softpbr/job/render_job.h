@@ -19,6 +19,10 @@
 
 namespace softpbr::job {
 
+// The largest frame number, for the command's --frames and Python's frame=: keeps names and
+// angles sane (turntable angles are reduced modulo 360 in double, exact for any such frame).
+inline constexpr long kMaxFrame = 9'999'999;
+
 // A setting the job refuses (Kind::Setting: a bad value, before any work) or an input it
 // cannot render (Kind::Input: an environment file that cannot be read, a render over the
 // memory limit; Kind::Memory: the process ran out of memory loading it — Python's
