@@ -209,3 +209,35 @@ TEST_CASE("a long data URI tinygltf cannot use is quoted to 40 bytes with its po
   write(gltf, triangle_gltf(name));
   CHECK(error_of([&] { pbr::load_gltf(gltf); }) == gltf.string() + ": /buffers/0/uri: " + name.substr(0, 40) + "…: no such file");
 }
+
+TEST_CASE("MissingImages::Warn leaves out a texture whose file cannot be read, with a warning, and Error refuses the model") {
+  const Deadline deadline;
+  write_triangle_bin(folder() / "triangle.bin");
+  const fs::path gltf = folder() / "gone_image.gltf";
+  write(gltf, triangle_gltf("triangle.bin", "gone.png"));
+  const std::string gone = (folder() / "gone.png").string();
+  CHECK(error_of([&] { pbr::load_gltf(gltf); }) == gltf.string() + ": /images/0/uri: " + gone + ": no such file");
+  const pbr::GltfScene g = pbr::load_gltf(gltf, {.missing_images = pbr::MissingImages::Warn});
+  REQUIRE(g.objects.size() == 1);
+  CHECK(g.objects[0].material.base_color_texture.texture == nullptr);
+  CHECK(std::count(g.warnings.begin(), g.warnings.end(),
+                   gltf.string() + ": /images/0/uri: " + gone + ": no such file (a missing image: its textures are left out)") == 1);
+  // A named pipe is such a file too; a file outside the roots stays an error.
+  fifo("pipe.png");
+  write(gltf, triangle_gltf("triangle.bin", "pipe.png"));
+  CHECK_NOTHROW(pbr::load_gltf(gltf, {.missing_images = pbr::MissingImages::Warn}));
+  write(gltf, triangle_gltf("triangle.bin", "../outside.png"));
+  CHECK(error_of([&] { pbr::load_gltf(gltf, {.roots = {folder()}, .missing_images = pbr::MissingImages::Warn}); })
+            .find("outside the folders") != std::string::npos);
+  // An OBJ whose MTL names a missing map.
+  write(folder() / "gone.mtl", "newmtl m\nKd 0.5 0.2 0.1\nmap_Kd gone.png\n");
+  write(folder() / "gone.obj", "mtllib gone.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
+  const std::string mtl = (folder() / "gone.mtl").string();
+  CHECK(error_of([&] { pbr::load_obj(folder() / "gone.obj"); }) == mtl + ":3: map_Kd: " + gone + ": no such file");
+  const pbr::ObjModel o = pbr::load_obj(folder() / "gone.obj", {.missing_images = pbr::MissingImages::Warn});
+  REQUIRE(o.materials.size() == 1);
+  CHECK(o.materials[0].second.base_color_texture.texture == nullptr);
+  CHECK(o.materials[0].second.base_color.r == doctest::Approx(0.5f));
+  CHECK(std::count(o.warnings.begin(), o.warnings.end(),
+                   mtl + ":3: map_Kd: " + gone + ": no such file (a missing image: the map is left out)") == 1);
+}

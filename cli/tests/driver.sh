@@ -734,6 +734,21 @@ batch)
   "$softpbr" render "$scenes/lights.json" tri.gltf -o "mix/{name}.png" --width 80 --height 50 -q \
     && "$softpbr" render "$scenes/lights.json" -o lights-alone.png --width 80 --height 50 -q && cmp -s mix/lights.png lights-alone.png \
     && pass "a scene file in a batch: the same image as alone" || fail "scene file in a batch"
+  # --missing-images warn (thumbnails of downloaded models): a texture whose file is not
+  # there is left out with a warning, exit 0; the default refuses the model.
+  sed 's/"tex.png"/"gone.png"/' two.gltf >gone.gltf
+  printf 'mtllib gone.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >gone.obj
+  printf 'newmtl a\nKd 0.5 0.2 0.1\nmap_Kd gone.png\n' >gone.mtl
+  printf '{"objects": [{"mesh": {"file": "gone.obj"}}], "render": {"width": 32, "height": 24}}\n' >goneobj.json
+  expect_error 3 "gone.gltf: /images/0/uri: gone.png: no such file" render gone.gltf -o keep.png
+  expect_error 3 "goneobj.json: /objects/0/mesh/file: gone.mtl:3: map_Kd: gone.png: no such file" render goneobj.json -o keep.png
+  "$softpbr" render gone.gltf goneobj.json tri.gltf -o missing/ --width 32 --height 24 --missing-images warn >/dev/null 2>stderr.txt; rc=$?
+  [ $rc -eq 0 ] && [ -s missing/gone.png ] && [ -s missing/tri.png ] \
+    && grep -qx "softpbr: warning: gone.gltf: /images/0/uri: gone.png: no such file (a missing image: its textures are left out)" stderr.txt \
+    && grep -qx "softpbr: warning: gone.mtl:3: map_Kd: gone.png: no such file (a missing image: the map is left out)" stderr.txt \
+    && pass "--missing-images warn: textures left out with a warning, exit 0" || fail "--missing-images warn: exit $rc, $(cat stderr.txt)"
+  # The same model with its texture there renders as before; a bad value is a usage error.
+  expect_error 2 "--missing-images: expected error or warn, got \"maybe\"" render two.gltf -o keep.png --missing-images maybe
   ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac

@@ -656,7 +656,7 @@ ObjModel detail::load_obj(const fs::path& path, const ObjOptions& options, Textu
   model.warnings.insert(model.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
   add_warnings(path, warn, model.warnings);
   if (mtl.info.size() != materials.size()) mtl.info.resize(materials.size(), fallback_info(path));
-  detail::MtlTextures textures{cache, options.texture_memory_limit, cache.bytes(), model.warnings};
+  detail::MtlTextures textures{cache, options.texture_memory_limit, cache.bytes(), model.warnings, options.missing_images};
   for (std::size_t i = 0; i < materials.size(); ++i) {
     std::string name = materials[i].name;
     name.erase(0, name.find_first_not_of(" \t"));

@@ -38,6 +38,7 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   scene_file::TextureLibrary textures(r, base_dir, budget);
   textures.cache().set_roots(options.roots);
   scene_file::MeshLibrary meshes(r, base_dir, budget, textures);
+  meshes.set_missing_images(options.missing_images);
   if (auto c = r.member(root, "camera")) out.scene.camera = scene_file::read_camera(r, *c);
   if (auto a = r.member(root, "ambient")) out.scene.ambient = r.vec3(*a, 0, 1e30);
   if (auto s = r.member(root, "render")) scene_file::read_render(r, *s, out);

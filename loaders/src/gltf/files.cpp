@@ -39,7 +39,8 @@ std::string uri_path(const std::string& base_dir, const std::string& uri) {
 bool is_external_uri(const std::string& uri) { return !uri.empty() && uri.rfind("data:", 0) != 0; }
 
 std::string read_external(const std::string& path, std::uint64_t limit, const std::vector<std::filesystem::path>& roots,
-                          std::vector<unsigned char>& out) {
+                          std::vector<unsigned char>& out, bool* unreadable) {
+  if (unreadable != nullptr) *unreadable = false;
   // "%00" decodes to a NUL, where the system's calls would end the path early.
   if (const std::size_t nul = path.find('\0'); nul != std::string::npos)
     return path.substr(0, nul) + "…: a NUL character in the file name";
@@ -47,7 +48,10 @@ std::string read_external(const std::string& path, std::uint64_t limit, const st
   std::vector<std::uint8_t> bytes;
   const image::FileProblem p = image::read_whole_file(path, limit, bytes);
   if (p.too_large) return path + ": " + std::to_string(p.size) + " bytes is over the limit of " + std::to_string(limit);
-  if (p) return path + ": " + p.reason;
+  if (p) {
+    if (unreadable != nullptr) *unreadable = true;
+    return path + ": " + p.reason;
+  }
   out = std::move(bytes);
   return "";
 }
