@@ -208,6 +208,15 @@ TEST_CASE("a long data URI tinygltf cannot use is quoted to 40 bytes with its po
   const std::string name = std::string(2000, 'x') + ".bin";
   write(gltf, triangle_gltf(name));
   CHECK(error_of([&] { pbr::load_gltf(gltf); }) == gltf.string() + ": /buffers/0/uri: " + name.substr(0, 40) + "…: no such file");
+  // An image file of a 200-byte name that is not an image: the URI quoted to 40 bytes.
+  const std::string image_name = std::string(200, 'y') + ".png";
+  write(folder() / image_name, "not an image");
+  write_triangle_bin(folder() / "triangle.bin");
+  write(gltf, triangle_gltf("triangle.bin", image_name));
+  const std::string bad = error_of([&] { pbr::load_gltf(gltf); });
+  CAPTURE(bad);
+  CHECK(bad.rfind(gltf.string() + ": /images/0 (" + image_name.substr(0, 40) + "…): ", 0) == 0);
+  CHECK(bad.size() < gltf.string().size() + 200);
 }
 
 TEST_CASE("MissingImages::Warn leaves out a texture whose file cannot be read, with a warning, and Error refuses the model") {

@@ -350,8 +350,10 @@ std::vector<std::shared_ptr<const raster::Texture>> Resources::textures(
     const auto [index, space] = jobs[j];
     if (missing_[static_cast<std::size_t>(index)]) return;  // left out (read_images warned)
     const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
+    // The URI as a message quotes file content: at most 40 bytes.
+    const std::string uri = im.uri.size() > 40 ? im.uri.substr(0, 40) + "…" : im.uri;
     const std::string name =
-        file_ + ": /images/" + std::to_string(index) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " (" + im.uri + ")");
+        file_ + ": /images/" + std::to_string(index) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " (" + uri + ")");
     const std::span<const std::uint8_t> bytes = encoded(index);
     if (bytes.empty()) throw LoadError(name + ": the image could not be read" + (im.uri.empty() ? "" : " (an empty file)"));
     try {
