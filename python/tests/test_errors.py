@@ -9,6 +9,7 @@ import re
 import subprocess
 import sys
 
+import numpy
 import pytest
 
 import softpbr
@@ -145,3 +146,25 @@ def test_a_frame_outside_the_commands_range_is_refused(frame):
 
 def test_the_last_frame_of_the_commands_range_renders():
     assert softpbr.render(small({}), frame=9_999_999).shape == (16, 16, 4)
+
+
+def test_missing_images_warn_leaves_a_texture_out_that_error_refuses(cli, tmp_path, source_dir):
+    # A model downloaded without its texture: refused by default, its texture left out with a
+    # warning with missing_images="warn", as the command's --missing-images warn.
+    subprocess.run([sys.executable, str(source_dir / "cli/tests/make_gltf.py"), str(source_dir / "cli/tests/goldens/lights.png")],
+                   cwd=tmp_path, check=True)
+    gone = tmp_path / "gone.gltf"
+    gone.write_text((tmp_path / "two.gltf").read_text().replace('"tex.png"', '"gone.png"'))
+    with pytest.raises(ValueError, match=re.escape(f"/images/0/uri: {tmp_path / 'gone.png'}: no such file")):
+        softpbr.load_gltf(gone)
+    model = softpbr.load_gltf(gone, missing_images="warn")
+    assert any(w.endswith("gone.png: no such file (a missing image: its textures are left out)") for w in model.warnings)
+    with pytest.raises(ValueError, match="no such file"):
+        softpbr.Scene.load_gltf(gone, width=32, height=24)
+    scene = softpbr.Scene.load_gltf(gone, width=32, height=24, missing_images="warn")
+    expected = tmp_path / "expected.png"
+    subprocess.run([cli, "render", str(gone), "-o", str(expected), "--width", "32", "--height", "24",
+                    "--missing-images", "warn", "-q"], check=True, capture_output=True)
+    assert numpy.array_equal(softpbr.render(scene), softpbr.load_image(expected))
+    with pytest.raises(ValueError, match='missing_images: expected error or warn, got "maybe"'):
+        softpbr.load_gltf(gone, missing_images="maybe")
