@@ -208,6 +208,10 @@ TEST_CASE("a long data URI tinygltf cannot use is quoted to 40 bytes with its po
   const std::string name = std::string(2000, 'x') + ".bin";
   write(gltf, triangle_gltf(name));
   CHECK(error_of([&] { pbr::load_gltf(gltf); }) == gltf.string() + ": /buffers/0/uri: " + name.substr(0, 40) + "…: no such file");
+  // A percent-encoded name: tinygltf names the decoded file, still found with its pointer.
+  write(gltf, triangle_gltf("a%20" + std::string(100, 'z') + ".bin"));
+  CHECK(error_of([&] { pbr::load_gltf(gltf); }) ==
+        gltf.string() + ": /buffers/0/uri: " + ("a " + std::string(100, 'z')).substr(0, 40) + "…: no such file");
   // An image file of a 200-byte name that is not an image: the URI quoted to 40 bytes.
   const std::string image_name = std::string(200, 'y') + ".png";
   write(folder() / image_name, "not an image");

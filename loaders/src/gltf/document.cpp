@@ -235,11 +235,14 @@ std::string shown_uri(const std::string& uri) {
   return uri.size() <= kShown ? uri : uri.substr(0, kShown) + "…";
 }
 
-// The buffer whose uri is `uri` (found by its text or, for a long one, its size and hash).
+// The buffer whose uri is `uri` (found by its text, or its percent-decoded text as tinygltf
+// names a file it looked for, or for a long one by its size and hash).
 const ErrorHints::Uri* buffer_of(const ErrorHints& hints, const std::string& uri) {
   const std::size_t hash = uri.size() > ErrorHints::kKept ? std::hash<std::string_view>{}(uri) : 0;
   for (const ErrorHints::Uri& u : hints.buffer_uris)
-    if (uri.size() <= ErrorHints::kKept ? u.size == 0 && u.text == uri : u.size == uri.size() && u.hash == hash) return &u;
+    if (uri.size() <= ErrorHints::kKept ? u.size == 0 && (u.text == uri || uri_path("", u.text) == uri)
+                                        : u.size == uri.size() && u.hash == hash)
+      return &u;
   return nullptr;
 }
 }  // namespace
@@ -251,7 +254,7 @@ std::string tinygltf_error_with_pointer(const ErrorHints& hints, const std::stri
     const std::string uri = line.substr(17);
     if (const ErrorHints::Uri* u = buffer_of(hints, uri))
       return "/buffers/" + std::to_string(u->buffer) + "/uri: " + shown_uri(uri) + ": no such file";
-    return {};
+    return shown_uri(uri) + ": no such file (a buffer's file)";
   }
   // A data URI whose decoded bytes are not byteLength bytes (tinygltf quotes the whole URI).
   const std::string decode = "Failed to decode 'uri' : ", in_buffer = " in Buffer";
@@ -260,7 +263,8 @@ std::string tinygltf_error_with_pointer(const ErrorHints& hints, const std::stri
     if (const ErrorHints::Uri* u = buffer_of(hints, uri))
       return "/buffers/" + std::to_string(u->buffer) + "/uri: the data URI \"" + shown_uri(uri) + "\" (" +
              std::to_string(uri.size()) + " bytes) does not decode to the buffer's byteLength bytes";
-    return {};
+    return "a buffer's data URI \"" + shown_uri(uri) + "\" (" + std::to_string(uri.size()) +
+           " bytes) does not decode to its byteLength bytes";
   }
   if (err.rfind("Invalid `byteStride' value.", 0) == 0) return hints.stride;
   if (err.rfind("primitive indices accessor out of bounds", 0) == 0) return hints.indices_range;
