@@ -8,14 +8,14 @@
 #include <cmath>
 #include <cerrno>
 #include <cstdio>
-#include <span>
-#include <utility>
-#include <vector>
 #include <cstring>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <span>
 #include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "cli_error.h"
 #include "softpbr/golden/compare.h"
