@@ -12,11 +12,16 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <span>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "cli_error.h"
 #include "softpbr/golden/compare.h"
 #include "softpbr/golden/image.h"
 #include "softpbr/image/load.h"
+#include "softpbr/image/read_file.h"
 #include "softpbr/image/write.h"
 
 namespace softpbr::cli {
@@ -30,7 +35,7 @@ CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
   c->add_option("actual", a.actual, "The image to check")->required();
   c->add_option("--max-diff", a.max_diff,
                 "A pixel differs when one of its channels differs by more than this (8-bit codes for PNG, "
-                "float values for .hdr and .exr)")
+                "16-bit codes when either PNG is 16-bit, float values for .hdr and .exr)")
       ->capture_default_str();
   c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")
       ->check(CLI::NonNegativeNumber)  // "-1" would wrap to 2^64 - 1
@@ -49,53 +54,75 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Why `path` cannot be read as an image, or "": a folder, a device or a pipe is not an
-// image file, and a missing file is named as such (the image library says "no such file"
-// for anything but a regular file).
+// Why `path` cannot be read as an image, or "": checked without blocking (a named pipe
+// with no writer is refused at once) and without reading it (read_file.h).
 std::string input_problem(const std::string& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return path + ": " + (errno == ENOENT ? "no such file" : std::strerror(errno));
-  if (S_ISDIR(st.st_mode)) return path + ": is a folder, not an image";
-  if (!S_ISREG(st.st_mode)) return path + ": not a regular file (a device, pipe or socket), not an image";
-  return {};
+  const image::FileProblem p = image::file_problem(path);
+  if (!p) return {};
+  return path + ": " + (p.folder ? "is a folder, not an image" : p.reason);
 }
 
-// A 16-bit PNG (IHDR bit depth 16): the 8-bit comparison would see only its high bytes.
-bool is_16_bit_png(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return false;
-  unsigned char h[25] = {};
-  const bool read = std::fread(h, 1, sizeof h, f) == sizeof h;
-  std::fclose(f);
-  return read && h[1] == 'P' && h[2] == 'N' && h[3] == 'G' && h[12] == 'I' && h[13] == 'H' && h[14] == 'D' &&
+// A 16-bit PNG (IHDR bit depth 16): compared on its 16-bit samples.
+bool is_16_bit_png(std::span<const std::uint8_t> h) {
+  return h.size() >= 25 && h[1] == 'P' && h[2] == 'N' && h[3] == 'G' && h[12] == 'I' && h[13] == 'H' && h[14] == 'D' &&
          h[15] == 'R' && h[24] == 16;
 }
 
+// The 8-bit picture of 16-bit codes (image::load_png16), rounded: what a viewer shows.
+raster::Image8 to_8_bits(const golden::ImageF& codes) {
+  raster::Image8 out;
+  out.width = codes.width;
+  out.height = codes.height;
+  out.rgba.resize(codes.rgba.size());
+  for (std::size_t i = 0; i < codes.rgba.size(); ++i)
+    out.rgba[i] = static_cast<std::uint8_t>((static_cast<std::uint32_t>(codes.rgba[i]) * 255u + 32767u) / 65535u);
+  return out;
+}
+
+// `sixteen`: the images are 16-bit codes held in floats (image::load_png16): differences
+// and --max-diff are in 16-bit codes, PSNR's peak is 65535, and the side-by-side image
+// shows them at 8 bits with the heat map of the 16-bit difference.
 template <class Image>
-int compare_and_report(const DiffArgs& a, const Image& expected, const Image& actual) {
+int compare_and_report(const DiffArgs& a, const Image& expected, const Image& actual, bool sixteen = false) {
   const golden::Comparison c = golden::compare(expected, actual, a.max_diff);
   const bool within = c.same_size() && c.pixels_above <= a.max_pixels;
   if (!a.out.empty()) {
     try {
-      const raster::Image8 picture = a.side_by_side || !c.same_size() ? golden::side_by_side(expected, actual)
-                                                                      : golden::diff_image(expected, actual);
+      raster::Image8 picture;
+      if constexpr (std::is_same_v<Image, golden::ImageF>) {
+        if (sixteen && (a.side_by_side || !c.same_size())) {
+          picture = golden::side_by_side(to_8_bits(expected), to_8_bits(actual));
+          if (c.same_size()) {  // its third panel: the heat map of the 16-bit codes
+            const raster::Image8 heat = golden::diff_image(expected, actual);
+            const auto row = static_cast<std::size_t>(heat.width) * 4;
+            for (int y = 0; y < heat.height; ++y)
+              std::copy_n(heat.rgba.begin() + static_cast<std::ptrdiff_t>(y * row), row,
+                          picture.rgba.begin() + static_cast<std::ptrdiff_t>(y * row * 3 + 2 * row));
+          }
+        }
+      }
+      if (picture.rgba.empty())
+        picture = a.side_by_side || !c.same_size() ? golden::side_by_side(expected, actual) : golden::diff_image(expected, actual);
       image::write_file_atomic(a.out, image::encode_png(picture, a.out));
     } catch (const std::exception& e) {
       throw Error(kExitUsage, e.what());
     }
   }
   if (!a.quiet) {
+    const char* samples = sixteen ? ", 16-bit samples" : "";
     if (!c.same_size())
       std::printf("%s vs %s: different sizes, %dx%d and %dx%d\n", a.expected.c_str(), a.actual.c_str(),
                   c.expected_width, c.expected_height, c.actual_width, c.actual_height);
     else if (c.identical)
-      std::printf("%s vs %s: identical (%dx%d)\n", a.expected.c_str(), a.actual.c_str(), c.actual_width, c.actual_height);
+      std::printf("%s vs %s: identical (%dx%d%s)\n", a.expected.c_str(), a.actual.c_str(), c.actual_width, c.actual_height,
+                  samples);
     else
-      std::printf("%s vs %s: %s: %llu of %llu pixels differ by more than %g (allowed: %llu), largest difference %g, "
+      std::printf("%s vs %s: %s: %llu of %llu pixels differ by more than %g%s (allowed: %llu), largest difference %g, "
                   "PSNR %.2f dB\n",
                   a.expected.c_str(), a.actual.c_str(), within ? "within tolerance" : "DIFFERENT",
                   static_cast<unsigned long long>(c.pixels_above), static_cast<unsigned long long>(c.pixels),
-                  a.max_diff, static_cast<unsigned long long>(a.max_pixels), c.max_diff(), c.psnr);
+                  a.max_diff, sixteen ? " (16-bit codes)" : "", static_cast<unsigned long long>(a.max_pixels), c.max_diff(),
+                  sixteen ? 20 * std::log10(65535 / c.rmse) : c.psnr);
   }
   return within ? kExitOk : kExitDifferent;
 }
@@ -126,11 +153,15 @@ int run_diff(const DiffArgs& a) {
     // user's own files, so only the side limit applies, not the default decoded-bytes bound.
     image::Limits limits;
     limits.max_decoded_bytes = std::numeric_limits<std::uint64_t>::max();
-    for (const std::string* p : {&a.expected, &a.actual})
-      if (!float_a && is_16_bit_png(*p))
-        throw Error(kExitUsage, *p + ": a 16-bit PNG: diff compares 8-bit PNGs (the low bytes would be ignored); "
-                                     "convert both to .exr or 8 bits first");
-    if (!float_a) return compare_and_report(a, image::load_png(a.expected, limits), image::load_png(a.actual, limits));
+    if (!float_a) {
+      const std::vector<std::uint8_t> expected = image::read_file(a.expected, limits), actual = image::read_file(a.actual, limits);
+      // A 16-bit PNG (golden images from other tools often are) is compared on its 16-bit
+      // samples, exactly; an 8-bit one beside it is widened as PNG scales it (× 257).
+      if (is_16_bit_png(expected) || is_16_bit_png(actual))
+        return compare_and_report(a, image::load_png16(expected, a.expected, limits),
+                                  image::load_png16(actual, a.actual, limits), /*sixteen=*/true);
+      return compare_and_report(a, image::load_png(expected, a.expected, limits), image::load_png(actual, a.actual, limits));
+    }
     auto load = [&](const std::string& path, const std::string& ext) {
       return ext == ".exr" ? image::load_exr(path, limits) : image::load_hdr(path, limits);
     };

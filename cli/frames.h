@@ -5,11 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "softpbr/job/render_job.h"
+
 namespace softpbr::cli {
 
-// The largest frame number: keeps names and angles sane (turntable angles are reduced
-// modulo 360 in double, exact for any such frame).
-inline constexpr long kMaxFrame = 9'999'999;
+// The largest frame number (job::kMaxFrame, Python's too).
+inline constexpr long kMaxFrame = job::kMaxFrame;
 
 struct FrameRange {
   long first = 0;

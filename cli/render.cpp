@@ -69,6 +69,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--env-rotation", s.env_rotation, "Turn the environment about the vertical axis, degrees");
   c->add_option("--background", s.background,
                 "What is seen behind the scene: environment, blur, transparent or R,G,B (linear)");
+  c->add_option("--missing-images", s.missing_images,
+                "A model's texture image that cannot be read (an OBJ's MTL map, a glTF image file): error (the "
+                "default: the model is refused) or warn (its texture left out, a warning; for thumbnails of "
+                "downloaded models)");
   c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");

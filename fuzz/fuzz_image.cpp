@@ -1,7 +1,8 @@
 // libFuzzer target: PNG, JPEG and Radiance .hdr loading (image::load_image8, which reads
 // PNG or JPEG by the first bytes, and image::load_hdr), with stb_image compiled in.
 //
-// The first byte chooses the loader (even: load_image8 on fuzz.img, odd: load_hdr on
+// The first byte chooses the loader (even: load_image8 on fuzz.img, and with bit 1 set
+// also load_png16 on the buffer, `softpbr diff`'s 16-bit reading; odd: load_hdr on
 // fuzz.hdr); the rest is the file, written to a private temporary folder (the path form
 // reads it and runs the buffer form). A std::runtime_error whose text starts with the path
 // is a fine outcome; anything else is a finding, as is a loaded image whose size is outside
@@ -16,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <span>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -58,6 +60,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       check_size(loaded.width, loaded.height, loaded.rgba.size(), 4);
       for (std::size_t i = 0; i < loaded.rgba.size(); ++i)
         if (!std::isfinite(loaded.rgba[i]) || loaded.rgba[i] < 0.0f) finding("HDR value negative or not finite");
+    } else if ((data[0] & 2) != 0) {
+      const image::ImageF loaded = image::load_png16(std::span<const std::uint8_t>(data + 1, size - 1), path.string());
+      check_size(loaded.width, loaded.height, loaded.rgba.size(), 4);
+      for (const float v : loaded.rgba)
+        if (!(v >= 0.0f && v <= 65535.0f) || v != std::floor(v)) finding("a 16-bit sample that is not a code 0..65535");
     } else {
       const image::Image8 loaded = image::load_image8(path);
       check_size(loaded.width, loaded.height, loaded.rgba.size(), 4);

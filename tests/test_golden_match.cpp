@@ -1,6 +1,10 @@
 // softpbr::golden matching: golden files checked exactly or within a tolerance, failure
 // images written where the message says, update mode, renders (.hash + .png), the
 // environment, and the doctest macros.
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -280,4 +284,25 @@ TEST_CASE("golden doctest macros resolve against SOFTPBR_GOLDEN_DIR: a committed
   o.output_dir = scratch("match_macros");
   CHECK_FALSE(golden::match_golden(changed(gallery, 3, 2), "goldens/grazing_light.png", {1, 2}, o).passed);
   CHECK(golden::match_golden(changed(gallery, 3, 2), "goldens/grazing_light.png", {1, 3}, o).passed);
+}
+
+TEST_CASE("match_golden and match_render fail at once on goldens that are named pipes, never wait on them") {
+  // A blocked read ends the test binary after 60 s instead of hanging the suite.
+  ::signal(SIGALRM, [](int) { ::_exit(3); });
+  ::alarm(60);
+  const fs::path dir = scratch("match_fifo");
+  const golden::Options o = options_in(dir);
+  fs::create_directories(dir / "goldens");
+  for (const char* name : {"pipe.png", "pipe.hash"}) {
+    fs::remove(dir / "goldens" / name);
+    REQUIRE(::mkfifo((dir / "goldens" / name).c_str(), 0644) == 0);
+  }
+  const golden::MatchResult image = golden::match_golden(pattern8(4, 4), "pipe.png", {}, o);
+  CHECK_FALSE(image.passed);
+  CHECK(contains(image.message, "is a named pipe (FIFO), not a regular file"));
+  raster::Target t = target_of(patternF(9, 5));
+  const golden::MatchResult render = golden::match_render(t, raster::resolve_srgb8(t), "pipe", o);
+  CHECK_FALSE(render.passed);
+  CHECK(contains(render.message, "is a named pipe (FIFO), not a regular file"));
+  ::alarm(0);
 }

@@ -110,6 +110,18 @@ TEST_CASE("an output replaces a regular file or creates a new name, and nothing 
   CHECK(error_of(f.path / "no" / "such" / "x.png", "x") ==
         (f.path / "no" / "such" / "x.png").string() + ": cannot write: the folder " + (f.path / "no" / "such").string() +
             " does not exist");
+  // A file where the folder should be ("-o file/x.png") is that, not a missing folder
+  // (it was "the folder file does not exist"); so is a link loop.
+  write(f.path / "file", "a file");
+  CHECK(error_of(f.path / "file" / "x.png", "x") ==
+        (f.path / "file" / "x.png").string() + ": cannot write: " + (f.path / "file").string() + " is not a folder");
+  CHECK(error_of(f.path / "file" / "deeper" / "x.png", "x") == (f.path / "file" / "deeper" / "x.png").string() +
+                                                                   ": cannot write: a part of " +
+                                                                   (f.path / "file" / "deeper").string() + " is not a folder");
+  fs::create_symlink("loop", f.path / "loop");
+  CHECK(error_of(f.path / "loop" / "x.png", "x") == (f.path / "loop" / "x.png").string() + ": cannot write: the folder " +
+                                                        (f.path / "loop").string() +
+                                                        ": too many levels of symbolic links (a link loop)");
 }
 
 TEST_CASE("files that merely look like temporaries are never removed, and two writers of one name both succeed") {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -149,4 +150,51 @@ TEST_CASE("a PNG with a wrong chunk CRC or zlib checksum loads, as it did with s
   bad_adler[at + 8 + length - 1] ^= 0x5a;
   CHECK(std::ranges::equal(image::load_png(bad_crc, "crc.png").rgba, expected));
   CHECK(std::ranges::equal(image::load_png(bad_adler, "adler.png").rgba, expected));
+}
+
+namespace {
+// PNG's CRC-32 (ISO/IEC 15948 Annex D) over a chunk's type and data.
+std::uint32_t png_crc(const std::uint8_t* p, std::size_t n) {
+  std::uint32_t c = 0xffffffffu;
+  for (std::size_t i = 0; i < n; ++i) {
+    c ^= p[i];
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+// `png` with `count` chunks of `type` holding `data` inserted after IHDR (bytes 8 to 33).
+std::vector<std::uint8_t> with_chunks(const std::vector<std::uint8_t>& png, const std::string& type, const std::string& data,
+                                      int count) {
+  std::string chunk;
+  auto be32 = [&](std::uint32_t v) {
+    for (int s = 24; s >= 0; s -= 8) chunk += static_cast<char>(static_cast<std::uint8_t>(v >> s));
+  };
+  be32(static_cast<std::uint32_t>(data.size()));
+  chunk += type + data;
+  be32(png_crc(reinterpret_cast<const std::uint8_t*>(chunk.data()) + 4, chunk.size() - 4));
+  std::string all;
+  for (int i = 0; i < count; ++i) all += chunk;
+  std::vector<std::uint8_t> out(png.begin(), png.begin() + 33);
+  out.resize(33 + all.size());
+  std::memcpy(out.data() + 33, all.data(), all.size());
+  out.insert(out.end(), png.begin() + 33, png.end());
+  return out;
+}
+}  // namespace
+
+TEST_CASE("a valid PNG with thousands of text chunks decodes as without them (ancillary chunks are skipped)") {
+  // libspng kept every text chunk within its chunk-count and cache limits and refused the
+  // file past them ("reached chunk/cache limits"); none of them changes the pixels.
+  for (const Kind kind : {Kind{6, 8, false, 0}, Kind{3, 8, true, 0}, Kind{2, 16, true, 1}}) {
+    CAPTURE(kind.color_type);
+    const std::vector<std::uint8_t> png = make_png(kind, 13, 7, 11);
+    const image::Image8 plain = image::load_png(png, "plain.png");
+    const auto& expected = plain.rgba;
+    const std::vector<std::uint8_t> texts = with_chunks(png, "tEXt", std::string("Comment") + '\0' + "made by a tool", 3000);
+    CHECK(std::ranges::equal(image::load_png(texts, "texts.png").rgba, expected));
+    // Text chunks together larger than the rest of the file (the cache limit was its size).
+    const std::vector<std::uint8_t> big = with_chunks(png, "iTXt", "XML:com.adobe.xmp" + std::string(5, '\0') + std::string(60000, 'x'), 20);
+    CHECK(std::ranges::equal(image::load_png(big, "xmp.png").rgba, expected));
+  }
 }

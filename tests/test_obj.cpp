@@ -378,7 +378,7 @@ TEST_CASE("obj: bad files throw LoadError naming the file and the line") {
     CHECK(message.rfind(path.string(), 0) == 0);  // starts with the file
     CHECK(contains(message, c.expected));
   }
-  CHECK(contains(load_error(dir.path), "is a directory"));
+  CHECK(contains(load_error(dir.path), "is a folder"));
 }
 
 TEST_CASE("obj: a normal index out of range only drops that normal, with a warning") {

@@ -14,6 +14,8 @@
 #           completes the job with the same images as an uninterrupted run
 #   diff    softpbr diff: exit 0 within tolerance, 1 outside, 2 on error; --out
 #   info    softpbr info on models, glTF files and scenes, and its errors
+#   pipes   a named pipe with no writer as every kind of input (models, buffers, images,
+#           environment maps, diff inputs, meshes, scene files): refused at once
 #   version softpbr --version / softpbr version: the CMake project version, compiler, build
 #           type (SOFTPBR_EXPECT_BUILD_TYPE from ctest) and the SIMD targets of this CPU
 #   batch   several glTF models to thumbnails in one run: {name}, {index} and folder/
@@ -167,7 +169,7 @@ EOF
   # Unreadable scenes, unwritable outputs.
   expect_error 3 "missing.json: cannot open the scene file: No such file or directory" render missing.json -o keep.png
   expect_error 3 "models: is a folder, not a scene file" render models -o keep.png
-  expect_error 3 "/dev/zero: the scene file is over the limit of 64.0 MiB (meshes belong in OBJ files)" render /dev/zero -o keep.png
+  expect_error 3 "/dev/zero: is a character device, not a regular file" render /dev/zero -o keep.png
   head -c 100 /dev/urandom >random.json
   "$softpbr" render random.json -o keep.png 2>stderr.txt; rc=$?
   [ $rc -eq 3 ] && grep -q "^random.json: " stderr.txt && [ "$(wc -l <stderr.txt)" -eq 1 ] && pass "binary garbage: one line, exit 3" || fail "random.json: exit $rc: $(cat -v stderr.txt)"
@@ -339,7 +341,7 @@ import json; g = json.load(open('tri.gltf')); g['extras'] = [[1.5, 2.5, 3.5, 4.5
   expect_error 2 "--root: nowhere is not a folder" render bad.json -o keep.png --root nowhere
   # Devices as models; a syntax error quotes at most 40 bytes of the text it read.
   scene_with '"type": "cube"' '"file": "/dev/zero"'
-  expect_error 3 "bad.json: /objects/0/mesh/file: /dev/zero: cannot open: not a regular file (a device, pipe or socket)" render bad.json -o keep.png
+  expect_error 3 "bad.json: /objects/0/mesh/file: /dev/zero: cannot open: is a character device, not a regular file" render bad.json -o keep.png
   { printf '{"objects": [], "x": "'; head -c 100000 /dev/zero | tr '\0' a; } >longtok.json
   expect_error 3 "longtok.json: invalid JSON: parse error at line 1, column 100023: syntax error while parsing value - invalid string: missing closing quote; last read: '\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa..." \
     render longtok.json -o keep.png
@@ -481,6 +483,9 @@ diff)
   check 2 a.png b.png --max-diff -1
   check 2 a.png b.png --out nowhere/d.png
   grep -qx "nowhere/d.png: cannot write: the folder nowhere does not exist" err.txt || fail "--out nowhere/d.png: $(cat err.txt)"
+  # A file where the folder should be: said so (it was "the folder a.png does not exist").
+  check 2 a.png b.png --out a.png/d.png
+  grep -qx "a.png/d.png: cannot write: a.png is not a folder" err.txt || fail "--out a.png/d.png: $(cat err.txt)"
   # --out never replaces an input; a folder or a device is not an image.
   cp a.png a-copy.png
   check 2 a-copy.png b.png --out a-copy.png
@@ -489,11 +494,12 @@ diff)
   check 2 a.png somefolder
   grep -qx "somefolder: is a folder, not an image" err.txt || fail "diff of a folder: $(cat err.txt)"
   check 2 a.png /dev/urandom
-  grep -qx "/dev/urandom: not a regular file (a device, pipe or socket), not an image" err.txt || fail "diff of /dev/urandom: $(cat err.txt)"
+  grep -qx "/dev/urandom: is a character device, not a regular file" err.txt || fail "diff of /dev/urandom: $(cat err.txt)"
   check 2 a.png b.png --out /dev/null
   check 2 a.png b.png --max-pixels -1
   [ "$(wc -l <err.txt)" -eq 1 ] || fail "--max-pixels -1: not one line: $(cat err.txt)"
-  # 16-bit PNGs differing only in their low bytes: an error, not "identical".
+  # 16-bit PNGs differing only in their low bytes: compared on their 16-bit samples (they
+  # were refused: golden images from other tools often are 16-bit).
   python3 - <<'PY'
 import struct, zlib
 def png16(path, low):
@@ -503,9 +509,24 @@ def png16(path, low):
                            chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
 png16('p16a.png', 0x01); png16('p16b.png', 0x02)
 PY
-  check 2 p16a.png p16b.png
-  grep -qx "p16a.png: a 16-bit PNG: diff compares 8-bit PNGs (the low bytes would be ignored); convert both to .exr or 8 bits first" err.txt \
-    || fail "16-bit PNG diff: $(cat err.txt)"
+  check 1 p16a.png p16b.png
+  grep -qx "p16a.png vs p16b.png: DIFFERENT: 4 of 4 pixels differ by more than 0 (16-bit codes) (allowed: 0), largest difference 1, PSNR 102.35 dB" out.txt \
+    || fail "16-bit PNG diff: $(cat out.txt err.txt)"
+  check 0 p16a.png p16b.png --max-diff 1
+  check 0 p16a.png p16a.png
+  grep -qx "p16a.png vs p16a.png: identical (2x2, 16-bit samples)" out.txt || fail "16-bit PNG against itself: $(cat out.txt)"
+  check 1 p16a.png p16b.png --out side16.png --side-by-side
+  [ "$(od -An -tu1 -j16 -N4 side16.png | awk '{print $1 * 16777216 + $2 * 65536 + $3 * 256 + $4}')" -eq 6 ] \
+    && pass "16-bit --side-by-side is 3 images wide" || fail "16-bit side-by-side image is not 6 wide"
+  # A valid PNG with 3000 text chunks (libspng's chunk limits refused it): the same pixels.
+  python3 - <<'PY'
+import struct, zlib
+def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d) & 0xffffffff)
+src = open('a.png', 'rb').read()
+open('texts.png', 'wb').write(src[:33] + chunk(b'tEXt', b'Comment\x00made by a tool') * 3000 + src[33:])
+PY
+  check 0 a.png texts.png
+  grep -q identical out.txt || fail "a PNG with 3000 text chunks is not identical to itself without them: $(cat out.txt)"
   check 1 a.png b.png --out heat.png
   "$softpbr" diff heat.png heat.png -q && [ "$(od -An -tu1 -j16 -N4 heat.png | awk '{print $1 * 16777216 + $2 * 65536 + $3 * 256 + $4}')" -eq 160 ] \
     && pass "--out wrote a 160-wide heat map" || fail "--out heat map missing or wrong size"
@@ -578,6 +599,46 @@ $(cat out.txt)"
       && pass "info $model (compressed): exit 0, its triangles listed" || fail "info $model: exit $rc, $(cat err.txt) $(cat out.txt)"
   done
   ;;
+pipes)
+  # A named pipe (FIFO) with no writer wherever a file is read: refused at once with one
+  # line naming it (each run under `timeout`: a reader that waited on it hung for ever).
+  python3 "$src/cli/tests/make_gltf.py" "$src/cli/tests/goldens/lights.png" || fail "make_gltf.py failed"
+  mkfifo pipe.bin pipe.png pipe.glb pipe.hdr pipe.json pipe.obj
+  # expect_refusal CODE 'EXPECTED STDERR LINE' ARGS...: expect_error within 20 s.
+  expect_refusal() {
+    local code=$1 line=$2 rc got; shift 2
+    timeout 20 "$softpbr" "$@" >stdout.txt 2>stderr.txt; rc=$?
+    got=$(cat stderr.txt)
+    [ $rc -eq 124 ] && { fail "softpbr $*: still waiting after 20 s"; return; }
+    [ $rc -eq "$code" ] && [ "$got" = "$line" ] && pass "exit $code at once: $line" \
+      || fail "softpbr $*: exit $rc, stderr: $got (expected $code: $line)"
+  }
+  fifo=": is a named pipe (FIFO), not a regular file"
+  sed 's/"two.bin"/"pipe.bin"/' two.gltf >buffer.gltf
+  sed 's/"tex.png"/"pipe.png"/' two.gltf >image.gltf
+  for command in render info; do
+    out=$([ $command = render ] && echo "-o keep.png")
+    expect_refusal 3 "buffer.gltf: /buffers/0/uri: pipe.bin$fifo" $command buffer.gltf $out
+    expect_refusal 3 "pipe.glb$fifo" $command pipe.glb $out
+  done
+  expect_refusal 3 "image.gltf: /images/0/uri: pipe.png$fifo" render image.gltf -o keep.png
+  expect_refusal 3 "--env: pipe.hdr$fifo" render two.glb -o keep.png --env pipe.hdr
+  expect_refusal 2 "pipe.png$fifo" diff pipe.png tex.png
+  printf '{"objects": [{"mesh": {"file": "pipe.obj"}}]}\n' >mesh.json
+  expect_refusal 3 "mesh.json: /objects/0/mesh/file: pipe.obj: cannot open$fifo" render mesh.json -o keep.png
+  # A scene file may be a pipe (<(generate-scene)); one with no writer gives nothing.
+  expect_refusal 3 "pipe.json: is a pipe that gave nothing (a named pipe with no writer reads as empty)" render pipe.json -o keep.png
+  timeout 60 "$softpbr" render <(cat "$scenes/gallery.json") -o piped.png --width 64 --height 36 >/dev/null 2>stderr.txt \
+    && [ -s piped.png ] && pass "a scene from <(...) renders" || fail "a scene from <(...): $(cat stderr.txt)"
+  # In a batch, the pipe is its own line and the next model renders.
+  timeout 60 "$softpbr" render pipe.glb two.glb -o batch/ --width 64 --height 36 >/dev/null 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && [ "$(grep -v "^softpbr: warning: two.glb: " stderr.txt)" = "pipe.glb$fifo" ] && [ -s batch/two.png ] \
+    && pass "batch: the pipe refused, the next model rendered" || fail "batch with a pipe: exit $rc, $(cat stderr.txt)"
+  # A symbolic-link loop is a loop, not "no such file".
+  ln -s loop.glb loop.glb
+  expect_refusal 3 "loop.glb: too many levels of symbolic links (a link loop)" info loop.glb
+  ;;
+
 version)
   "$softpbr" --version >out.txt 2>err.txt; rc=$?
   [ $rc -eq 0 ] && [ ! -s err.txt ] && pass "--version exits 0, nothing on stderr" || fail "--version: exit $rc, $(cat err.txt)"
@@ -688,6 +749,21 @@ batch)
   "$softpbr" render "$scenes/lights.json" tri.gltf -o "mix/{name}.png" --width 80 --height 50 -q \
     && "$softpbr" render "$scenes/lights.json" -o lights-alone.png --width 80 --height 50 -q && cmp -s mix/lights.png lights-alone.png \
     && pass "a scene file in a batch: the same image as alone" || fail "scene file in a batch"
+  # --missing-images warn (thumbnails of downloaded models): a texture whose file is not
+  # there is left out with a warning, exit 0; the default refuses the model.
+  sed 's/"tex.png"/"gone.png"/' two.gltf >gone.gltf
+  printf 'mtllib gone.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n' >gone.obj
+  printf 'newmtl a\nKd 0.5 0.2 0.1\nmap_Kd gone.png\n' >gone.mtl
+  printf '{"objects": [{"mesh": {"file": "gone.obj"}}], "render": {"width": 32, "height": 24}}\n' >goneobj.json
+  expect_error 3 "gone.gltf: /images/0/uri: gone.png: no such file" render gone.gltf -o keep.png
+  expect_error 3 "goneobj.json: /objects/0/mesh/file: gone.mtl:3: map_Kd: gone.png: no such file" render goneobj.json -o keep.png
+  "$softpbr" render gone.gltf goneobj.json tri.gltf -o missing/ --width 32 --height 24 --missing-images warn >/dev/null 2>stderr.txt; rc=$?
+  [ $rc -eq 0 ] && [ -s missing/gone.png ] && [ -s missing/tri.png ] \
+    && grep -qx "softpbr: warning: gone.gltf: /images/0/uri: gone.png: no such file (a missing image: its textures are left out)" stderr.txt \
+    && grep -qx "softpbr: warning: gone.mtl:3: map_Kd: gone.png: no such file (a missing image: the map is left out)" stderr.txt \
+    && pass "--missing-images warn: textures left out with a warning, exit 0" || fail "--missing-images warn: exit $rc, $(cat stderr.txt)"
+  # The same model with its texture there renders as before; a bad value is a usage error.
+  expect_error 2 "--missing-images: expected error or warn, got \"maybe\"" render two.gltf -o keep.png --missing-images maybe
   ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac

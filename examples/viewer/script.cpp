@@ -2,8 +2,10 @@
 #include "script.h"
 
 #include <charconv>
-#include <fstream>
-#include <sstream>
+#include <cstdint>
+#include <string>
+
+#include "softpbr/image/read_file.h"
 
 namespace viewer {
 
@@ -21,6 +23,17 @@ std::vector<std::string_view> split_words(std::string_view line) {
   return words;
 }
 
+// A word of the script as an error quotes it: in double quotes, at most 40 bytes (then
+// "…"), control characters as '?': one short line, as the command's messages (a 15 MB
+// line was echoed whole).
+std::string shown_word(std::string_view word) {
+  constexpr std::size_t kShown = 40;
+  std::string out = "\"";
+  for (const char c : word.substr(0, kShown)) out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+  if (word.size() > kShown) out += "…";
+  return out + "\"";
+}
+
 struct LineParser {
   const std::string& name;
   int line;
@@ -35,7 +48,7 @@ struct LineParser {
   }
   Key key(std::size_t i) const {
     const auto k = key_from_name(words[i]);
-    if (!k) fail("unknown key \"" + std::string(words[i]) + "\" (keys: w a s d q e up down left right tab 0-9 n m c r f t v p escape)");
+    if (!k) fail("unknown key " + shown_word(words[i]) + " (keys: w a s d q e up down left right tab 0-9 n m c r f t v p escape)");
     return *k;
   }
   // Whole pixels, as SDL reports mouse motion.
@@ -44,7 +57,7 @@ struct LineParser {
     long v = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
     if (ec != std::errc() || end != text.data() + text.size() || v < -kMaxMousePixels || v > kMaxMousePixels)
-      fail("\"" + text + "\" is not a whole number of pixels in [-" + std::to_string(kMaxMousePixels) + ", " +
+      fail(shown_word(text) + " is not a whole number of pixels in [-" + std::to_string(kMaxMousePixels) + ", " +
            std::to_string(kMaxMousePixels) + "]");
     return static_cast<float>(v);
   }
@@ -53,7 +66,7 @@ struct LineParser {
     long v = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
     if (ec != std::errc() || end != text.data() + text.size() || v < 1 || v > kMaxScriptFrames)
-      fail("frame count \"" + text + "\" is not a whole number in [1, " + std::to_string(kMaxScriptFrames) + "]");
+      fail("frame count " + shown_word(text) + " is not a whole number in [1, " + std::to_string(kMaxScriptFrames) + "]");
     return v;
   }
 };
@@ -105,7 +118,7 @@ std::vector<ScriptCommand> parse_script(std::string_view text, const std::string
       p.expect_args(0, 0, "quit");
       c.kind = ScriptCommand::Kind::Quit;
     } else {
-      p.fail("unknown command \"" + std::string(verb) + "\" (commands: press down up mouse frame screenshot drop quit)");
+      p.fail("unknown command " + shown_word(verb) + " (commands: press down up mouse frame screenshot drop quit)");
     }
     commands.push_back(c);
   }
@@ -113,16 +126,14 @@ std::vector<ScriptCommand> parse_script(std::string_view text, const std::string
 }
 
 std::vector<ScriptCommand> load_script(const std::filesystem::path& path) {
-  constexpr std::uintmax_t kMaxBytes = 16u << 20;  // a script is a few lines; refuse absurd files
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw ScriptError(path.string() + ": cannot read the script (" + ec.message() + ")");
-  if (size > kMaxBytes) throw ScriptError(path.string() + ": script is larger than 16 MiB");
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in && !in.eof()) throw ScriptError(path.string() + ": cannot read the script");
-  return parse_script(text.str(), path.string());
+  constexpr std::uint64_t kMaxBytes = 16u << 20;  // a script is a few lines; refuse absurd files
+  std::string text;
+  // Never waits on a named pipe or a device (read_file.h).
+  if (const softpbr::image::FileProblem p = softpbr::image::read_whole_file(path, kMaxBytes, text)) {
+    if (p.too_large) throw ScriptError(path.string() + ": script is larger than 16 MiB");
+    throw ScriptError(path.string() + ": cannot read the script (" + p.reason + ")");
+  }
+  return parse_script(text, path.string());
 }
 
 }  // namespace viewer

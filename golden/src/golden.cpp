@@ -4,11 +4,11 @@
 
 #include <cctype>
 #include <cstdlib>
-#include <fstream>
 #include <functional>
 #include <sstream>
 #include <string_view>
 
+#include "softpbr/image/read_file.h"
 #include "softpbr/image/write.h"
 
 namespace softpbr::golden {
@@ -148,11 +148,14 @@ MatchResult unsupported(const fs::path& golden, const Options& o, const std::str
   return r;
 }
 
-// The first whitespace-separated word of a .hash file, or "" when it cannot be read.
+// The first whitespace-separated word of a .hash file, or "" when it cannot be read (read
+// without blocking: a named pipe or a device is not a .hash file; one is 17 bytes).
 std::string read_hash(const fs::path& path) {
-  std::ifstream f(path);
+  std::string text;
+  if (image::read_whole_file(path, 4096, text)) return "";
+  std::istringstream in(text);
   std::string word;
-  f >> word;
+  in >> word;
   return word;
 }
 

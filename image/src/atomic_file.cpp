@@ -108,8 +108,15 @@ std::string output_problem(const fs::path& path) {
   if (path.string().find('\0') != std::string::npos) return "cannot write: the name holds a NUL byte";
   const fs::path folder = folder_of(path);
   struct stat st {};
-  if (::stat(folder.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-    return "cannot write: the folder " + folder.string() + " does not exist";
+  // The true reason: a missing folder, a file where the folder should be ("-o file/x.png"),
+  // a link loop, no permission to look.
+  if (::stat(folder.c_str(), &st) != 0) {
+    if (errno == ENOENT) return "cannot write: the folder " + folder.string() + " does not exist";
+    if (errno == ENOTDIR) return "cannot write: a part of " + folder.string() + " is not a folder";
+    if (errno == ELOOP) return "cannot write: the folder " + folder.string() + ": too many levels of symbolic links (a link loop)";
+    return "cannot write: the folder " + folder.string() + ": " + std::strerror(errno);
+  }
+  if (!S_ISDIR(st.st_mode)) return "cannot write: " + folder.string() + " is not a folder";
   if (::access(folder.c_str(), W_OK | X_OK) != 0)
     return errno == EROFS ? "cannot write: the folder " + folder.string() + " is on a read-only file system"
                           : "cannot write: no permission to create files in " + folder.string();

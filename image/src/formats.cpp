@@ -1,10 +1,10 @@
 // What the format files share (see formats.h).
 #include "formats.h"
 #include "softpbr/image/load.h"
+#include "softpbr/image/read_file.h"
 
 #include <algorithm>
 #include <climits>
-#include <fstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -89,23 +89,9 @@ int stb_size(std::span<const std::uint8_t> bytes, std::string_view name) {
 }
 
 std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits) {
-  const std::string name = path.string();
-  std::error_code ec;
-  const std::filesystem::file_status st = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(st)) fail(name, "no such file");
-  if (std::filesystem::is_directory(st)) fail(name, "is a folder, not an image");
-  if (!std::filesystem::is_regular_file(st)) fail(name, "not a regular file (a device, pipe or socket), not an image");
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) fail(name, "cannot read its size: " + ec.message());
-  if (size > limits.max_file_bytes)
-    fail(name, std::to_string(size) + " bytes, over the limit of " + std::to_string(limits.max_file_bytes));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(name, "cannot open for reading");
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
-  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
-  // A file that shrank while being read keeps only what was there.
-  bytes.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) fail(name, "read error");
+  std::vector<std::uint8_t> bytes;
+  if (const FileProblem p = read_whole_file(path, limits.max_file_bytes, bytes))
+    fail(path.string(), p.folder ? "is a folder, not an image" : p.reason);
   return bytes;
 }
 

@@ -42,8 +42,8 @@ void check_size(std::string_view name, std::int64_t width, std::int64_t height, 
 // The size of a buffer as stb_image takes it (an int); throws when it is larger.
 int stb_size(std::span<const std::uint8_t> bytes, std::string_view name);
 
-// The whole of a regular file of at most limits.max_file_bytes (a device or a pipe would be
-// read without end). Throws "<path>: no such file" and the like.
+// The whole of a regular file of at most limits.max_file_bytes (read_whole_file: never
+// blocks on a pipe or a device). Throws "<path>: no such file" and the like.
 std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits);
 
 // What an encoder accepts: check_pixels, and at least 1×1 (std::invalid_argument otherwise).

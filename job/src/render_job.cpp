@@ -110,6 +110,8 @@ void validate(const Settings& s) {
     bad_setting("env_intensity", "expected a number in [0, 1e6], got " + show_value(*s.env_intensity));
   if (s.env_rotation && !std::isfinite(*s.env_rotation)) bad_setting("env_rotation", "expected a finite number of degrees");
   if (s.background) parse_background(*s.background);
+  if (s.missing_images && *s.missing_images != "error" && *s.missing_images != "warn")
+    bad_setting("missing-images", "expected error or warn, got \"" + *s.missing_images + "\"");
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
@@ -122,6 +124,10 @@ void validate(const Settings& s) {
   }
 }
 
+pbr::MissingImages missing_images(const Settings& s) {
+  return s.missing_images == "warn" ? pbr::MissingImages::Warn : pbr::MissingImages::Error;
+}
+
 std::uint64_t requested_memory_limit(const Settings& s) {
   return s.max_memory_mib ? static_cast<std::uint64_t>(*s.max_memory_mib * 1048576.0) : pbr::kDefaultMemoryLimit;
 }
@@ -131,7 +137,10 @@ std::uint64_t requested_memory_limit(const Settings& s) {
 pbr::LoadedScene load_model(const std::string& input, const Settings& s, raster::ThreadPool& pool) {
   pbr::GltfScene g;
   try {
-    g = pbr::load_gltf(input, {.pool = &pool, .memory_limit = requested_memory_limit(s), .roots = s.roots});
+    g = pbr::load_gltf(input, {.pool = &pool,
+                               .memory_limit = requested_memory_limit(s),
+                               .roots = s.roots,
+                               .missing_images = missing_images(s)});
   } catch (const std::bad_alloc&) {
     throw Error(Error::Kind::Memory, "",
                 input + ": out of memory while loading it (the process's memory or address-space limit)");
@@ -215,7 +224,8 @@ pbr::LoadedScene load(const std::string& input, const Settings& s, raster::Threa
     file = pbr::load_scene_file(input, {.memory_limit = requested_memory_limit(s),
                                         .pool = &pool,
                                         .environment_cache = s.env_cache,
-                                        .roots = s.roots});
+                                        .roots = s.roots,
+                                        .missing_images = missing_images(s)});
   }
   apply_environment(file, s, pool);
   return file;

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 
+#include "softpbr/image/read_file.h"
 #include "softpbr/loaders/format_bytes.h"
 
 namespace softpbr::pbr::detail {
@@ -83,9 +84,19 @@ class Mapper {
       if (info_.line[k] != 0 && name_[k]->empty())
         fail(static_cast<MtlMap>(k), "no image file name after the options (-o, -s and -t take three numbers "
                                      "here: write -s 2 2 1, not -s 2 2)");
+    // MissingImages::Warn: a map whose file cannot be read is left out, with a warning
+    // (a file outside the roots stays an error: cache.read checks them when it loads).
+    if (t_.missing_images == MissingImages::Warn)
+      for (std::size_t k = 0; k < kMtlMapCount; ++k)
+        if (!name_[k]->empty() && detail::outside_roots(path(static_cast<MtlMap>(k)), t_.cache.roots()).empty())
+          if (const image::FileProblem p = image::file_problem(path(static_cast<MtlMap>(k)))) {
+            missing_[k] = true;
+            warn(static_cast<MtlMap>(k), path(static_cast<MtlMap>(k)).string() + ": " + p.reason +
+                                             " (a missing image: the map is left out)");
+          }
   }
 
-  bool given(MtlMap k) const { return !name_[k]->empty(); }
+  bool given(MtlMap k) const { return !name_[k]->empty() && !missing_[k]; }
   const tinyobj::texture_option_t& opt(MtlMap k) const { return *opt_[k]; }
 
   fs::path path(MtlMap k) const {
@@ -288,6 +299,7 @@ class Mapper {
   MtlTextures& t_;
   const std::string* name_[kMtlMapCount];
   const tinyobj::texture_option_t* opt_[kMtlMapCount];
+  bool missing_[kMtlMapCount] = {};  // left out: MissingImages::Warn and its file cannot be read
 };
 
 }  // namespace

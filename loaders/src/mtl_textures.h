@@ -41,6 +41,7 @@ struct MtlTextures {
   std::uint64_t limit;
   std::uint64_t start;  // cache.bytes() when the model began
   std::vector<std::string>& warnings;
+  MissingImages missing_images = MissingImages::Error;
 
   std::uint64_t left() const {
     const std::uint64_t used = cache.bytes() - start;

@@ -28,6 +28,7 @@
 #include <tiny_obj_loader.h>
 
 #include "mtl_textures.h"
+#include "softpbr/image/read_file.h"
 #include "softpbr/loaders/format_bytes.h"
 
 namespace softpbr::pbr {
@@ -55,22 +56,11 @@ std::string describe(const fs::path& path) { return path.string(); }
 
 // The whole file, or an error message (empty on success).
 std::string read_text(const fs::path& path, std::string& text) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (ec && ec != std::errc::no_such_file_or_directory) return "cannot open: " + ec.message();  // a symlink loop
-  if (ec || !fs::exists(st)) return "cannot open: no such file";
-  if (fs::is_directory(st)) return "cannot open: is a directory";
-  if (!fs::is_regular_file(st)) return "cannot open: not a regular file (a device, pipe or socket)";
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) return "cannot open: " + ec.message();
-  if (size > kMaxFileBytes)
-    return "file is " + std::to_string(size) + " bytes, more than the limit of " + std::to_string(kMaxFileBytes);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "cannot open for reading";
-  text.resize(static_cast<std::size_t>(size));
-  in.read(text.data(), static_cast<std::streamsize>(size));
-  if (static_cast<std::uintmax_t>(in.gcount()) != size) return "read error";
-  return {};
+  const image::FileProblem p = image::read_whole_file(path, kMaxFileBytes, text);
+  if (!p) return {};
+  if (p.too_large)
+    return "file is " + std::to_string(p.size) + " bytes, more than the limit of " + std::to_string(kMaxFileBytes);
+  return "cannot open: " + p.reason;
 }
 
 // Calls f(line_number, line) for each line, split as tinyobjloader's safeGetline does
@@ -666,7 +656,7 @@ ObjModel detail::load_obj(const fs::path& path, const ObjOptions& options, Textu
   model.warnings.insert(model.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
   add_warnings(path, warn, model.warnings);
   if (mtl.info.size() != materials.size()) mtl.info.resize(materials.size(), fallback_info(path));
-  detail::MtlTextures textures{cache, options.texture_memory_limit, cache.bytes(), model.warnings};
+  detail::MtlTextures textures{cache, options.texture_memory_limit, cache.bytes(), model.warnings, options.missing_images};
   for (std::size_t i = 0; i < materials.size(); ++i) {
     std::string name = materials[i].name;
     name.erase(0, name.find_first_not_of(" \t"));

@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <system_error>
 
 #include "json_reader.h"
 #include "scene_file/loader.h"
+#include "softpbr/image/read_file.h"
 #include "softpbr/loaders/format_bytes.h"
 
 namespace softpbr::pbr {
@@ -38,6 +38,7 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   scene_file::TextureLibrary textures(r, base_dir, budget);
   textures.cache().set_roots(options.roots);
   scene_file::MeshLibrary meshes(r, base_dir, budget, textures);
+  meshes.set_missing_images(options.missing_images);
   if (auto c = r.member(root, "camera")) out.scene.camera = scene_file::read_camera(r, *c);
   if (auto a = r.member(root, "ambient")) out.scene.ambient = r.vec3(*a, 0, 1e30);
   if (auto s = r.member(root, "render")) scene_file::read_render(r, *s, out);
@@ -111,24 +112,20 @@ SceneFile parse_scene_file(std::string_view text, const std::string& name, const
 
 SceneFile load_scene_file(const std::filesystem::path& path, const SceneLoadOptions& options) {
   const std::string name = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw SceneFileError(name + ": is a folder, not a scene file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneFileError(name + ": cannot open the scene file: " + std::generic_category().message(errno));
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && size > kMaxSceneFileBytes)
-    throw SceneFileError(name + ": the scene file is " + format_bytes(size) + ", over the limit of " +
-                         format_bytes(kMaxSceneFileBytes) + " (meshes belong in OBJ files)");
-  // Read at most one byte past the limit: a device or a pipe has no size to check first.
+  // A pipe is read (`softpbr render <(generate-scene)`); opening one never waits for a
+  // writer, and one without a writer reads as empty (read_file.h).
   std::string text;
-  char buffer[65536];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-    text.append(buffer, static_cast<std::size_t>(in.gcount()));
-    if (text.size() > kMaxSceneFileBytes)
-      throw SceneFileError(name + ": the scene file is over the limit of " + format_bytes(kMaxSceneFileBytes) +
-                           " (meshes belong in OBJ files)");
+  if (const image::FileProblem p = image::read_whole_file(path, kMaxSceneFileBytes, text, image::Pipes::Read); p) {
+    if (p.folder) throw SceneFileError(name + ": is a folder, not a scene file");
+    if (p.too_large)
+      throw SceneFileError(name + ": the scene file is " +
+                           (p.size > kMaxSceneFileBytes + 1 ? format_bytes(p.size) + ", " : std::string()) +
+                           "over the limit of " + format_bytes(kMaxSceneFileBytes) + " (meshes belong in OBJ files)");
+    if (p.error != 0) throw SceneFileError(name + ": cannot open the scene file: " + std::generic_category().message(p.error));
+    throw SceneFileError(name + ": " + p.reason);
+  } else if (p.pipe && text.empty()) {
+    throw SceneFileError(name + ": is a pipe that gave nothing (a named pipe with no writer reads as empty)");
   }
-  if (in.bad()) throw SceneFileError(name + ": cannot read the scene file");
   SceneFile file = parse_scene_file(text, name, path.parent_path(), options);
   file.inputs.insert(file.inputs.begin(), name);
   return file;

@@ -1,21 +1,24 @@
 // The softpbr._softpbr extension module: render, scenes, meshes, materials, lights and
 // cameras, image comparison. The softpbr package (python/softpbr/__init__.py) re-exports it.
 #include <cerrno>
-#include <fstream>
-#include <system_error>
 
 #include "bindings.h"
+#include "softpbr/image/read_file.h"
 #include "softpbr/loaders/obj.h"
 
 namespace softpbr::python {
 
 void require_readable(const std::filesystem::path& path) {
-  std::error_code ec;
-  const bool folder = std::filesystem::is_directory(path, ec);
-  errno = 0;
-  if (!folder && std::ifstream(path, std::ios::binary)) return;
-  errno = folder ? EISDIR : errno != 0 ? errno : EIO;
-  PyErr_SetFromErrnoWithFilename(PyExc_OSError, path.string().c_str());
+  // Opened without blocking and closed again (read_file.h): a named pipe with no writer
+  // raises at once instead of holding the GIL forever.
+  const image::FileProblem p = image::file_problem(path);
+  if (!p) return;
+  if (p.error != 0 || p.folder) {
+    errno = p.folder ? EISDIR : p.error;
+    PyErr_SetFromErrnoWithFilename(PyExc_OSError, path.string().c_str());
+  } else {
+    PyErr_SetString(PyExc_OSError, (path.string() + ": " + p.reason).c_str());
+  }
   throw py::error_already_set();
 }
 

@@ -105,7 +105,14 @@ void run_released(const pbr::RenderSettings& r, Draw&& draw) {
   }
 }
 
+// The command's frame range (--frames: 0 .. job::kMaxFrame), named as the keyword.
+void check_frame(long frame) {
+  if (frame < 0 || frame > job::kMaxFrame)
+    value_error("frame: expected a frame in [0, " + std::to_string(job::kMaxFrame) + "], got " + std::to_string(frame));
+}
+
 py::array_t<std::uint8_t> render(const PyScene& s, const job::Settings& o, long frame) {
+  check_frame(frame);
   const pbr::RenderSettings r = settings_for(s, o);
   const pbr::Scene scene = pbr::animate(s.file, frame);  // a copy: Python may change `s` while C++ runs
   job::Frame out;
@@ -116,6 +123,7 @@ py::array_t<std::uint8_t> render(const PyScene& s, const job::Settings& o, long 
 }
 
 py::array_t<float> render_hdr(const PyScene& s, const job::Settings& o, long frame) {
+  check_frame(frame);
   const pbr::RenderSettings r = settings_for(s, o);
   const pbr::Scene scene = pbr::animate(s.file, frame);
   std::unique_ptr<raster::Target> target;

@@ -4,8 +4,12 @@ values (the JSON pointer for dict scenes), OSError for files that cannot be read
 from __future__ import annotations
 
 import json
+import os
 import re
+import subprocess
+import sys
 
+import numpy
 import pytest
 
 import softpbr
@@ -111,3 +115,56 @@ def test_an_invalid_material_is_refused_when_rendered():
     scene.add(softpbr.Mesh.cube(), softpbr.Material(roughness=3))
     with pytest.raises(ValueError, match="roughness"):
         softpbr.render(scene)
+
+
+@pytest.mark.parametrize("name, call", [
+    ("pipe.png", "softpbr.load_image(p)"),
+    ("pipe.hdr", "softpbr.Environment.load(p)"),
+    ("pipe.gltf", "softpbr.load_gltf(p)"),
+    ("pipe.glb", "softpbr.Scene.load_gltf(p)"),
+    ("pipe.obj", "softpbr.load_obj(p)"),
+    ("pipe.json", "softpbr.render(p)"),
+])
+def test_a_named_pipe_is_refused_at_once_not_waited_on(tmp_path, name, call):
+    # A FIFO with no writer: opening it blocked forever, holding the GIL. In a child process
+    # with a deadline, so that a regression fails instead of hanging the suite.
+    fifo = tmp_path / name
+    os.mkfifo(fifo)
+    code = f"import softpbr\np = {str(fifo)!r}\ntry:\n    {call}\nexcept OSError as e:\n    print('OSError:', e)\n"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert result.stdout == f"OSError: {fifo}: is a named pipe (FIFO), not a regular file\n", result.stderr
+
+
+@pytest.mark.parametrize("frame", [-1, 10_000_000, 2**40])
+def test_a_frame_outside_the_commands_range_is_refused(frame):
+    message = r"^frame: expected a frame in \[0, 9999999\], got " + str(frame) + "$"
+    with pytest.raises(ValueError, match=message):
+        softpbr.render(small({}), frame=frame)
+    with pytest.raises(ValueError, match=message):
+        softpbr.render_hdr(small({}), frame=frame)
+
+
+def test_the_last_frame_of_the_commands_range_renders():
+    assert softpbr.render(small({}), frame=9_999_999).shape == (16, 16, 4)
+
+
+def test_missing_images_warn_leaves_a_texture_out_that_error_refuses(cli, tmp_path, source_dir):
+    # A model downloaded without its texture: refused by default, its texture left out with a
+    # warning with missing_images="warn", as the command's --missing-images warn.
+    subprocess.run([sys.executable, str(source_dir / "cli/tests/make_gltf.py"), str(source_dir / "cli/tests/goldens/lights.png")],
+                   cwd=tmp_path, check=True)
+    gone = tmp_path / "gone.gltf"
+    gone.write_text((tmp_path / "two.gltf").read_text().replace('"tex.png"', '"gone.png"'))
+    with pytest.raises(ValueError, match=re.escape(f"/images/0/uri: {tmp_path / 'gone.png'}: no such file")):
+        softpbr.load_gltf(gone)
+    model = softpbr.load_gltf(gone, missing_images="warn")
+    assert any(w.endswith("gone.png: no such file (a missing image: its textures are left out)") for w in model.warnings)
+    with pytest.raises(ValueError, match="no such file"):
+        softpbr.Scene.load_gltf(gone, width=32, height=24)
+    scene = softpbr.Scene.load_gltf(gone, width=32, height=24, missing_images="warn")
+    expected = tmp_path / "expected.png"
+    subprocess.run([cli, "render", str(gone), "-o", str(expected), "--width", "32", "--height", "24",
+                    "--missing-images", "warn", "-q"], check=True, capture_output=True)
+    assert numpy.array_equal(softpbr.render(scene), softpbr.load_image(expected))
+    with pytest.raises(ValueError, match='missing_images: expected error or warn, got "maybe"'):
+        softpbr.load_gltf(gone, missing_images="maybe")

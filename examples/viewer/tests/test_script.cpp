@@ -96,3 +96,26 @@ TEST_CASE("a missing script file is an error naming the file") {
     CHECK(std::string(e.what()).rfind("/nonexistent/keys.txt: ", 0) == 0);
   }
 }
+
+TEST_CASE("an error quotes at most 40 bytes of a script line, however long the line") {
+  // A 15 MB word was echoed whole; each quoted word is cut at 40 bytes, control bytes as '?'.
+  const std::string huge(15u << 20, 'x');
+  const std::string shown = "\"" + std::string(40, 'x') + "…\"";
+  const std::string cases[][2] = {
+      {huge, "s.txt:1: unknown command " + shown + " (commands: "},
+      {"press " + huge, "s.txt:1: unknown key " + shown + " (keys: "},
+      {"mouse 0 " + huge, "s.txt:1: " + shown + " is not a whole number of pixels"},
+      {"frame " + huge, "s.txt:1: frame count " + shown + " is not a whole number"},
+      {"jump\x1b[2J", "s.txt:1: unknown command \"jump?[2J\""},
+  };
+  for (const auto& [text, message] : cases) {
+    try {
+      parse_script(text, "s.txt");
+      FAIL("expected a ScriptError");
+    } catch (const ScriptError& e) {
+      const std::string what = e.what();
+      CHECK(what.rfind(message, 0) == 0);
+      CHECK(what.size() < 300);
+    }
+  }
+}

@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "gltf/draco.h"
+#include "gltf/files.h"
 #include "gltf/meshopt.h"
 #include "gltf/schema.h"
 #include "json_reader.h"
@@ -232,20 +233,53 @@ ErrorHints error_hints(const nlohmann::json& doc) {
   return hints;
 }
 
+namespace {
+// A URI as a message quotes it: at most 40 bytes, then "…" (a data URI can be megabytes).
+std::string shown_uri(const std::string& uri) {
+  constexpr std::size_t kShown = 40;
+  return uri.size() <= kShown ? uri : uri.substr(0, kShown) + "…";
+}
+
+// The buffer whose uri is `uri` (found by its text, or its percent-decoded text as tinygltf
+// names a file it looked for, or for a long one by its size and hash).
+const ErrorHints::Uri* buffer_of(const ErrorHints& hints, const std::string& uri) {
+  const std::size_t hash = uri.size() > ErrorHints::kKept ? std::hash<std::string_view>{}(uri) : 0;
+  for (const ErrorHints::Uri& u : hints.buffer_uris)
+    if (uri.size() <= ErrorHints::kKept ? u.size == 0 && (u.text == uri || uri_path("", u.text) == uri)
+                                        : u.size == uri.size() && u.hash == hash)
+      return &u;
+  return nullptr;
+}
+}  // namespace
+
 std::string tinygltf_error_with_pointer(const ErrorHints& hints, const std::string& err) {
-  if (err.rfind("File not found : ", 0) == 0) {
+  const std::string line = err.substr(0, err.find('\n'));
+  if (line.rfind("File not found : ", 0) == 0) {
     // tinygltf looks for a buffer's file before reading it.
-    std::string uri = err.substr(17);
-    if (const std::size_t nl = uri.find('\n'); nl != std::string::npos) uri.resize(nl);
-    const std::size_t hash = uri.size() > ErrorHints::kKept ? std::hash<std::string_view>{}(uri) : 0;
-    for (const ErrorHints::Uri& u : hints.buffer_uris)
-      if (uri.size() <= ErrorHints::kKept ? u.size == 0 && u.text == uri : u.size == uri.size() && u.hash == hash)
-        return "/buffers/" + std::to_string(u.buffer) + "/uri: " + uri + ": no such file";
-    return {};
+    const std::string uri = line.substr(17);
+    if (const ErrorHints::Uri* u = buffer_of(hints, uri))
+      return "/buffers/" + std::to_string(u->buffer) + "/uri: " + shown_uri(uri) + ": no such file";
+    return shown_uri(uri) + ": no such file (a buffer's file)";
+  }
+  // A data URI whose decoded bytes are not byteLength bytes (tinygltf quotes the whole URI).
+  const std::string decode = "Failed to decode 'uri' : ", in_buffer = " in Buffer";
+  if (line.rfind(decode, 0) == 0 && line.size() >= decode.size() + in_buffer.size() && line.ends_with(in_buffer)) {
+    const std::string uri = line.substr(decode.size(), line.size() - decode.size() - in_buffer.size());
+    if (const ErrorHints::Uri* u = buffer_of(hints, uri))
+      return "/buffers/" + std::to_string(u->buffer) + "/uri: the data URI \"" + shown_uri(uri) + "\" (" +
+             std::to_string(uri.size()) + " bytes) does not decode to the buffer's byteLength bytes";
+    return "a buffer's data URI \"" + shown_uri(uri) + "\" (" + std::to_string(uri.size()) +
+           " bytes) does not decode to its byteLength bytes";
   }
   if (err.rfind("Invalid `byteStride' value.", 0) == 0) return hints.stride;
   if (err.rfind("primitive indices accessor out of bounds", 0) == 0) return hints.indices_range;
   if (err.rfind("accessor[", 0) == 0 && err.find("] invalid bufferView") != std::string::npos) return hints.indices_view;
+  return {};
+}
+
+std::string buffer_pointer(const ErrorHints& hints, const std::string& base_dir, const std::string& path) {
+  for (const ErrorHints::Uri& u : hints.buffer_uris)
+    if (u.size == 0 && uri_path(base_dir, u.text) == path) return "/buffers/" + std::to_string(u.buffer) + "/uri: ";
   return {};
 }
 

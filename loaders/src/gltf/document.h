@@ -87,8 +87,15 @@ ErrorHints error_hints(const nlohmann::json& dom);
 // A message of tinygltf's own checks (made while it parses, so without a JSON pointer) as
 // softpbr's `/json/pointer: message`, found again in the document: an indices accessor
 // out of range or without a valid bufferView, a bufferView's invalid byteStride, a buffer's
-// file that does not exist. Empty when `err` is none of those or the value is not found.
+// file that does not exist, a buffer's data URI that does not decode to byteLength bytes
+// (URIs quoted to 40 bytes; those two without a pointer when the buffer is not found).
+// Empty when `err` is none of those or the value is not found.
 std::string tinygltf_error_with_pointer(const ErrorHints& hints, const std::string& err);
+
+// The JSON pointer of the buffer whose file is `path` followed by ": ", or "" when no
+// buffer's URI (joined to base_dir as gltf::uri_path joins it, as tinygltf reads it) names
+// it: for a buffer's file that could not be read.
+std::string buffer_pointer(const ErrorHints& hints, const std::string& base_dir, const std::string& path);
 
 // The document steps load_gltf and inspect_gltf both take, in order: the container (its BIN
 // problem thrown), check_json, the one DOM, with `schema` the schema check (load_gltf's),

@@ -1,9 +1,11 @@
 // External files of a .gltf: see files.h.
 #include "gltf/files.h"
 
-#include <fstream>
-#include <system_error>
+#include <sys/stat.h>
 
+#include <utility>
+
+#include "softpbr/image/read_file.h"
 #include "texture_cache.h"
 
 namespace softpbr::pbr::gltf {
@@ -37,23 +39,26 @@ std::string uri_path(const std::string& base_dir, const std::string& uri) {
 bool is_external_uri(const std::string& uri) { return !uri.empty() && uri.rfind("data:", 0) != 0; }
 
 std::string read_external(const std::string& path, std::uint64_t limit, const std::vector<std::filesystem::path>& roots,
-                          std::vector<unsigned char>& out) {
+                          std::vector<unsigned char>& out, bool* unreadable) {
+  if (unreadable != nullptr) *unreadable = false;
   // "%00" decodes to a NUL, where the system's calls would end the path early.
   if (const std::size_t nul = path.find('\0'); nul != std::string::npos)
     return path.substr(0, nul) + "…: a NUL character in the file name";
   if (const std::string problem = detail::outside_roots(path, roots); !problem.empty()) return path + ": " + problem;
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (ec || !std::filesystem::exists(status)) return path + ": no such file";
-  if (!std::filesystem::is_regular_file(status)) return path + ": cannot read: not a regular file";
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return path + ": cannot read";
-  if (size > limit) return path + ": " + std::to_string(size) + " bytes is over the limit of " + std::to_string(limit);
-  std::ifstream in(path, std::ios::binary);
-  out.resize(static_cast<std::size_t>(size));
-  if (!in || (size > 0 && !in.read(reinterpret_cast<char*>(out.data()), static_cast<std::streamsize>(size))))
-    return path + ": cannot read";
+  std::vector<std::uint8_t> bytes;
+  const image::FileProblem p = image::read_whole_file(path, limit, bytes);
+  if (p.too_large) return path + ": " + std::to_string(p.size) + " bytes is over the limit of " + std::to_string(limit);
+  if (p) {
+    if (unreadable != nullptr) *unreadable = true;
+    return path + ": " + p.reason;
+  }
+  out = std::move(bytes);
   return "";
+}
+
+bool file_exists(const std::string& path, void*) {
+  struct stat st {};
+  return path.find('\0') == std::string::npos && ::lstat(path.c_str(), &st) == 0;
 }
 
 }  // namespace softpbr::pbr::gltf

@@ -5,7 +5,6 @@
 // specification before it is used.
 #include "softpbr/loaders/gltf.h"
 
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
@@ -22,6 +21,7 @@
 #include "gltf/schema.h"
 #include "gltf/tinygltf.h"
 #include "softpbr/image/load.h"
+#include "softpbr/image/read_file.h"
 #include "softpbr/loaders/gltf_info.h"
 
 namespace softpbr::pbr {
@@ -31,14 +31,11 @@ namespace {
 namespace tg = tinygltf;
 
 std::vector<unsigned char> read_file(const std::filesystem::path& path, std::uint64_t limit, const std::string& what) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) throw LoadError(what + ": cannot read: " + ec.message());
-  if (size > limit) throw LoadError(what + ": " + std::to_string(size) + " bytes is over the limit of " + std::to_string(limit));
-  std::ifstream in(path, std::ios::binary);
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)))
-    throw LoadError(what + ": cannot read");
+  std::vector<unsigned char> bytes;
+  if (const image::FileProblem p = image::read_whole_file(path, limit, bytes)) {
+    if (p.too_large) throw LoadError(what + ": " + std::to_string(p.size) + " bytes is over the limit of " + std::to_string(limit));
+    throw LoadError(what + ": " + p.reason);
+  }
   return bytes;
 }
 
@@ -46,6 +43,8 @@ struct FsContext {
   std::uint64_t limit;
   const std::vector<std::filesystem::path>* roots;
   std::vector<std::string> files;  // every external file read (GltfScene::files)
+  std::string problem;             // the first file that could not be read: "path: reason"
+  std::string problem_path;
 };
 
 // tinygltf's file reader (external buffers: images it leaves to gltf::Resources, resources.h).
@@ -53,6 +52,10 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   auto* ctx = static_cast<FsContext*>(user);
   ctx->files.push_back(path);
   if (const std::string problem = gltf::read_external(path, ctx->limit, *ctx->roots, *out); !problem.empty()) {
+    if (ctx->problem.empty()) {
+      ctx->problem = problem;
+      ctx->problem_path = path;
+    }
     if (err) *err += problem + "\n";
     return false;
   }
@@ -123,8 +126,8 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     throw LoadError(file + ": " + std::to_string(bytes.size()) + " bytes is over the limit of " +
                     std::to_string(std::numeric_limits<unsigned>::max()));
   tg::TinyGLTF parser;
-  FsContext fs_context{options.max_file_bytes, &options.roots, {}};
-  parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
+  FsContext fs_context{options.max_file_bytes, &options.roots, {}, {}, {}};
+  parser.SetFsCallbacks({&gltf::file_exists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &fs_context});
   tg::Model model;
   ImageContext images{&model, {}};
   parser.SetImageLoader(&keep_encoded, &images);
@@ -143,6 +146,10 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     throw LoadError(file + ": " + first_line(e.what()));
   }
   if (!ok) {
+    // A buffer's file that could not be read: its pointer and the reason (tinygltf wraps it
+    // as "File read error : path : path: reason").
+    if (!fs_context.problem.empty())
+      throw LoadError(file + ": " + gltf::buffer_pointer(doc.hints, base_dir, fs_context.problem_path) + fs_context.problem);
     // A few references tinygltf checks itself: said with their JSON pointer when found.
     const std::string pointed = gltf::tinygltf_error_with_pointer(doc.hints, err);
     if (!pointed.empty()) throw LoadError(file + ": " + pointed);

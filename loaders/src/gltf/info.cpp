@@ -26,11 +26,17 @@ struct Context {
   const std::vector<std::filesystem::path>* roots = nullptr;
   std::map<int, image::ImageHeader> headers;  // by image index
   std::map<int, std::size_t> sizes;
+  std::string problem;  // the first file that could not be read: "path: reason"
+  std::string problem_path;
 };
 
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
-  const auto* ctx = static_cast<const Context*>(user);
+  auto* ctx = static_cast<Context*>(user);
   if (const std::string problem = gltf::read_external(path, ctx->limit, *ctx->roots, *out); !problem.empty()) {
+    if (ctx->problem.empty()) {
+      ctx->problem = problem;
+      ctx->problem_path = path;
+    }
     if (err) *err += problem + "\n";
     return false;
   }
@@ -102,10 +108,8 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   const std::string file = path.string();
   std::vector<std::uint8_t> bytes;
   {
-    Context probe{options.max_file_bytes, &options.roots, {}, {}};
+    Context probe{options.max_file_bytes, &options.roots, {}, {}, {}, {}};
     std::string err;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw LoadError(file + ": cannot read: not a regular file");
     // The top-level file is not confined by the roots (as load_gltf: only what it refers to).
     const std::vector<std::filesystem::path> anywhere;
     probe.roots = &anywhere;
@@ -118,9 +122,9 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   const gltf::Document doc = gltf::read_document(bytes, file, options.memory_limit, /*schema=*/false);
   const std::span<const std::uint8_t> parsed = doc.bytes;
   if (parsed.size() > std::numeric_limits<unsigned>::max()) throw LoadError(file + ": over the size limit");
-  Context ctx{options.max_file_bytes, &options.roots, {}, {}};
+  Context ctx{options.max_file_bytes, &options.roots, {}, {}, {}, {}};
   tg::TinyGLTF parser;
-  parser.SetFsCallbacks({&tg::FileExists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &ctx});
+  parser.SetFsCallbacks({&gltf::file_exists, &tg::ExpandFilePath, &read_whole_file, &tg::WriteWholeFile, &ctx});
   parser.SetImageLoader(&read_header, &ctx);
   tg::Model m;
   std::string err, warn;
@@ -137,7 +141,11 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
   } catch (const std::exception& e) {
     throw LoadError(file + ": " + first_line(e.what()));
   }
-  if (!ok) throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
+  if (!ok) {
+    if (!ctx.problem.empty())
+      throw LoadError(file + ": " + gltf::buffer_pointer(doc.hints, base_dir, ctx.problem_path) + ctx.problem);
+    throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
+  }
 
   GltfInfo info = gltf::describe(m, file, base_dir, warn, std::move(ctx.headers), std::move(ctx.sizes), options);
   if (doc.rewritten()) gltf::restore_prepass(info, m, doc.draco_indices, doc.placeholders);

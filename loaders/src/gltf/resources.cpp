@@ -366,14 +366,26 @@ void Resources::read_images(const std::vector<std::pair<int, raster::ColorSpace>
         std::find(wanted.begin(), wanted.end(), job.first) == wanted.end())
       wanted.push_back(job.first);
   std::vector<std::string> problems(wanted.size());
+  std::vector<char> unreadable(wanted.size(), 0);
   auto read = [&](std::size_t k) {
     const auto i = static_cast<std::size_t>(wanted[k]);
-    problems[k] = read_external(paths[i], options_.max_file_bytes, options_.roots, external_[i]);
+    bool file = false;
+    problems[k] = read_external(paths[i], options_.max_file_bytes, options_.roots, external_[i], &file);
+    unreadable[k] = file ? 1 : 0;
   };
   for_each_job(wanted.size(), read);
-  for (std::size_t k = 0; k < wanted.size(); ++k)
-    if (!problems[k].empty())
-      fail("/images/" + std::to_string(wanted[k]) + "/uri", problems[k]);
+  missing_.assign(m_.images.size(), false);
+  for (std::size_t k = 0; k < wanted.size(); ++k) {
+    if (problems[k].empty()) continue;
+    const std::string pointer = "/images/" + std::to_string(wanted[k]) + "/uri";
+    // MissingImages::Warn: an image whose file cannot be read leaves its texture slots empty.
+    if (unreadable[k] && options_.missing_images == MissingImages::Warn) {
+      missing_[static_cast<std::size_t>(wanted[k])] = true;
+      warn(pointer + ": " + problems[k] + " (a missing image: its textures are left out)");
+      continue;
+    }
+    fail(pointer, problems[k]);
+  }
 }
 
 std::vector<std::shared_ptr<const raster::Texture>> Resources::textures(
@@ -383,9 +395,12 @@ std::vector<std::shared_ptr<const raster::Texture>> Resources::textures(
   std::vector<std::shared_ptr<const raster::Texture>> textures(jobs.size());
   auto decode = [&](std::size_t j) {
     const auto [index, space] = jobs[j];
+    if (missing_[static_cast<std::size_t>(index)]) return;  // left out (read_images warned)
     const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
+    // The URI as a message quotes file content: at most 40 bytes.
+    const std::string uri = im.uri.size() > 40 ? im.uri.substr(0, 40) + "…" : im.uri;
     const std::string name =
-        file_ + ": /images/" + std::to_string(index) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " (" + im.uri + ")");
+        file_ + ": /images/" + std::to_string(index) + (im.uri.empty() || im.uri.rfind("data:", 0) == 0 ? "" : " (" + uri + ")");
     const std::span<const std::uint8_t> bytes = encoded(index);
     if (bytes.empty()) throw LoadError(name + ": the image could not be read" + (im.uri.empty() ? "" : " (an empty file)"));
     try {

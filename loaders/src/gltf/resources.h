@@ -81,6 +81,7 @@ class Resources : public Context {
   // The encoded bytes of the external images the materials use, by image index (tinygltf
   // reads none: TINYGLTF_NO_EXTERNAL_IMAGE), read on the pool by read_images().
   std::vector<std::vector<unsigned char>> external_;
+  std::vector<bool> missing_;  // by image: its file cannot be read and MissingImages::Warn left it out
 };
 
 }  // namespace softpbr::pbr::gltf

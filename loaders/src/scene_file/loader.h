@@ -131,6 +131,8 @@ class MeshLibrary {
   std::vector<std::string>& warnings() { return warnings_; }
   // The model files read so far (OBJ and MTL, glTF).
   std::vector<std::string>& files() { return files_; }
+  // What a model's texture image that cannot be read does (SceneLoadOptions::missing_images).
+  void set_missing_images(MissingImages m) { missing_images_ = m; }
 
  private:
   LoadedMesh build(const Node& spec);
@@ -145,6 +147,7 @@ class MeshLibrary {
   std::map<std::string, LoadedMesh> cache_;  // by name ("#name") or by the spec's JSON text
   std::vector<std::string> warnings_;
   std::vector<std::string> files_;
+  MissingImages missing_images_ = MissingImages::Error;
 };
 
 // One entry of /objects: appended to out.scene.objects, one object per drawn part.

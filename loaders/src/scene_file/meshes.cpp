@@ -138,6 +138,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   options.texture_memory_limit = budget_.left();
   options.roots = textures_.cache().roots();
   options.memory_limit = budget_.left();
+  options.missing_images = missing_images_;
   const std::uint64_t textures_before = textures_.bytes();
   std::uint64_t gltf_texture_bytes = 0;
   std::string ext = path.extension().string();
@@ -150,6 +151,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
       GltfOptions g;
       g.roots = textures_.cache().roots();
       g.memory_limit = budget_.left();
+      g.missing_images = missing_images_;
       if (const std::string problem = detail::outside_roots(path, g.roots); !problem.empty())
         throw LoadError(path.string() + ": " + problem);
       g.image_limits.max_decoded_bytes = std::min<std::uint64_t>(g.image_limits.max_decoded_bytes, budget_.left());

@@ -24,9 +24,10 @@
 
 namespace softpbr::image {
 
-// The whole of a regular file of at most limits.max_file_bytes (a device or a pipe would
-// be read without end), as the path overloads below read it. Throws std::runtime_error
-// "<path>: no such file" and the like.
+// The whole of a regular file of at most limits.max_file_bytes, as the path overloads below
+// read it: read_whole_file (read_file.h), which never blocks on a pipe or a device. Throws
+// std::runtime_error "<path>: no such file", "<path>: is a named pipe (FIFO), not a
+// regular file" and the like.
 std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Limits& limits = {});
 
 // PNG as RGBA: grey and RGB get alpha 255, grey is replicated, 16-bit samples are reduced
@@ -34,6 +35,13 @@ std::vector<std::uint8_t> read_file(const std::filesystem::path& path, const Lim
 // would tone map it; TGA/BMP/PSD/PNM: stb's decoders read on past the end of such files).
 Image8 load_png(const std::filesystem::path& path, const Limits& limits = {});
 Image8 load_png(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
+
+// PNG at 16 bits a sample, for comparing 16-bit images exactly (`softpbr diff`): RGBA
+// samples as 16-bit codes 0-65535, each held exactly in an ImageF's float (codes, not
+// linear values). Lower depths are widened as PNG scales them (8-bit 255 → 65535, i.e.
+// × 257), palettes and grey expanded, tRNS applied. The decoded size counted against
+// limits.max_decoded_bytes is 24 bytes a pixel (the 16-bit samples and the floats).
+ImageF load_png16(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
 
 // JPEG (baseline, extended or progressive, 8-bit, grey, YCbCr or CMYK/YCCK as stb_image
 // reads them) as RGBA with alpha 255.

@@ -14,10 +14,15 @@
 #include <vector>
 
 #include "softpbr/loaders/loaded_scene.h"
+#include "softpbr/loaders/missing_images.h"
 #include "softpbr/raster/renderer.h"
 #include "softpbr/raster/target.h"
 
 namespace softpbr::job {
+
+// The largest frame number, for the command's --frames and Python's frame=: keeps names and
+// angles sane (turntable angles are reduced modulo 360 in double, exact for any such frame).
+inline constexpr long kMaxFrame = 9'999'999;
 
 // A setting the job refuses (Kind::Setting: a bad value, before any work) or an input it
 // cannot render (Kind::Input: an environment file that cannot be read, a render over the
@@ -66,6 +71,9 @@ struct Settings {
   // scene may read files from (empty: anywhere).
   std::optional<double> max_memory_mib{};
   std::vector<std::filesystem::path> roots{};
+  // A model's texture image that cannot be read: "error" (the default: the model is
+  // refused) or "warn" (its slot left empty, a warning); pbr::MissingImages.
+  std::optional<std::string> missing_images{};
 };
 
 // Checks every setting given, before any work: Error (Kind::Setting) for the first bad one.
@@ -73,6 +81,8 @@ void validate(const Settings& settings);
 
 // The memory limit the settings ask for, in bytes (pbr::kDefaultMemoryLimit by default).
 std::uint64_t requested_memory_limit(const Settings& settings);
+// settings.missing_images as the loaders take it (Error unless "warn").
+pbr::MissingImages missing_images(const Settings& settings);
 
 // Loads `input` — a scene file, or a glTF model (.gltf, .glb) shown with the automatic
 // camera and light rig (pbr::gltf_scene_file) — with the settings' view, environment and

@@ -53,6 +53,7 @@
 #include "softpbr/image/image.h"
 #include "softpbr/loaders/load_error.h"
 #include "softpbr/loaders/loaded_scene.h"
+#include "softpbr/loaders/missing_images.h"
 #include "softpbr/pbr/camera.h"
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/scene.h"
@@ -76,6 +77,9 @@ struct GltfOptions {
   // When not empty, every external buffer and image must lie inside one of these folders
   // (symbolic links and ".." resolved), as SceneLoadOptions::roots.
   std::vector<std::filesystem::path> roots{};
+  // An image whose file cannot be read: the model refused (Error) or its texture slots left
+  // empty with a warning (Warn); missing_images.h.
+  MissingImages missing_images = MissingImages::Error;
 };
 
 struct GltfCamera {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "softpbr/loaders/load_error.h"
+#include "softpbr/loaders/missing_images.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
 
@@ -51,6 +52,9 @@ struct ObjOptions {
   // about 100 bytes a face corner) may take at most this: checked after the validation
   // pass has counted the elements, before anything is parsed into memory.
   std::uint64_t memory_limit = std::numeric_limits<std::uint64_t>::max();
+  // A texture map whose file cannot be read: the model refused (Error) or the map left out
+  // with a warning (Warn); missing_images.h.
+  MissingImages missing_images = MissingImages::Error;
 };
 
 // Loads an OBJ file and the MTL libraries it names (looked up next to the OBJ file).

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "softpbr/loaders/loaded_scene.h"
+#include "softpbr/loaders/missing_images.h"
 
 namespace softpbr::pbr {
 
@@ -51,6 +52,10 @@ struct SceneLoadOptions {
   // must lie inside one of these folders once symbolic links and ".." are resolved (the
   // scene file itself is the caller's choice). Empty: any file the process may read.
   std::vector<std::filesystem::path> roots{};
+  // A texture image of a mesh file (an OBJ's MTL map, a glTF model's image) that cannot be
+  // read: the scene refused (Error) or the slot left empty with a warning (Warn);
+  // missing_images.h. The scene file's own textures are the scene's choice: an error.
+  MissingImages missing_images = MissingImages::Error;
 };
 
 // Reads and validates a scene file. Relative mesh and image paths resolve against the file's folder.
