@@ -203,6 +203,7 @@ void frame(const glm::dvec3& n, glm::dvec3& t, glm::dvec3& b) {
 
 struct LobeSample {
   glm::dvec3 l;   // in the frame n = v = +Z
+  glm::vec3 lf;   // l in float, as the sample loop reads it
   double weight;  // n·l
   int lod0;       // the source mip below the filtered lod, and the blend to the next
   double frac;
@@ -231,31 +232,72 @@ std::vector<LobeSample> lobe(double alpha, std::uint32_t count, int source_size,
     double lod = 0.5 * (dmath::log(sample_solid_angle / texel_solid_angle) / kLn2);
     lod = std::clamp(lod, 0.0, static_cast<double>(mips - 1));
     const int lod0 = std::min(static_cast<int>(std::floor(lod)), mips - 1);
-    samples.push_back({l, l.z, lod0, lod - lod0});
+    samples.push_back({l, glm::vec3(l), l.z, lod0, lod - lod0});
   }
   return samples;
 }
 
-// A level prefiltered from the source chain with the GGX lobe of α.
-OctMap prefilter(const std::vector<OctMap>& source, int size, double alpha, std::uint32_t count,
+// The source chain as the sample loop reads it: float RGBA texels (16 bytes, a quarter of
+// the double texels' cache footprint), border included.
+struct SourceLevel {
+  int size = 0;
+  std::vector<glm::vec4> texels;  // (size + 2)², row-major
+
+  explicit SourceLevel(const OctMap& m) : size(m.size), texels(m.texels.size()) {
+    for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = glm::vec4(glm::vec3(m.texels[i]), 0.0f);
+  }
+  // OctMap::bilinear in float: uv in [0, 1]² (an encoded direction), so the texel
+  // coordinate is ≥ 0.5 and truncation is floor.
+  glm::vec3 bilinear(float u, float v) const {
+    const float fs = static_cast<float>(size);
+    const float cx = u * fs + 0.5f, cy = v * fs + 0.5f;
+    const int x0 = std::min(static_cast<int>(cx), size), y0 = std::min(static_cast<int>(cy), size);
+    const float fx = std::min(cx - static_cast<float>(x0), 1.0f), fy = std::min(cy - static_cast<float>(y0), 1.0f);
+    const std::size_t full = static_cast<std::size_t>(size) + 2;
+    const glm::vec4* r0 = &texels[static_cast<std::size_t>(y0) * full + static_cast<std::size_t>(x0)];
+    const glm::vec4* r1 = r0 + full;
+    const glm::vec4 top = r0[0] * (1.0f - fx) + r0[1] * fx;
+    const glm::vec4 bottom = r1[0] * (1.0f - fx) + r1[1] * fx;
+    return glm::vec3(top * (1.0f - fy) + bottom * fy);
+  }
+};
+
+// A level prefiltered from the source chain with the GGX lobe of α: per texel, the samples
+// turned into its frame, encoded, read (two mips blended) and summed with their weights in
+// double, in the samples' order.
+OctMap prefilter(const std::vector<SourceLevel>& source, int size, double alpha, std::uint32_t count,
                  raster::ThreadPool* pool) {
   const std::vector<LobeSample> samples = lobe(alpha, count, source[0].size, static_cast<int>(source.size()));
+  double weight = 0.0;  // the same for every texel
+  for (const LobeSample& s : samples) weight += s.weight;
   OctMap m(size);
   for_each_index(pool, static_cast<std::size_t>(size), [&](std::size_t row) {
     const int y = static_cast<int>(row);
     for (int x = 0; x < size; ++x) {
-      const glm::dvec3 n = octahedral_decode({(x + 0.5) / size, (y + 0.5) / size});
-      glm::dvec3 t, b;
-      frame(n, t, b);
+      const glm::dvec3 nd = octahedral_decode({(x + 0.5) / size, (y + 0.5) / size});
+      glm::dvec3 td, bd;
+      frame(nd, td, bd);
+      const glm::vec3 n(nd), t(td), b(bd);
       glm::dvec3 sum(0.0);
-      double weight = 0.0;
       for (const LobeSample& s : samples) {
-        const glm::dvec3 l = t * s.l.x + b * s.l.y + n * s.l.z;
-        const glm::dvec2 uv = encode(l);
-        glm::dvec3 c = source[static_cast<std::size_t>(s.lod0)].bilinear(uv);
-        if (s.frac > 0.0) c = c * (1.0 - s.frac) + source[static_cast<std::size_t>(s.lod0) + 1].bilinear(uv) * s.frac;
-        sum += c * s.weight;
-        weight += s.weight;
+        // The sample's direction and its octahedral coordinates in float (a direction to
+        // 1e-7; the weights and the sum stay in double).
+        const glm::vec3 l = t * s.lf.x + b * s.lf.y + n * s.lf.z;
+        const float l1 = std::fabs(l.x) + std::fabs(l.y) + std::fabs(l.z);
+        const float inv = 1.0f / l1;  // > 0: l is a unit vector's rotation
+        float px = l.x * inv, pz = l.z * inv;
+        if (l.y < 0.0f) {
+          const float fx = (1.0f - std::fabs(pz)) * (px < 0.0f ? -1.0f : 1.0f);
+          const float fz = (1.0f - std::fabs(px)) * (pz < 0.0f ? -1.0f : 1.0f);
+          px = fx, pz = fz;
+        }
+        const float u = px * 0.5f + 0.5f, v = pz * 0.5f + 0.5f;
+        glm::vec3 c = source[static_cast<std::size_t>(s.lod0)].bilinear(u, v);
+        if (s.frac > 0.0) {
+          const auto f = static_cast<float>(s.frac);
+          c = c * (1.0f - f) + source[static_cast<std::size_t>(s.lod0) + 1].bilinear(u, v) * f;
+        }
+        sum += glm::dvec3(c) * s.weight;
       }
       m.interior(x, y) = weight > 0.0 ? sum / weight : glm::dvec3(0.0);
     }
@@ -403,8 +445,9 @@ Environment::Environment(const image::ImageViewF& equirect, std::string name, co
   while (chain.back().size > 1) chain.push_back(chain.back().half());
 
   levels_.push_back(chain[0].texture());
+  const std::vector<SourceLevel> source(chain.begin(), chain.end());
   for (int i = 1; i < kLevels; ++i)
-    levels_.push_back(prefilter(chain, level_side(size_, i), static_cast<double>(kEnvironmentLevelAlpha[i]),
+    levels_.push_back(prefilter(source, level_side(size_, i), static_cast<double>(kEnvironmentLevelAlpha[i]),
                                 level_samples(options.samples, i), pool)
                           .texture());
 }
