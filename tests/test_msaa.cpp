@@ -161,7 +161,7 @@ TEST_CASE("a multisampled target keeps its depths by 2x2 quads, sample by sample
   CHECK(raster::depth_count(6, 4, 8) == 3u * 2u * 32u);
   // Every pixel's every sample has its own index, inside the count.
   for (const int n : {4, 8})
-    for (const auto [w, h] : {std::pair{5, 3}, std::pair{6, 4}, std::pair{1, 1}, std::pair{7, 2}}) {
+    for (const auto& [w, h] : {std::pair{5, 3}, std::pair{6, 4}, std::pair{1, 1}, std::pair{7, 2}}) {
       std::vector<int> hits(raster::depth_count(w, h, n), 0);
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)

@@ -39,6 +39,10 @@
 #define SOFTPBR_BUILD_AVX512 0
 #endif
 
+// Each copy: the macros above set, then detail/one_target.h, which turns the target's
+// features (SOFTPBR_TARGET_FEATURES, none for the baseline) on around the include of
+// SOFTPBR_TARGET_FILE and undefines them all again.
+
 // --- Baseline: the build's own flags. ---
 #define SOFTPBR_TARGET_NS baseline
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Baseline
@@ -49,88 +53,36 @@
 #endif
 #define SOFTPBR_TARGET_AVX512 SOFTPBR_BUILD_AVX512
 #define SOFTPBR_TARGET_VBMI 0
-#include SOFTPBR_TARGET_FILE
-#undef SOFTPBR_TARGET_NS
-#undef SOFTPBR_ISA
-#undef SOFTPBR_TARGET_AVX
-#undef SOFTPBR_TARGET_AVX512
-#undef SOFTPBR_TARGET_VBMI
+#include "softpbr/simd/detail/one_target.h"
 
 #if SOFTPBR_SIMD_X86_TARGETS
 // --- AVX2 (no FMA: -ffp-contract=off forbids contraction, and no target enables it). ---
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2,avx,popcnt"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2,avx,popcnt")
-#endif
+#define SOFTPBR_TARGET_FEATURES "avx2,avx,popcnt"
 #define SOFTPBR_TARGET_NS avx2
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Avx2
 #define SOFTPBR_TARGET_AVX 1
 #define SOFTPBR_TARGET_AVX512 SOFTPBR_BUILD_AVX512
 #define SOFTPBR_TARGET_VBMI 0
-#include SOFTPBR_TARGET_FILE
-#undef SOFTPBR_TARGET_NS
-#undef SOFTPBR_ISA
-#undef SOFTPBR_TARGET_AVX
-#undef SOFTPBR_TARGET_AVX512
-#undef SOFTPBR_TARGET_VBMI
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+#include "softpbr/simd/detail/one_target.h"
 
 // --- AVX-512 F, DQ, VL, BW. ---
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt"))), \
-                             apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt")
-#endif
+#define SOFTPBR_TARGET_FEATURES "avx512f,avx512dq,avx512vl,avx512bw,avx2,avx,popcnt"
 #define SOFTPBR_TARGET_NS avx512
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Avx512
 #define SOFTPBR_TARGET_AVX 1
 #define SOFTPBR_TARGET_AVX512 1
 #define SOFTPBR_TARGET_VBMI 0
-#include SOFTPBR_TARGET_FILE
-#undef SOFTPBR_TARGET_NS
-#undef SOFTPBR_ISA
-#undef SOFTPBR_TARGET_AVX
-#undef SOFTPBR_TARGET_AVX512
-#undef SOFTPBR_TARGET_VBMI
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+#include "softpbr/simd/detail/one_target.h"
 
 #if defined(SOFTPBR_TARGET_ALSO_VBMI)
 // --- AVX-512 with VBMI, for the files that ask for it. ---
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt"))), \
-                             apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt")
-#endif
+#define SOFTPBR_TARGET_FEATURES "avx512f,avx512dq,avx512vl,avx512bw,avx512vbmi,avx2,avx,popcnt"
 #define SOFTPBR_TARGET_NS avx512vbmi
 #define SOFTPBR_ISA ::softpbr::simd::Isa::Avx512
 #define SOFTPBR_TARGET_AVX 1
 #define SOFTPBR_TARGET_AVX512 1
 #define SOFTPBR_TARGET_VBMI 1
-#include SOFTPBR_TARGET_FILE
-#undef SOFTPBR_TARGET_NS
-#undef SOFTPBR_ISA
-#undef SOFTPBR_TARGET_AVX
-#undef SOFTPBR_TARGET_AVX512
-#undef SOFTPBR_TARGET_VBMI
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+#include "softpbr/simd/detail/one_target.h"
 #endif  // SOFTPBR_TARGET_ALSO_VBMI
 #endif  // SOFTPBR_SIMD_X86_TARGETS
 
