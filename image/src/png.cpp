@@ -56,18 +56,33 @@ std::span<const std::uint8_t> pixel_chunks(std::span<const std::uint8_t> bytes, 
   return storage;
 }
 
-Image8 decode_png(std::span<const std::uint8_t> file, std::string_view name, const Limits& limits, Capacity capacity) {
+// libspng set up over a file's pixel chunks (pixel_chunks: `storage` holds them when
+// ancillary ones were dropped) with the image limits and CRC checks, its header read: `e`
+// is libspng's first error (0: none), as the decoders below go on with it.
+struct SpngDecoder {
   std::vector<std::uint8_t> storage;
-  const std::span<const std::uint8_t> bytes = pixel_chunks(file, storage);
-  const SpngContext ctx(spng_ctx_new(SPNG_CTX_IGNORE_ADLER32), &spng_ctx_free);
-  if (!ctx) detail::fail(name, "cannot decode (out of memory)");
-  const auto side = static_cast<std::uint32_t>(std::max(limits.max_side, 1));
-  int e = spng_set_image_limits(ctx.get(), side, side);
-  if (!e) e = spng_set_chunk_limits(ctx.get(), bytes.size(), bytes.size());
-  if (!e) e = spng_set_crc_action(ctx.get(), SPNG_CRC_USE, SPNG_CRC_USE);
-  if (!e) e = spng_set_png_buffer(ctx.get(), bytes.data(), bytes.size());
-  spng_ihdr ihdr{};  // its size was checked against `limits` by load_png
-  if (!e) e = spng_get_ihdr(ctx.get(), &ihdr);
+  SpngContext ctx{nullptr, &spng_ctx_free};
+  int e = 0;
+  spng_ihdr ihdr{};
+
+  SpngDecoder(std::span<const std::uint8_t> file, std::string_view name, const Limits& limits) {
+    const std::span<const std::uint8_t> bytes = pixel_chunks(file, storage);
+    ctx.reset(spng_ctx_new(SPNG_CTX_IGNORE_ADLER32));
+    if (!ctx) detail::fail(name, "cannot decode (out of memory)");
+    const auto side = static_cast<std::uint32_t>(std::max(limits.max_side, 1));
+    e = spng_set_image_limits(ctx.get(), side, side);
+    if (!e) e = spng_set_chunk_limits(ctx.get(), bytes.size(), bytes.size());
+    if (!e) e = spng_set_crc_action(ctx.get(), SPNG_CRC_USE, SPNG_CRC_USE);
+    if (!e) e = spng_set_png_buffer(ctx.get(), bytes.data(), bytes.size());
+    if (!e) e = spng_get_ihdr(ctx.get(), &ihdr);
+  }
+};
+
+Image8 decode_png(std::span<const std::uint8_t> file, std::string_view name, const Limits& limits, Capacity capacity) {
+  SpngDecoder d(file, name, limits);
+  const SpngContext& ctx = d.ctx;
+  int& e = d.e;
+  const spng_ihdr& ihdr = d.ihdr;  // its size was checked against `limits` by load_png
   std::size_t size = 0;
   if (!e) e = spng_decoded_image_size(ctx.get(), SPNG_FMT_RGBA8, &size);
   Image8 image;
@@ -121,17 +136,10 @@ ImageF load_png16(std::span<const std::uint8_t> file, std::string_view name, con
   }
   if (const std::string problem = detail::png_truncation(file); !problem.empty())
     detail::fail(name, "cannot decode (" + problem + ")");
-  std::vector<std::uint8_t> storage;
-  const std::span<const std::uint8_t> bytes = pixel_chunks(file, storage);
-  const SpngContext ctx(spng_ctx_new(SPNG_CTX_IGNORE_ADLER32), &spng_ctx_free);
-  if (!ctx) detail::fail(name, "cannot decode (out of memory)");
-  const auto side = static_cast<std::uint32_t>(std::max(limits.max_side, 1));
-  int e = spng_set_image_limits(ctx.get(), side, side);
-  if (!e) e = spng_set_chunk_limits(ctx.get(), bytes.size(), bytes.size());
-  if (!e) e = spng_set_crc_action(ctx.get(), SPNG_CRC_USE, SPNG_CRC_USE);
-  if (!e) e = spng_set_png_buffer(ctx.get(), bytes.data(), bytes.size());
-  spng_ihdr ihdr{};
-  if (!e) e = spng_get_ihdr(ctx.get(), &ihdr);
+  SpngDecoder d(file, name, limits);
+  const SpngContext& ctx = d.ctx;
+  int& e = d.e;
+  const spng_ihdr& ihdr = d.ihdr;
   std::size_t size = 0;
   if (!e) e = spng_decoded_image_size(ctx.get(), SPNG_FMT_RGBA16, &size);
   ImageF image;
