@@ -391,6 +391,14 @@ void check_extension_integers(const Json& v, const std::string& p, bool inside) 
 // The extensions' references softpbr follows, as integers in range: a node's
 // KHR_lights_punctual light, a primitive's Draco bufferView and attribute ids, a
 // bufferView's EXT_meshopt_compression buffer.
+// The object `name` of an element's `extensions`, or null when there is none.
+const Json* extension(const Json& element, const char* name) {
+  const Json* e = member(element, "extensions");
+  if (e == nullptr || !e->is_object()) return nullptr;
+  const Json* x = member(*e, name);
+  return x != nullptr && x->is_object() ? x : nullptr;
+}
+
 void check_extension_references(const Json& root) {
   const Json* ext = member(root, "extensions");
   std::size_t lights = 0;
@@ -398,10 +406,8 @@ void check_extension_references(const Json& root) {
     if (const Json* punctual = member(*ext, "KHR_lights_punctual"); punctual != nullptr && punctual->is_object())
       if (const Json* l = member(*punctual, "lights"); l != nullptr && l->is_array()) lights = l->size();
   for (std::size_t i = 0; i < count_of(root, "nodes"); ++i) {
-    const Json* e = member(root["nodes"][i], "extensions");
-    if (e == nullptr || !e->is_object()) continue;
-    const Json* light = member(*e, "KHR_lights_punctual");
-    if (light == nullptr || !light->is_object()) continue;
+    const Json* light = extension(root["nodes"][i], "KHR_lights_punctual");
+    if (light == nullptr) continue;
     const std::string p = "/nodes/" + std::to_string(i) + "/extensions/KHR_lights_punctual";
     integer(*light, p, "light", 0, true);
     reference(*light, p, "light", lights, "light");
@@ -409,10 +415,8 @@ void check_extension_references(const Json& root) {
   for (std::size_t m = 0; m < count_of(root, "meshes"); ++m) {
     const Json& primitives = root["meshes"][m]["primitives"];
     for (std::size_t k = 0; k < primitives.size(); ++k) {
-      const Json* e = member(primitives[k], "extensions");
-      if (e == nullptr || !e->is_object()) continue;
-      const Json* draco = member(*e, "KHR_draco_mesh_compression");
-      if (draco == nullptr || !draco->is_object()) continue;
+      const Json* draco = extension(primitives[k], "KHR_draco_mesh_compression");
+      if (draco == nullptr) continue;
       const std::string p = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k) +
                             "/extensions/KHR_draco_mesh_compression";
       integer(*draco, p, "bufferView", 0, true);
@@ -426,10 +430,8 @@ void check_extension_references(const Json& root) {
     }
   }
   for (std::size_t v = 0; v < count_of(root, "bufferViews"); ++v) {
-    const Json* e = member(root["bufferViews"][v], "extensions");
-    if (e == nullptr || !e->is_object()) continue;
-    const Json* meshopt = member(*e, "EXT_meshopt_compression");
-    if (meshopt == nullptr || !meshopt->is_object()) continue;
+    const Json* meshopt = extension(root["bufferViews"][v], "EXT_meshopt_compression");
+    if (meshopt == nullptr) continue;
     const std::string p = "/bufferViews/" + std::to_string(v) + "/extensions/EXT_meshopt_compression";
     integer(*meshopt, p, "buffer", 0, true);
     reference(*meshopt, p, "buffer", count_of(root, "buffers"), "buffer");
