@@ -586,6 +586,15 @@ TEST_CASE("prefiltering gives the same bits on any thread count, and survives it
   std::vector<std::uint8_t> other = bytes;
   other[3] = 'X';
   CHECK_THROWS_WITH_AS(pbr::Environment::from_bytes(other, "d.spenv"), doctest::Contains("d.spenv: "), std::invalid_argument);
+  // A bad map size past the checksum's check (the checksum made to match) names the entry
+  // too: fuzz_envcache found it unnamed (the reader kept a reference to a moved string).
+  std::vector<std::uint8_t> size = bytes;
+  size[28] = 99;  // the irradiance map's side: after the magic, the key and three options
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i + 8 < size.size(); ++i) h = (h ^ size[i]) * 0x100000001b3ull;
+  for (int i = 0; i < 8; ++i) size[size.size() - 8 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(h >> (8 * i));
+  CHECK_THROWS_WITH_AS(pbr::Environment::from_bytes(size, "e.spenv"), doctest::Contains("e.spenv: bad map size"),
+                       std::invalid_argument);
 }
 
 TEST_CASE("load_environment: cached in memory and on disk, bad files are refused naming the file") {

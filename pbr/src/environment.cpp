@@ -607,7 +607,7 @@ std::shared_ptr<const Environment> Environment::from_bytes(std::span<const std::
   Reader r{bytes.first(bytes.size() - 8), 8, name};
   if (r.bits(8) != key) fail(name, "the environment cache file was made from another map");
   auto env = std::shared_ptr<Environment>(new Environment());
-  env->name_ = std::move(name);
+  env->name_ = name;  // a copy: the readers above hold a reference to `name`
   env->options_.size = static_cast<int>(r.u32());
   env->options_.samples = static_cast<int>(r.u32());
   try {
