@@ -27,7 +27,7 @@ TEST_CASE("fidelity: the reference models stay as close to Cycles as this build'
   }
   // dB against Cycles measured at this commit (before it: 15.32, 17.85, 14.54, 19.99).
   const std::map<std::string, double> floor = {{"WaterBottle", 16.45},
-                                               {"MetalRoughSpheresNoTextures", 18.30},
+                                               {"MetalRoughSpheresNoTextures", 19.64},
                                                {"NormalTangentMirrorTest", 18.50},
                                                {"AlphaBlendModeTest", 19.90}};
   raster::Renderer renderer;

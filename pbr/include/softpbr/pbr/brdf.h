@@ -159,14 +159,17 @@ inline F Fd_Lambert() {
   return F(kInvPiDouble);
 }
 
+// F0 of a dielectric in the metal/roughness model (glTF: ior 1.5).
+inline constexpr float kDielectricF0 = 0.04f;
+
 // F0 of the metal/roughness model: 4% for dielectrics, the base colour for metals.
 inline glm::vec3 f0_of(const glm::vec3& base_color, float metallic) {
-  return glm::vec3(0.04f) + (base_color - glm::vec3(0.04f)) * metallic;
+  return glm::vec3(kDielectricF0) + (base_color - glm::vec3(kDielectricF0)) * metallic;
 }
 // The same per lane (the same operations as the glm form, per component).
 template <class F>
 inline simd::Vec3<F> f0_of(const simd::Vec3<F>& base_color, F metallic) {
-  return simd::Vec3<F>(F(0.04f)) + (base_color - simd::Vec3<F>(F(0.04f))) * metallic;
+  return simd::Vec3<F>(F(kDielectricF0)) + (base_color - simd::Vec3<F>(F(kDielectricF0))) * metallic;
 }
 
 }  // namespace softpbr::pbr
