@@ -206,12 +206,15 @@ vec3 brdf(vec3 n, vec3 l, vec3 v, vec3 albedo, vec3 f0) {
   return kD * albedo * (1.0 / kPi) + specular;
 }
 #ifdef IBL
-// pbr/shading.h's ibl(): split sum with Fresnel-with-roughness kS and, with MULTISCATTER,
-// Fdez-Agüera's energy compensation.
+// pbr/shading.h's ibl(): split sum along the lobe's dominant direction with
+// Fresnel-with-roughness kS, the diffuse weighted by the dielectric layer's reflection and,
+// with MULTISCATTER, Fdez-Agüera's energy compensation.
 vec3 ibl(vec3 n, vec3 v, vec3 albedo, vec3 f0) {
   float n_dot_v = dot(n, v);
   float NoV = clamp(n_dot_v, kMinNoV, 1.0);
-  vec3 r = n * (n_dot_v + n_dot_v) - v;
+  vec3 r0 = n * (n_dot_v + n_dot_v) - v;
+  float s_ = 1.0 - u_alpha;
+  vec3 r = n + (r0 - n) * (s_ * (sqrt(s_) + u_alpha));
   vec3 irr = env_irradiance(to_environment(n));
   vec3 pre = env_radiance(to_environment(r), u_roughness);
   vec2 ab = textureLod(u_dfg, vec2(NoV, u_roughness), 0.0).rg;
@@ -221,15 +224,19 @@ vec3 ibl(vec3 n, vec3 v, vec3 albedo, vec3 f0) {
   float smooth_ = 1.0 - u_roughness;
   vec3 ks = f0 + (max(vec3(smooth_), f0) - f0) * c5;
   vec3 fss_ess = ks * A + vec3(B);
+  float ksd = 0.04 + (max(smooth_, 0.04) - 0.04) * c5;
+  float fss_d = ksd * A + B;
   vec3 diffuse;
 #ifdef MULTISCATTER
   float ems = 1.0 - (A + B);
   vec3 favg = f0 + (vec3(1.0) - f0) * (1.0 / 21.0);
   vec3 fe = favg * ems;
   vec3 fms_ems = fss_ess * fe / max(vec3(1.0) - fe, vec3(1e-3));
-  diffuse = fms_ems + albedo * (1.0 - u_metallic) * max(vec3(1.0) - (fss_ess + fms_ems), vec3(0.0));
+  float fe_d = (0.04 + 0.96 * (1.0 / 21.0)) * ems;
+  float fms_d = fss_d * fe_d / max(1.0 - fe_d, 1e-3);
+  diffuse = fms_ems + albedo * (1.0 - u_metallic) * max(1.0 - (fss_d + fms_d), 0.0);
 #else
-  diffuse = max(vec3(1.0) - ks, vec3(0.0)) * (1.0 - u_metallic) * albedo;
+  diffuse = vec3(max(1.0 - ksd, 0.0)) * (1.0 - u_metallic) * albedo;
 #endif
   return (irr * diffuse + pre * fss_ess) * u_ao;
 }
