@@ -69,6 +69,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--env-rotation", s.env_rotation, "Turn the environment about the vertical axis, degrees");
   c->add_option("--background", s.background,
                 "What is seen behind the scene: environment, blur, transparent or R,G,B (linear)");
+  c->add_option("--occlusion", s.occlusion,
+                "on (the default with an environment) or off: screen-space ambient occlusion of the environment's light");
   c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");

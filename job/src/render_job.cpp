@@ -110,6 +110,8 @@ void validate(const Settings& s) {
     bad_setting("env_intensity", "expected a number in [0, 1e6], got " + show_value(*s.env_intensity));
   if (s.env_rotation && !std::isfinite(*s.env_rotation)) bad_setting("env_rotation", "expected a finite number of degrees");
   if (s.background) parse_background(*s.background);
+  if (s.occlusion && *s.occlusion != "on" && *s.occlusion != "off")
+    bad_setting("occlusion", "expected on or off, got \"" + *s.occlusion + "\"");
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
@@ -189,6 +191,7 @@ void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPoo
   }
   if (a.env_intensity) s.environment.intensity = *a.env_intensity;
   if (a.env_rotation) s.environment.rotation = *a.env_rotation;
+  if (a.occlusion) s.environment.occlusion = *a.occlusion == "on";
   if (a.background) {
     const Background b = parse_background(*a.background);
     switch (b.kind) {

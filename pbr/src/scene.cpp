@@ -147,6 +147,57 @@ std::array<BackgroundShader::Vertex, 3> background_triangle(const Camera& camera
   return v;
 }
 
+// The occlusion's radius, in world units: this fraction of the half height of the view at
+// the camera's target (distance · tan(fovy / 2); orthographic: ymag), so that it follows
+// the framing of the scene. Its strength, and how much of it the specular term takes
+// (PreparedEnvironment::specular_occlusion). Tuned against Blender Cycles on the four
+// fidelity models (docs/design.md, "Image-based lighting").
+constexpr float kOcclusionRadius = 0.1f;
+constexpr float kOcclusionStrength = 1.5f;
+constexpr float kSpecularOcclusion = 1.0f;
+
+// The occlusion factor of every pixel (occlusion.h): the opaque objects (alpha mode
+// OPAQUE: masked ones would need their alpha) drawn into a 1-sample depth and normal
+// buffer of the frame's size, each with its draw's culling, then compute_occlusion.
+void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, int height,
+                    const glm::mat4& view_projection, const std::vector<ObjectDraw>& opaque, std::vector<float>& out) {
+  raster::Target gbuffer(width, height, 1, &renderer.pool());
+  const glm::mat4 view = scene.camera.view();
+  const glm::mat3 view_rotation(view);
+  const glm::mat4 projection = scene.camera.projection(static_cast<float>(width) / static_cast<float>(height));
+  renderer.begin_frame(gbuffer, raster::ClearValues{glm::vec4(0.0f), 1.0f});
+  try {
+    for (const ObjectDraw& d : opaque) {
+      const Object& o = scene.objects[d.object];
+      if (o.material.alpha_mode != AlphaMode::Opaque) continue;
+      detail::GBufferShader g;
+      g.model = o.transform;
+      g.view = view;
+      g.normal_matrix = view_rotation * glm::transpose(glm::inverse(glm::mat3(o.transform)));
+      g.view_projection = view_projection;
+      raster::DrawState state;
+      state.cull = d.state.cull;
+      renderer.draw(g, d.mesh->vertices, d.mesh->indices, state);
+    }
+  } catch (...) {
+    renderer.end_frame();
+    throw;
+  }
+  renderer.end_frame();
+  detail::OcclusionSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.orthographic = scene.camera.orthographic;
+  settings.p00 = projection[0][0];
+  settings.p11 = projection[1][1];
+  const float half_height = scene.camera.orthographic
+                                ? scene.camera.ymag
+                                : glm::length(scene.camera.target - scene.camera.position) / projection[1][1];
+  settings.radius = kOcclusionRadius * half_height;
+  settings.strength = kOcclusionStrength;
+  detail::compute_occlusion(gbuffer, settings, renderer.pool(), out);
+}
+
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const raster::Renderer::TileCallback& after_tile) {
   validate(scene.camera);
@@ -157,6 +208,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     environment = prepare_environment(scene.environment);
     env = &environment;
   }
+  // With occlusion, opaque objects read the environment through `occluded`, whose factors
+  // the depth and normal pass below fills before the frame; everything else through `env`.
+  const bool occluding = env != nullptr && scene.environment.occlusion;
+  PreparedEnvironment occluded = environment;
+  std::vector<float> occlusion;
   if (scene.background_mode != BackgroundMode::Color && env == nullptr)
     throw std::invalid_argument("background: an environment background needs an environment");
   if (!(scene.background_blur >= 0.0f && scene.background_blur <= 1.0f))
@@ -190,7 +246,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.view_direction = view_direction;
       s.ambient = scene.ambient;
       s.lights = lights;
-      s.environment = env;
+      s.environment = occluding && o.material.alpha_mode == AlphaMode::Opaque ? &occluded : env;
     };
     if (!needs_textured_shader(o)) {
       d.plain.material = with_context(where, [&] { return prepare_material(o.material); });
@@ -251,6 +307,13 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   for (const auto* list : {&opaque, &blended})
     for (const ObjectDraw& d : *list)
       geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3, d.varying_count());
+  if (occluding) {
+    draw_occlusion(scene, renderer, target.width(), target.height(), view_projection, opaque, occlusion);
+    occluded.occlusion = occlusion.data();
+    occluded.occlusion_width = target.width();
+    occluded.occlusion_height = target.height();
+    occluded.specular_occlusion = kSpecularOcclusion;
+  }
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f}, geometry);
   try {
     const auto draw_objects = [&](const std::vector<ObjectDraw>& list) {

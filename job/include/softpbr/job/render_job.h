@@ -61,6 +61,9 @@ struct Settings {
   std::optional<std::string> env{};
   std::optional<float> env_intensity{}, env_rotation{};
   std::optional<std::string> background{};
+  // Screen-space ambient occlusion of the environment's light: "on" (the default of a
+  // scene with an environment) or "off" (EnvironmentLighting::occlusion).
+  std::optional<std::string> occlusion{};
   std::filesystem::path env_cache{};  // prefiltered environments kept in this folder
   // Loading: the memory limit in MiB (default pbr::kDefaultMemoryLimit) and the folders a
   // scene may read files from (empty: anywhere).
