@@ -73,6 +73,7 @@ TEST_CASE("render job: every setting is checked with one message, named as Pytho
   CHECK(errors_of({.pitch = 90.0f}).second == "--pitch: expected degrees in [-89, 89], got 90");
   CHECK(errors_of({.env_intensity = -1.0f}).second == "--env-intensity: expected a number in [0, 1e6], got -1");
   CHECK(errors_of({.env_rotation = NAN}).second == "--env-rotation: expected a finite number of degrees");
+  CHECK(errors_of({.occlusion = "yes"}).second == "--occlusion: expected on or off, got \"yes\"");
   CHECK(errors_of({.background = "pink"}).second ==
         "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"pink\"");
   CHECK(errors_of({.background = "0.1,0.2,0.3"}).first.empty());
