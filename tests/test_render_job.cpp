@@ -115,6 +115,11 @@ TEST_CASE("render job: the memory estimate has the image, meshes, textures and e
   const pbr::LoadedScene e = job::load(env_scene, {}, pool);
   const std::uint64_t studio = pbr::Environment::studio()->bytes();
   CHECK(job::estimate_memory(e, e.render).environment == studio);
+  // The occlusion's buffers, counted with the image while occlusion is on.
+  const pbr::RenderSettings& er = e.render;
+  CHECK(job::estimate_memory(e, er).image == pbr::image_memory(er.width, er.height, er.msaa) + pbr::occlusion_memory(er.width, er.height));
+  CHECK(job::estimate_memory(job::load(env_scene, {.occlusion = "off"}, pool), er).image ==
+        pbr::image_memory(er.width, er.height, er.msaa));
   CHECK(e.mesh_bytes < studio);  // the cube alone
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "none"}, pool), e.render).environment == 0);
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "studio"}, pool), e.render).environment == studio);

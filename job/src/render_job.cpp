@@ -249,7 +249,9 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& s)
 }
 
 MemoryEstimate estimate_memory(const pbr::LoadedScene& f, const pbr::RenderSettings& s) {
-  return {pbr::image_memory(s.width, s.height, s.msaa), f.mesh_bytes, f.texture_bytes, f.environment_bytes};
+  std::uint64_t image = pbr::image_memory(s.width, s.height, s.msaa);
+  if (f.scene.environment.map && f.scene.environment.occlusion) image += pbr::occlusion_memory(s.width, s.height);
+  return {image, f.mesh_bytes, f.texture_bytes, f.environment_bytes};
 }
 
 std::uint64_t physical_memory() {

@@ -32,6 +32,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
                   const raster::Renderer::TileCallback& after_tile);
 }  // namespace
 
+std::uint64_t occlusion_memory(int width, int height) {
+  return raster::Target::bytes(width, height, 1) +
+         2 * sizeof(float) * static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+}
+
 void render(const Scene& scene, raster::Renderer& renderer, raster::Target& target) {
   render_frame(scene, renderer, target, nullptr);
 }
