@@ -66,14 +66,36 @@ float luminance(const raster::Target& t, glm::ivec2 p) {
 }  // namespace
 
 TEST_CASE("occlusion: an open plane is not occluded, the image is the one without occlusion bit for bit") {
-  pbr::Scene on = plane_scene(false), off = on;
+  for (const bool orthographic : {false, true}) {
+    CAPTURE(orthographic);
+    pbr::Scene on = plane_scene(false);
+    on.camera.orthographic = orthographic;
+    on.camera.ymag = 2.0f;
+    pbr::Scene off = on;
+    off.environment.occlusion = false;
+    raster::Renderer renderer({.threads = 2, .tile_size = 32});
+    raster::Target a(kWidth, kHeight), b(kWidth, kHeight);
+    pbr::render(on, renderer, a);
+    pbr::render(off, renderer, b);
+    CHECK(raster::hash_colors(a) == raster::hash_colors(b));
+    CHECK(raster::hash_depths(a) == raster::hash_depths(b));
+  }
+}
+
+TEST_CASE("occlusion: an orthographic camera darkens the foot of a box as a perspective one does") {
+  pbr::Scene on = plane_scene(true);
+  on.camera.orthographic = true;
+  on.camera.ymag = 2.0f;
+  pbr::Scene off = on;
   off.environment.occlusion = false;
   raster::Renderer renderer({.threads = 2, .tile_size = 32});
   raster::Target a(kWidth, kHeight), b(kWidth, kHeight);
   pbr::render(on, renderer, a);
   pbr::render(off, renderer, b);
-  CHECK(raster::hash_colors(a) == raster::hash_colors(b));
-  CHECK(raster::hash_depths(a) == raster::hash_depths(b));
+  const glm::mat4 vp = on.camera.projection(static_cast<float>(kWidth) / static_cast<float>(kHeight)) * on.camera.view();
+  const glm::vec4 c = vp * glm::vec4(0.0f, 0.0f, 0.54f, 1.0f);
+  const glm::ivec2 p(static_cast<int>((c.x * 0.5f + 0.5f) * kWidth), static_cast<int>((0.5f - c.y * 0.5f) * kHeight));
+  CHECK(luminance(a, p) < 0.9f * luminance(b, p));
 }
 
 TEST_CASE("occlusion: a box on a plane darkens the plane at its foot, not far from it") {
