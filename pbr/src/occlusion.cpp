@@ -62,6 +62,7 @@ struct Frame {
   bool ortho;
   float inv_p00, inv_p11, p00, p11;
   float sx, sy;  // 2 / width, 2 / height
+  float half_w, half_h;  // width / 2, height / 2
 
   // The view-space point seen at pixel (x, y) (its centre) at depth d.
   glm::vec3 point(int x, int y, float d) const {
@@ -85,7 +86,7 @@ float occlusion_at(const Frame& f, int x, int y, float radius, float strength) {
   const glm::vec3 T(1.0f + sign * N.x * N.x * a, sign * b, -sign * N.x);
   const glm::vec3 B(b, sign + N.y * N.y * a, -N.y);
   const float* rot = kRotation[(y & 3) * 4 + (x & 3)];
-  const float r2 = radius * radius;
+  const float r2 = radius * radius, inv_r2 = 1.0f / r2;
   float sum = 0.0f;
   for (const auto& k : kKernel) {
     const float kx = (rot[0] * k[0] - rot[1] * k[1]) * radius;
@@ -94,8 +95,9 @@ float occlusion_at(const Frame& f, int x, int y, float radius, float strength) {
     const glm::vec3 S = P + T * kx + B * ky + N * kz;
     const float wv = f.ortho ? 1.0f : -S.z;
     if (!(wv > 0.0f)) continue;  // behind the eye
-    const float px = (f.p00 * S.x / wv + 1.0f) * 0.5f * static_cast<float>(f.w);
-    const float py = (1.0f - f.p11 * S.y / wv) * 0.5f * static_cast<float>(f.h);
+    const float inv_w = 1.0f / wv;  // one division a sample
+    const float px = (S.x * inv_w * f.p00 + 1.0f) * f.half_w;
+    const float py = (1.0f - S.y * inv_w * f.p11) * f.half_h;
     if (!(px >= 0.0f && px < static_cast<float>(f.w) && py >= 0.0f && py < static_cast<float>(f.h))) continue;
     const int qx = static_cast<int>(px), qy = static_cast<int>(py);
     if (qx == x && qy == y) continue;
@@ -105,7 +107,7 @@ float occlusion_at(const Frame& f, int x, int y, float radius, float strength) {
     const float vv = v.x * v.x + v.y * v.y + v.z * v.z;
     if (!(vv < r2) || !(vv > 0.0f)) continue;
     const float cosine = (v.x * N.x + v.y * N.y + v.z * N.z) / std::sqrt(vv);
-    const float term = (cosine - kBias) * (1.0f - vv / r2);
+    const float term = (cosine - kBias) * (1.0f - vv * inv_r2);
     if (term > 0.0f) sum = sum + term;
   }
   const float ao = 1.0f - strength * sum * (1.0f / (static_cast<float>(kSamples) * (1.0f - kBias)));
@@ -127,7 +129,9 @@ void compute_occlusion(const raster::Target& gbuffer, const OcclusionSettings& s
                 s.p00,
                 s.p11,
                 2.0f / static_cast<float>(w),
-                2.0f / static_cast<float>(h)};
+                2.0f / static_cast<float>(h),
+                0.5f * static_cast<float>(w),
+                0.5f * static_cast<float>(h)};
   std::vector<float> raw(count);
   out.assign(count, 1.0f);
   // Rows in bands of 8: fewer hand-outs of the pool, each band written by one thread.
