@@ -7,6 +7,8 @@
 // main pass's shaders read at their pixel (env_occlusion, environment_lookup.h).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -17,6 +19,7 @@
 
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/pbr/shading.h"
+#include "softpbr/pbr/textured_shading.h"
 #include "softpbr/raster/pool.h"
 #include "softpbr/raster/shader.h"
 #include "softpbr/raster/target.h"
@@ -61,6 +64,58 @@ struct GBufferShader {
     Vec3L<F> n = normalize_or(n_in, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
     if (!p.front_facing) n = -n;
     return {n.x, n.y, n.z, p.v[3]};
+  }
+};
+
+// The same for an alpha-masked object (glTF's MASK): its textured shader `inner` finds the
+// alpha of each pixel (cut to 1 or 0 at 1 sample: its alpha_to_coverage is off), and the
+// colour is GBufferShader's where it is 1, 0 where it is 0. Drawn with the alpha test at
+// a reference just above 0 (kMaskedAlphaRef), which keeps every depth > 0 and discards the
+// zeros. The full shading runs for the alpha (only for masked objects).
+inline constexpr float kMaskedAlphaRef = 1e-30f;
+template <class Inner>
+struct MaskedGBufferShader {
+  using Vertex = typename Inner::Vertex;
+  using Varyings = typename Inner::Varyings;
+  static constexpr bool kUsesDerivatives = raster::kUsesDerivatives<Inner>;
+  static constexpr std::uint32_t kDerivativeMask = raster::kDerivativeMask<Inner>;
+
+  Inner inner;
+  glm::mat4 view{1.0f};
+  glm::mat3 view_rotation{1.0f};
+
+  glm::vec4 vertex(const Vertex& in, Varyings& out) const { return inner.vertex(in, out); }
+  glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
+    raster::FragmentPacket<float, Varyings> p;
+    __builtin_memcpy(p.v, &f.v, sizeof p.v);
+    __builtin_memcpy(p.ddx, &f.ddx, sizeof p.ddx);
+    __builtin_memcpy(p.ddy, &f.ddy, sizeof p.ddy);
+    p.pos_x = f.pos.x;
+    p.pos_y = f.pos.y;
+    p.depth = f.depth;
+    p.front_facing = f.front_facing;
+    const raster::Color<float> c = fragment_packet<float>(p);
+    return {c.r, c.g, c.b, c.a};
+  }
+  template <class F>
+  raster::Color<F> fragment_packet(const raster::FragmentPacket<F, Varyings>& p) const {
+    constexpr int kPosition = offsetof(Varyings, world_position) / sizeof(float);
+    constexpr int kNormal = offsetof(Varyings, normal) / sizeof(float);
+    const raster::Color<F> shaded = inner.template fragment_packet<F>(p);
+    const Vec3L<F> w(p.v[kPosition], p.v[kPosition + 1], p.v[kPosition + 2]);
+    const Vec3L<F> n_world(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
+    // View space: the rotation's rows (glm is column-major: m[c][r]) and the translation.
+    const glm::mat3& r = view_rotation;
+    const Vec3L<F> n_in(F(r[0][0]) * n_world.x + F(r[1][0]) * n_world.y + F(r[2][0]) * n_world.z,
+                        F(r[0][1]) * n_world.x + F(r[1][1]) * n_world.y + F(r[2][1]) * n_world.z,
+                        F(r[0][2]) * n_world.x + F(r[1][2]) * n_world.y + F(r[2][2]) * n_world.z);
+    Vec3L<F> n = normalize_or(n_in, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
+    if (!p.front_facing) n = -n;
+    const F z = F(view[0][2]) * w.x + F(view[1][2]) * w.y + F(view[2][2]) * w.z + F(view[3][2]);
+    const auto kept = shaded.a >= F(0.5f);
+    const F zero(0.0f);
+    return {simd::select(kept, n.x, zero), simd::select(kept, n.y, zero), simd::select(kept, n.z, zero),
+            simd::select(kept, zero - z, zero)};
   }
 };
 

@@ -161,9 +161,10 @@ constexpr float kOcclusionRadius = 0.1f;
 constexpr float kOcclusionStrength = 1.5f;
 constexpr float kSpecularOcclusion = 1.0f;
 
-// The occlusion factor of every pixel (occlusion.h): the opaque objects (alpha mode
-// OPAQUE: masked ones would need their alpha) drawn into a 1-sample depth and normal
-// buffer of the frame's size, each with its draw's culling, then compute_occlusion.
+// The occlusion factor of every pixel (occlusion.h): the opaque and alpha-masked objects
+// (blended ones neither occlude nor are occluded) drawn into a 1-sample depth and normal
+// buffer of the frame's size, each with its draw's culling (masked ones with their alpha
+// cut by their own shader), then compute_occlusion.
 void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, int height,
                     const glm::mat4& view_projection, const std::vector<ObjectDraw>& opaque, std::vector<float>& out) {
   raster::Target gbuffer(width, height, 1, &renderer.pool());
@@ -174,7 +175,24 @@ void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, i
   try {
     for (const ObjectDraw& d : opaque) {
       const Object& o = scene.objects[d.object];
-      if (o.material.alpha_mode != AlphaMode::Opaque) continue;
+      if (o.material.alpha_mode == AlphaMode::Mask) {
+        // The textured shader finds the alpha (its environment, `occluded`, has no factors yet).
+        raster::DrawState state;
+        state.cull = d.state.cull;
+        state.alpha_test = true;
+        state.alpha_ref = detail::kMaskedAlphaRef;
+        const auto draw_masked = [&](const auto& shader, const auto& vertices) {
+          detail::MaskedGBufferShader<std::decay_t<decltype(shader)>> g;
+          g.inner = shader;
+          g.inner.alpha_to_coverage = false;
+          g.view = view;
+          g.view_rotation = view_rotation;
+          renderer.draw(g, vertices, d.mesh->indices, state);
+        };
+        if (d.kind == ObjectDraw::Kind::Textured) draw_masked(d.textured, std::span<const TexturedVertex>(d.vertices));
+        else draw_masked(d.textured_uv0, std::span<const MeshVertex>(d.mesh->vertices));
+        continue;
+      }
       detail::GBufferShader g;
       g.model = o.transform;
       g.view = view;
@@ -213,7 +231,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     environment = prepare_environment(scene.environment);
     env = &environment;
   }
-  // With occlusion, opaque objects read the environment through `occluded`, whose factors
+  // With occlusion, opaque and masked objects read the environment through `occluded`, whose factors
   // the depth and normal pass below fills before the frame; everything else through `env`.
   const bool occluding = env != nullptr && scene.environment.occlusion;
   PreparedEnvironment occluded = environment;
@@ -251,7 +269,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.view_direction = view_direction;
       s.ambient = scene.ambient;
       s.lights = lights;
-      s.environment = occluding && o.material.alpha_mode == AlphaMode::Opaque ? &occluded : env;
+      s.environment = occluding && o.material.alpha_mode != AlphaMode::Blend ? &occluded : env;
     };
     if (!needs_textured_shader(o)) {
       d.plain.material = with_context(where, [&] { return prepare_material(o.material); });

@@ -117,3 +117,5 @@ SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedPbrShader);
 SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedUv0PbrShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::BackgroundShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::GBufferShader);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedGBufferShader<::softpbr::pbr::TexturedPbrShader>);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedGBufferShader<::softpbr::pbr::TexturedUv0PbrShader>);
