@@ -688,7 +688,7 @@ shows the environment as its background (the file's default).)")
                     "Multiple-scattering energy compensation of the environment lighting.")
       .def_property("occlusion", [](const PyScene& s) { return s.file.scene.environment.occlusion; },
                     [](PyScene& s, bool v) { s.file.scene.environment.occlusion = v; },
-                    "Screen-space ambient occlusion of the environment's light on opaque objects (on by default).")
+                    "Screen-space ambient occlusion of the environment's light on opaque and masked objects (on by default).")
       .def_property("background_mode", [](const PyScene& s) { return std::string(background_mode_name(s.file.scene.background_mode)); },
                     &set_background_mode,
                     "\"color\" (the background colour), \"environment\" or \"blur\" (both need an environment).")
