@@ -73,6 +73,8 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                 "A model's texture image that cannot be read (an OBJ's MTL map, a glTF image file): error (the "
                 "default: the model is refused) or warn (its texture left out, a warning; for thumbnails of "
                 "downloaded models)");
+  c->add_option("--occlusion", s.occlusion,
+                "on (the default with an environment) or off: screen-space ambient occlusion of the environment's light");
   c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");

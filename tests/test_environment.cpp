@@ -767,12 +767,14 @@ TEST_CASE("scene files: /environment loads a map or the studio, bad values name 
   CHECK(studio.scene.environment.map == pbr::Environment::studio());
   CHECK(studio.scene.background_mode == pbr::BackgroundMode::Environment);
   const pbr::SceneFile f = load(R"({"file": "sky.hdr", "intensity": 2, "rotation": 90, "background": "blur", "blur": 0.5,
-                                    "multiscatter": false, "size": 16, "samples": 8})");
+                                    "multiscatter": false, "occlusion": false, "size": 16, "samples": 8})");
   REQUIRE(f.scene.environment.map != nullptr);
   CHECK(f.scene.environment.map->size() == 16);
   CHECK(f.scene.environment.intensity == 2.0f);
   CHECK(f.scene.environment.rotation == 90.0f);
   CHECK_FALSE(f.scene.environment.multiscatter);
+  CHECK_FALSE(f.scene.environment.occlusion);
+  CHECK(studio.scene.environment.occlusion);  // on by default
   CHECK(f.scene.background_mode == pbr::BackgroundMode::Blur);
   CHECK(f.scene.background_blur == 0.5f);
   CHECK(f.environment_bytes == f.scene.environment.map->bytes());  // charged to the budget, counted on its own

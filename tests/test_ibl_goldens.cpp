@@ -3,6 +3,7 @@
 // mirror-like spheres reflect the map sharply and rough ones smoothly with no sparkle from
 // the sun, dielectrics keep their colour, the background is the map (or its blur), and the
 // glTF model matches its Khronos screenshot in everything the lighting does not change.
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -25,7 +26,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path shared() { return fs::path(SOFTPBR_SOURCE_DIR) / ".." / "shared"; }
+// ../shared beside the source tree, or the folder SOFTPBR_SHARED names (a worktree's build).
+fs::path shared() {
+  if (const char* s = std::getenv("SOFTPBR_SHARED")) return s;
+  return fs::path(SOFTPBR_SOURCE_DIR) / ".." / "shared";
+}
 
 // The gallery's spheres (fewer segments: a smaller test), lit by `env` and its lights off:
 // what the environment alone does to each metal and roughness.
@@ -55,6 +60,12 @@ TEST_CASE("golden IBL images: the gallery and textured spheres in the built-in s
     raster::Target t(320, 180);
     pbr::render(gallery_in(pbr::Environment::studio(), pbr::BackgroundMode::Environment), renderer, t);
     CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, output()), "goldens/ibl_gallery_studio");
+    // Occlusion off: the image softpbr made before it had occlusion (this golden is that
+    // image, kept), bit for bit.
+    pbr::Scene off = gallery_in(pbr::Environment::studio(), pbr::BackgroundMode::Environment);
+    off.environment.occlusion = false;
+    pbr::render(off, renderer, t);
+    CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, output()), "goldens/ibl_gallery_studio_no_occlusion");
   }
   {
     // Textured materials (TexturedPbrShader) with the point lights kept, a blurred background.

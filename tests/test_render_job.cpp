@@ -73,6 +73,7 @@ TEST_CASE("render job: every setting is checked with one message, named as Pytho
   CHECK(errors_of({.pitch = 90.0f}).second == "--pitch: expected degrees in [-89, 89], got 90");
   CHECK(errors_of({.env_intensity = -1.0f}).second == "--env-intensity: expected a number in [0, 1e6], got -1");
   CHECK(errors_of({.env_rotation = NAN}).second == "--env-rotation: expected a finite number of degrees");
+  CHECK(errors_of({.occlusion = "yes"}).second == "--occlusion: expected on or off, got \"yes\"");
   CHECK(errors_of({.background = "pink"}).second ==
         "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"pink\"");
   CHECK(errors_of({.background = "0.1,0.2,0.3"}).first.empty());
@@ -114,6 +115,11 @@ TEST_CASE("render job: the memory estimate has the image, meshes, textures and e
   const pbr::LoadedScene e = job::load(env_scene, {}, pool);
   const std::uint64_t studio = pbr::Environment::studio()->bytes();
   CHECK(job::estimate_memory(e, e.render).environment == studio);
+  // The occlusion's buffers, counted with the image while occlusion is on.
+  const pbr::RenderSettings& er = e.render;
+  CHECK(job::estimate_memory(e, er).image == pbr::image_memory(er.width, er.height, er.msaa) + pbr::occlusion_memory(er.width, er.height));
+  CHECK(job::estimate_memory(job::load(env_scene, {.occlusion = "off"}, pool), er).image ==
+        pbr::image_memory(er.width, er.height, er.msaa));
   CHECK(e.mesh_bytes < studio);  // the cube alone
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "none"}, pool), e.render).environment == 0);
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "studio"}, pool), e.render).environment == studio);

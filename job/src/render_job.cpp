@@ -112,6 +112,8 @@ void validate(const Settings& s) {
   if (s.background) parse_background(*s.background);
   if (s.missing_images && *s.missing_images != "error" && *s.missing_images != "warn")
     bad_setting("missing-images", "expected error or warn, got \"" + *s.missing_images + "\"");
+  if (s.occlusion && *s.occlusion != "on" && *s.occlusion != "off")
+    bad_setting("occlusion", "expected on or off, got \"" + *s.occlusion + "\"");
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
@@ -198,6 +200,7 @@ void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPoo
   }
   if (a.env_intensity) s.environment.intensity = *a.env_intensity;
   if (a.env_rotation) s.environment.rotation = *a.env_rotation;
+  if (a.occlusion) s.environment.occlusion = *a.occlusion == "on";
   if (a.background) {
     const Background b = parse_background(*a.background);
     switch (b.kind) {
@@ -256,7 +259,9 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& s)
 }
 
 MemoryEstimate estimate_memory(const pbr::LoadedScene& f, const pbr::RenderSettings& s) {
-  return {pbr::image_memory(s.width, s.height, s.msaa), f.mesh_bytes, f.texture_bytes, f.environment_bytes};
+  std::uint64_t image = pbr::image_memory(s.width, s.height, s.msaa);
+  if (f.scene.environment.map && f.scene.environment.occlusion) image += pbr::occlusion_memory(s.width, s.height);
+  return {image, f.mesh_bytes, f.texture_bytes, f.environment_bytes};
 }
 
 std::uint64_t physical_memory() {

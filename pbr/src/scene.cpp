@@ -32,6 +32,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
                   const raster::Renderer::TileCallback& after_tile);
 }  // namespace
 
+std::uint64_t occlusion_memory(int width, int height) {
+  return raster::Target::bytes(width, height, 1) +
+         2 * sizeof(float) * static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+}
+
 void render(const Scene& scene, raster::Renderer& renderer, raster::Target& target) {
   render_frame(scene, renderer, target, nullptr);
 }
@@ -147,6 +152,75 @@ std::array<BackgroundShader::Vertex, 3> background_triangle(const Camera& camera
   return v;
 }
 
+// The occlusion's radius, in world units: this fraction of the half height of the view at
+// the camera's target (distance · tan(fovy / 2); orthographic: ymag), so that it follows
+// the framing of the scene. Its strength, and how much of it the specular term takes
+// (PreparedEnvironment::specular_occlusion). Tuned against Blender Cycles on the four
+// fidelity models (docs/design.md, "Image-based lighting").
+constexpr float kOcclusionRadius = 0.1f;
+constexpr float kOcclusionStrength = 1.5f;
+constexpr float kSpecularOcclusion = 1.0f;
+
+// The occlusion factor of every pixel (occlusion.h): the opaque and alpha-masked objects
+// (blended ones neither occlude nor are occluded) drawn into a 1-sample depth and normal
+// buffer of the frame's size, each with its draw's culling (masked ones with their alpha
+// cut by their own shader), then compute_occlusion.
+void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, int height,
+                    const glm::mat4& view_projection, const std::vector<ObjectDraw>& opaque, std::vector<float>& out) {
+  raster::Target gbuffer(width, height, 1, &renderer.pool());
+  const glm::mat4 view = scene.camera.view();
+  const glm::mat3 view_rotation(view);
+  const glm::mat4 projection = scene.camera.projection(static_cast<float>(width) / static_cast<float>(height));
+  renderer.begin_frame(gbuffer, raster::ClearValues{glm::vec4(0.0f), 1.0f});
+  try {
+    for (const ObjectDraw& d : opaque) {
+      const Object& o = scene.objects[d.object];
+      if (o.material.alpha_mode == AlphaMode::Mask) {
+        // The textured shader finds the alpha (its environment, `occluded`, has no factors yet).
+        raster::DrawState state;
+        state.cull = d.state.cull;
+        state.alpha_test = true;
+        state.alpha_ref = detail::kMaskedAlphaRef;
+        const auto draw_masked = [&](const auto& shader, const auto& vertices) {
+          detail::MaskedGBufferShader<std::decay_t<decltype(shader)>> g;
+          g.inner = shader;
+          g.inner.alpha_to_coverage = false;
+          g.view = view;
+          g.view_rotation = view_rotation;
+          renderer.draw(g, vertices, d.mesh->indices, state);
+        };
+        if (d.kind == ObjectDraw::Kind::Textured) draw_masked(d.textured, std::span<const TexturedVertex>(d.vertices));
+        else draw_masked(d.textured_uv0, std::span<const MeshVertex>(d.mesh->vertices));
+        continue;
+      }
+      detail::GBufferShader g;
+      g.model = o.transform;
+      g.view = view;
+      g.normal_matrix = view_rotation * glm::transpose(glm::inverse(glm::mat3(o.transform)));
+      g.view_projection = view_projection;
+      raster::DrawState state;
+      state.cull = d.state.cull;
+      renderer.draw(g, d.mesh->vertices, d.mesh->indices, state);
+    }
+  } catch (...) {
+    renderer.end_frame();
+    throw;
+  }
+  renderer.end_frame();
+  detail::OcclusionSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.orthographic = scene.camera.orthographic;
+  settings.p00 = projection[0][0];
+  settings.p11 = projection[1][1];
+  const float half_height = scene.camera.orthographic
+                                ? scene.camera.ymag
+                                : glm::length(scene.camera.target - scene.camera.position) / projection[1][1];
+  settings.radius = kOcclusionRadius * half_height;
+  settings.strength = kOcclusionStrength;
+  detail::compute_occlusion(gbuffer, settings, renderer.pool(), out);
+}
+
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const raster::Renderer::TileCallback& after_tile) {
   validate(scene.camera);
@@ -157,6 +231,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     environment = prepare_environment(scene.environment);
     env = &environment;
   }
+  // With occlusion, opaque and masked objects read the environment through `occluded`, whose factors
+  // the depth and normal pass below fills before the frame; everything else through `env`.
+  const bool occluding = env != nullptr && scene.environment.occlusion;
+  PreparedEnvironment occluded = environment;
+  std::vector<float> occlusion;
   if (scene.background_mode != BackgroundMode::Color && env == nullptr)
     throw std::invalid_argument("background: an environment background needs an environment");
   if (!(scene.background_blur >= 0.0f && scene.background_blur <= 1.0f))
@@ -190,7 +269,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.view_direction = view_direction;
       s.ambient = scene.ambient;
       s.lights = lights;
-      s.environment = env;
+      s.environment = occluding && o.material.alpha_mode != AlphaMode::Blend ? &occluded : env;
     };
     if (!needs_textured_shader(o)) {
       d.plain.material = with_context(where, [&] { return prepare_material(o.material); });
@@ -251,6 +330,13 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   for (const auto* list : {&opaque, &blended})
     for (const ObjectDraw& d : *list)
       geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3, d.varying_count());
+  if (occluding) {
+    draw_occlusion(scene, renderer, target.width(), target.height(), view_projection, opaque, occlusion);
+    occluded.occlusion = occlusion.data();
+    occluded.occlusion_width = target.width();
+    occluded.occlusion_height = target.height();
+    occluded.specular_occlusion = kSpecularOcclusion;
+  }
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f}, geometry);
   try {
     const auto draw_objects = [&](const std::vector<ObjectDraw>& list) {

@@ -16,6 +16,7 @@
 #include "softpbr/pbr/shading.h"
 #include "softpbr/pbr/textured_shading.h"
 #include "softpbr/raster/renderer.h"
+#include "occlusion.h"
 
 namespace softpbr::pbr::detail {
 
@@ -115,3 +116,6 @@ SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::PbrShader);
 SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedPbrShader);
 SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedUv0PbrShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::BackgroundShader);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::GBufferShader);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedGBufferShader<::softpbr::pbr::TexturedPbrShader>);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedGBufferShader<::softpbr::pbr::TexturedUv0PbrShader>);

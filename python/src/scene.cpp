@@ -298,7 +298,7 @@ void set_background_mode(PyScene& s, const std::string& mode) {
 // it as its background, as a file's "environment" section does).
 void set_environment(PyScene& s, const py::object& environment, std::optional<double> intensity,
                      std::optional<double> rotation, const py::object& background, std::optional<double> blur,
-                     std::optional<bool> multiscatter) {
+                     std::optional<bool> multiscatter, std::optional<bool> occlusion) {
   pbr::Scene& sc = s.file.scene;
   // Everything checked before the scene changes.
   const float i = intensity ? env_number("intensity", *intensity, 0, 1e6) : sc.environment.intensity;
@@ -351,6 +351,7 @@ void set_environment(PyScene& s, const py::object& environment, std::optional<do
   sc.environment.rotation = r;
   sc.background_blur = b;
   if (multiscatter) sc.environment.multiscatter = *multiscatter;
+  if (occlusion) sc.environment.occlusion = *occlusion;
 }
 
 }  // namespace
@@ -673,14 +674,15 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
       .def_property("tile_size", [](PyScene& s) { return settings(s).tile_size; }, [](PyScene& s, int v) { settings(s).tile_size = v; })
       .def("set_environment", &set_environment, py::arg("environment"), py::kw_only(), py::arg("intensity") = py::none(),
            py::arg("rotation") = py::none(), py::arg("background") = py::none(), py::arg("blur") = py::none(),
-           py::arg("multiscatter") = py::none(),
+           py::arg("multiscatter") = py::none(), py::arg("occlusion") = py::none(),
            R"(Lights the scene with an environment, as a scene file's "environment" section does.
 
 environment: an Environment, "studio" (the built-in one), a path to an .hdr/.exr (loaded with
 the default size and samples), or None (no image-based lighting; the background is the colour).
 intensity (in [0, 1e6]) scales its radiance; rotation turns it about +Y, degrees;
 background: "environment", "blur" (its radiance at roughness `blur`, in [0, 1]),
-"transparent" (alpha 0) or a linear colour (r, g, b); multiscatter: energy compensation.
+"transparent" (alpha 0) or a linear colour (r, g, b); multiscatter: energy compensation;
+occlusion: screen-space ambient occlusion of the environment's light (on by default).
 An argument left None keeps the scene's value, so on a scene that already has an environment
 this is `softpbr render --env … --env-intensity … --env-rotation …`; a scene without one
 shows the environment as its background (the file's default).)")
@@ -697,6 +699,9 @@ shows the environment as its background (the file's default).)")
       .def_property("multiscatter", [](const PyScene& s) { return s.file.scene.environment.multiscatter; },
                     [](PyScene& s, bool v) { s.file.scene.environment.multiscatter = v; },
                     "Multiple-scattering energy compensation of the environment lighting.")
+      .def_property("occlusion", [](const PyScene& s) { return s.file.scene.environment.occlusion; },
+                    [](PyScene& s, bool v) { s.file.scene.environment.occlusion = v; },
+                    "Screen-space ambient occlusion of the environment's light on opaque and masked objects (on by default).")
       .def_property("background_mode", [](const PyScene& s) { return std::string(background_mode_name(s.file.scene.background_mode)); },
                     &set_background_mode,
                     "\"color\" (the background colour), \"environment\" or \"blur\" (both need an environment).")

@@ -186,6 +186,7 @@ def test_a_scene_lit_in_python_renders_as_its_file(cli, tmp_path):
          lambda s: s.set_environment(softpbr.Environment.load(sky), intensity=0.75, rotation=-45, background="blur", blur=0.5)),
         ({"file": str(sky), "background": [0.1, 0.2, 0.3], "multiscatter": False},
          lambda s: s.set_environment(sky, background=(0.1, 0.2, 0.3), multiscatter=False)),
+        ({"occlusion": False}, lambda s: s.set_environment("studio", occlusion=False)),
         ({"file": str(sky), "background": "transparent"}, lambda s: s.set_environment(str(sky), background="transparent")),
     ]:
         scene = softpbr.Scene.from_dict(scene_with())
@@ -207,6 +208,12 @@ def test_set_environment_on_a_loaded_scene_is_the_env_options(cli, tmp_path):
     scene.set_environment(sky, intensity=3, rotation=30)
     assert_same(softpbr.render(scene), png)
     assert_same(softpbr.render_hdr(scene), exr)
+    # --occlusion off is occlusion=False.
+    png, _ = cli_render(cli, path, tmp_path, "--env", sky, "--occlusion", "off", png_only=True)
+    off = softpbr.Scene.load(path)
+    off.set_environment(sky, occlusion=False)
+    assert not off.occlusion
+    assert_same(softpbr.render(off), png)
     # ... and the properties say what it is; None takes it away again.
     assert scene.environment == softpbr.Environment.load(sky)  # cached by content: the same map
     assert (scene.environment_intensity, scene.environment_rotation, scene.background_mode) == (3, 30, "environment")
@@ -221,7 +228,9 @@ def test_environment_properties_render_as_the_file(tmp_path):
     scene.set_environment("studio")
     scene.environment_intensity, scene.environment_rotation = 0.5, 120
     scene.background_mode, scene.background_blur, scene.multiscatter = "blur", 0.8, False
-    spec = {"intensity": 0.5, "rotation": 120, "background": "blur", "blur": 0.8, "multiscatter": False}
+    assert scene.occlusion
+    scene.occlusion = False
+    spec = {"intensity": 0.5, "rotation": 120, "background": "blur", "blur": 0.8, "multiscatter": False, "occlusion": False}
     assert_same(softpbr.render(scene), softpbr.render(scene_with(environment=spec)))
     assert softpbr.Scene.from_dict(scene_with(environment=spec)).environment == softpbr.Environment.studio()
     env = softpbr.Environment.studio()

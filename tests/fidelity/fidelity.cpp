@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
@@ -23,7 +24,8 @@ const std::vector<std::string>& models() {
 }
 
 fs::path find_shared(const fs::path& source_dir) {
-  const fs::path shared = source_dir.parent_path() / "shared";
+  const char* named = std::getenv("SOFTPBR_SHARED");  // a worktree's build: ../shared is elsewhere
+  const fs::path shared = named != nullptr ? fs::path(named) : source_dir.parent_path() / "shared";
   std::error_code ec;
   if (fs::is_directory(shared / "fidelity", ec) && fs::is_directory(shared / "gltf", ec) &&
       fs::is_regular_file(shared / "envmaps" / "studio_small_03_1k.hdr", ec))

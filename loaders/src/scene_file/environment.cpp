@@ -8,7 +8,7 @@ namespace softpbr::pbr::scene_file {
 
 void read_environment(const Reader& r, const Node& spec, const std::filesystem::path& base_dir, MemoryBudget& budget,
                       const SceneLoadOptions& options, SceneFile& out) {
-  r.object(spec, {"file", "intensity", "rotation", "background", "blur", "multiscatter", "size", "samples"});
+  r.object(spec, {"file", "intensity", "rotation", "background", "blur", "multiscatter", "occlusion", "size", "samples"});
   EnvironmentLighting& e = out.scene.environment;
   EnvironmentOptions eo;
   if (auto s = r.member(spec, "size")) {
@@ -38,6 +38,7 @@ void read_environment(const Reader& r, const Node& spec, const std::filesystem::
   if (auto i = r.member(spec, "intensity")) e.intensity = r.number_f(*i, 0, 1e6);
   if (auto t = r.member(spec, "rotation")) e.rotation = r.number_f(*t, -1e6, 1e6);
   if (auto m = r.member(spec, "multiscatter")) e.multiscatter = r.boolean(*m);
+  if (auto o = r.member(spec, "occlusion")) e.occlusion = r.boolean(*o);
   out.scene.background_mode = BackgroundMode::Environment;
   if (auto b = r.member(spec, "background")) {
     if (b->value.is_string()) {

@@ -66,6 +66,9 @@ struct Settings {
   std::optional<std::string> env{};
   std::optional<float> env_intensity{}, env_rotation{};
   std::optional<std::string> background{};
+  // Screen-space ambient occlusion of the environment's light: "on" (the default of a
+  // scene with an environment) or "off" (EnvironmentLighting::occlusion).
+  std::optional<std::string> occlusion{};
   std::filesystem::path env_cache{};  // prefiltered environments kept in this folder
   // Loading: the memory limit in MiB (default pbr::kDefaultMemoryLimit) and the folders a
   // scene may read files from (empty: anywhere).
@@ -107,7 +110,8 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& se
 
 // The memory a render is estimated to need, by what needs it.
 struct MemoryEstimate {
-  std::uint64_t image = 0;        // the target (pbr::image_memory: every sample, and the resolve)
+  std::uint64_t image = 0;        // the target (pbr::image_memory: every sample, and the resolve),
+                                  // and with an environment's occlusion its buffers (pbr::occlusion_memory)
   std::uint64_t mesh = 0;         // meshes and their draws (LoadedScene::mesh_bytes)
   std::uint64_t texture = 0;      // textures' texels (LoadedScene::texture_bytes)
   std::uint64_t environment = 0;  // the environment's maps (LoadedScene::environment_bytes)

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 
 #include <glm/vec2.hpp>
@@ -56,6 +57,15 @@ struct PreparedEnvironment {
   float cos_r = 1.0f, sin_r = 0.0f;  // the rotation, by dmath
   float intensity = 1.0f;
   bool multiscatter = true;
+  // Screen-space ambient occlusion of this light (docs/design.md, "Image-based lighting"):
+  // one factor in [0, 1] a pixel, row-major, occlusion_width × occlusion_height (the
+  // frame's pixels), read at each lane's pixel by env_occlusion. Null: not occluded (the
+  // background, blended and masked objects, occlusion off), and ibl() runs as without it.
+  const float* occlusion = nullptr;
+  int occlusion_width = 0, occlusion_height = 0;
+  // How much of the occlusion the specular term takes: it is multiplied by
+  // 1 − specular_occlusion · (1 − occlusion).
+  float specular_occlusion = 1.0f;
 };
 
 // The environment of a scene (EnvironmentLighting, light.h) prepared for a frame. Throws
@@ -233,6 +243,30 @@ inline EnvVec3<F> env_radiance_uniform(const PreparedEnvironment& e, const EnvVe
   }
   const F k(e.intensity);
   return {r * k, g * k, b * k};
+}
+
+// The occlusion factor of the pixel each lane shades (pixel centres pos_x, pos_y, as a
+// FragmentPacket holds them; e.occlusion must be set): a per-lane gather of the pixel's
+// float, so every lane reads its own pixel's bits at any width. Coordinates outside the
+// buffer (or NaN, in lanes past a packet's last pixel) read its nearest row and column.
+template <class F>
+inline F env_occlusion(const PreparedEnvironment& e, F pos_x, F pos_y) {
+  constexpr int N = simd::LaneCount<F>::value;
+  const F zero(0.0f);
+  const F x = simd::select(pos_x >= zero, pos_x, zero), y = simd::select(pos_y >= zero, pos_y, zero);  // NaN → 0
+  const auto w = static_cast<std::uint32_t>(e.occlusion_width), h = static_cast<std::uint32_t>(e.occlusion_height);
+  const F xc = simd::min(x, F(static_cast<float>(w) - 0.5f)), yc = simd::min(y, F(static_cast<float>(h) - 0.5f));
+  if constexpr (N == 1) {
+    const auto xi = static_cast<std::uint32_t>(xc), yi = static_cast<std::uint32_t>(yc);
+    return e.occlusion[static_cast<std::size_t>(yi) * w + xi];
+  } else {
+    alignas(64) std::uint32_t xs[N], ys[N];
+    simd::split_whole(xc, xs);
+    simd::split_whole(yc, ys);
+    alignas(64) float out[N];
+    for (int i = 0; i < N; ++i) out[i] = e.occlusion[static_cast<std::size_t>(ys[i]) * w + xs[i]];
+    return F::load(out);
+  }
 }
 
 // The split-sum table at (n·v, roughness): A and B.

@@ -113,6 +113,10 @@ struct EnvironmentLighting {
   float intensity = 1.0f;
   float rotation = 0.0f;      // degrees about +Y
   bool multiscatter = true;   // Fdez-Agüera 2019 energy compensation
+  // Screen-space ambient occlusion of this light on opaque and masked objects (docs/design.md,
+  // "Image-based lighting"): a depth and normal pass and a per-pixel factor, the light of
+  // crevices and contacts dimmed. Off: the image is the one without it, bit for bit.
+  bool occlusion = true;
 };
 
 }  // namespace softpbr::pbr

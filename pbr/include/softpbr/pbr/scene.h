@@ -44,6 +44,10 @@ struct Scene {
   float background_blur = 0.3f;  // roughness of BackgroundMode::Blur, [0, 1]
 };
 
+// Bytes a frame of width × height pixels holds besides its target when the scene's
+// environment has occlusion on: the 1-sample depth and normal target and two floats a pixel.
+std::uint64_t occlusion_memory(int width, int height);
+
 // Clears the target to the background (depth to 1), draws the environment as the
 // background when background_mode asks for it, then every object with PbrShader (or
 // TexturedPbrShader), back faces culled, in one frame of `renderer`. Throws

@@ -186,9 +186,14 @@ inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F
 //   specular  = prefiltered · FssEss,   FssEss = kS·A + B
 //   diffuse   = irradiance · (FmsEms + c_diff · (1 − FssEss − FmsEms)),
 //               FmsEms = Ems · FssEss · Favg / (1 − Favg · Ems),  c_diff = base · (1 − metallic)
-// without it: diffuse = irradiance · (1 − kS)(1 − metallic) · base. Both times ao.
+// without it: diffuse = irradiance · (1 − kS)(1 − metallic) · base. Both times ao. With
+// `occlusion` (the screen-space ambient occlusion of the lanes' pixels, env_occlusion) the
+// diffuse term is also multiplied by it and the specular by 1 − e.specular_occlusion·(1 − it)
+// (Lagarde & de Rousiers 2014's specular occlusion needs a per-lane pow; docs/design.md).
+// Without it the operations are those of a scene without occlusion, bit for bit.
 template <class F>
-inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, const Vec3L<F>& n, const Vec3L<F>& v) {
+inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, const Vec3L<F>& n, const Vec3L<F>& v,
+                    const F* occlusion = nullptr) {
   const F zero(0.0f), one(1.0f);
   const F n_dot_v = simd::dot(n, v);
   const F NoV = simd::clamp(n_dot_v, F(kMinNoV), one);
@@ -211,9 +216,6 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
   const Vec3L<F> ks(m.f0.x + (simd::max(smooth, m.f0.x) - m.f0.x) * c5, m.f0.y + (simd::max(smooth, m.f0.y) - m.f0.y) * c5,
                     m.f0.z + (simd::max(smooth, m.f0.z) - m.f0.z) * c5);
   const Vec3L<F> fss_ess = ks * A + Vec3L<F>(B);
-  auto max0 = [&](const Vec3L<F>& a) {
-    return Vec3L<F>(simd::max(a.x, zero), simd::max(a.y, zero), simd::max(a.z, zero));
-  };
   // The diffuse lobe is the dielectric layer's (glTF 2.0, Appendix B: material =
   // mix(dielectric_brdf, metal_brdf, metallic), dielectric_brdf = mix(diffuse, specular,
   // F(F0 = 0.04))): what it loses to reflection is the dielectric's F, not the F of the
@@ -238,7 +240,11 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
   } else {
     diffuse = Vec3L<F>(simd::max(one - ksd, zero)) * m.one_minus_metallic * m.albedo;
   }
-  return (Vec3L<F>(irr.x, irr.y, irr.z) * diffuse + Vec3L<F>(pre.x, pre.y, pre.z) * fss_ess) * m.ao;
+  const Vec3L<F> diffuse_light = Vec3L<F>(irr.x, irr.y, irr.z) * diffuse;
+  const Vec3L<F> specular_light = Vec3L<F>(pre.x, pre.y, pre.z) * fss_ess;
+  if (occlusion == nullptr) return (diffuse_light + specular_light) * m.ao;
+  const F so = one - (one - *occlusion) * F(e.specular_occlusion);
+  return (diffuse_light * *occlusion + specular_light * so) * m.ao;
 }
 
 // Outgoing radiance at `position` with normal n (need not be unit) and unit direction to
@@ -249,7 +255,7 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
 template <class F>
 inline Vec3L<F> shade(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, const Vec3L<F>& ambient_ao,
                       std::span<const PreparedLight> lights, const Vec3L<F>& position, const Vec3L<F>& n_in,
-                      const Vec3L<F>& v, const PreparedEnvironment* env = nullptr) {
+                      const Vec3L<F>& v, const PreparedEnvironment* env = nullptr, const F* occlusion = nullptr) {
   const Vec3L<F> n = normalize_or(n_in, v);
   const ViewTerms<F> vt = view_terms(n, v);
   Vec3L<F> lo(F(0.0f));
@@ -276,7 +282,7 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, con
       lo = simd::select(lit, lo + f * lanes<F>(lights[first + i].radiance), lo);
     }
   }
-  if (env != nullptr) return ibl(m, *env, n, v) + lo + m.emissive;
+  if (env != nullptr) return ibl(m, *env, n, v, occlusion) + lo + m.emissive;
   return ambient_ao + lo + m.emissive;
 }
 
@@ -289,8 +295,8 @@ inline Vec3L<F> ambient_light(const MaterialLanes<F>& m, const glm::vec3& ambien
 template <class F>
 inline Vec3L<F> shade(const MaterialLanes<F>& m, std::span<const PreparedLight> lights, const glm::vec3& ambient,
                       const Vec3L<F>& position, const Vec3L<F>& n_in, const Vec3L<F>& v,
-                      const PreparedEnvironment* env = nullptr) {
-  return shade(m, material_terms(m), ambient_light(m, ambient), lights, position, n_in, v, env);
+                      const PreparedEnvironment* env = nullptr, const F* occlusion = nullptr) {
+  return shade(m, material_terms(m), ambient_light(m, ambient), lights, position, n_in, v, env, occlusion);
 }
 
 template <class F>
@@ -359,6 +365,12 @@ struct PbrShader {
   glm::vec4 fragment(const raster::Fragment<Varyings>& f) const {
     const glm::vec3 v =
         orthographic ? view_direction : normalize_or(eye - f.v.world_position, glm::vec3(0.0f, 0.0f, 1.0f));
+    if (environment != nullptr && environment->occlusion != nullptr) {
+      const float o = env_occlusion(*environment, f.pos.x, f.pos.y);
+      const Vec3L<float> c = shade(lanes<float>(material), *lights, ambient, lanes<float>(f.v.world_position),
+                                   lanes<float>(f.v.normal), lanes<float>(v), environment, &o);
+      return glm::vec4(c.x, c.y, c.z, 1.0f);
+    }
     const glm::vec3 color = shade(material, *lights, ambient, f.v.world_position, f.v.normal, v, environment);
     return glm::vec4(color, 1.0f);
   }
@@ -393,6 +405,11 @@ struct PbrShader {
     const Vec3L<F> normal(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
     const Vec3L<F> v =
         orthographic ? u.view_direction : normalize_or(u.eye - position, Vec3L<F>(F(0.0f), F(0.0f), F(1.0f)));
+    if (environment != nullptr && environment->occlusion != nullptr) {
+      const F o = env_occlusion(*environment, p.pos_x, p.pos_y);
+      const Vec3L<F> c = shade(u.material, u.terms, u.ambient_ao, *lights, position, normal, v, environment, &o);
+      return {c.x, c.y, c.z, F(1.0f)};
+    }
     const Vec3L<F> c = shade(u.material, u.terms, u.ambient_ao, *lights, position, normal, v, environment);
     return {c.x, c.y, c.z, F(1.0f)};
   }

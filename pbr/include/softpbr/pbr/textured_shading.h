@@ -265,6 +265,10 @@ struct BasicTexturedPbrShader {
     if constexpr (kAllStreams) {
       if (m.normal.texture != nullptr) n = normal_mapped(m, p, lookup, n, v, facing);
     }
+    if (environment != nullptr && environment->occlusion != nullptr) {
+      const F o = env_occlusion(*environment, p.pos_x, p.pos_y);
+      return output(m, shade(ml, *lights, ambient, position, n, v, environment, &o), alpha, alpha_width);
+    }
     return output(m, shade(ml, *lights, ambient, position, n, v, environment), alpha, alpha_width);
   }
 
