@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
     std::vector<bench::BenchScene> all = bench::all_scenes(bench::default_shared_models());
     for (bench::BenchScene& s : bench::ibl_gallery_variants(1920, 1080)) all.push_back(std::move(s));
     for (bench::BenchScene& s : bench::fill_variants(1920, 1080)) all.push_back(std::move(s));
+    for (bench::BenchScene& s : bench::layered_gallery_variants(1920, 1080)) all.push_back(std::move(s));
     return all;
   }();
   for (const bench::BenchScene& s : scenes)

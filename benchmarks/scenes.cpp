@@ -192,6 +192,39 @@ std::vector<BenchScene> ibl_gallery_variants(int width, int height) {
   return v;
 }
 
+std::vector<BenchScene> layered_gallery_variants(int width, int height) {
+  const BenchScene base = ibl_gallery_scene(width, height);
+  const std::string size = size_suffix(width, height);
+  std::vector<BenchScene> v;
+  // The IBL gallery with every material given one layer of glTF's material extensions
+  // (issue 48): each against gallery_ibl_<size>, the same gallery without it.
+  auto variant = [&](const char* tag, auto&& change) {
+    v.push_back(base);
+    v.back().name = std::string("gallery_layers_") + tag + "_" + size;
+    for (pbr::Object& o : v.back().scene.objects) change(o.material);
+  };
+  variant("specular", [](pbr::Material& m) {
+    m.ior = 1.7f;
+    m.specular.color = {1.0f, 0.8f, 0.6f};
+  });
+  variant("clearcoat", [](pbr::Material& m) {
+    m.clearcoat.factor = 1.0f;
+    m.clearcoat.roughness = 0.1f;
+  });
+  variant("sheen", [](pbr::Material& m) {
+    m.sheen.color = {0.8f, 0.8f, 1.0f};
+    m.sheen.roughness = 0.5f;
+  });
+  variant("all", [](pbr::Material& m) {
+    m.ior = 1.7f;
+    m.clearcoat.factor = 1.0f;
+    m.clearcoat.roughness = 0.1f;
+    m.sheen.color = {0.8f, 0.8f, 1.0f};
+    m.sheen.roughness = 0.5f;
+  });
+  return v;
+}
+
 std::vector<BenchScene> fill_variants(int width, int height) {
   const BenchScene base = fill_scene(width, height);
   const std::string size = size_suffix(width, height);

@@ -86,6 +86,9 @@ BenchScene ibl_gallery_scene(int width, int height);
 //   gallery_ibl_bgonly     the background pass alone (no objects)
 //   gallery_ibl_empty      nothing but the clear and the tone map of the cleared tiles
 std::vector<BenchScene> ibl_gallery_variants(int width, int height);
+// The IBL gallery with each layer of the material extensions on every material, and all of
+// them: gallery_layers_{specular,clearcoat,sheen,all}_<size>.
+std::vector<BenchScene> layered_gallery_variants(int width, int height);
 
 // Variants of fill_scene(width, height) that split its frame time (bench_scenes only),
 // named "fill8x_<tag>_<size>":

@@ -271,3 +271,57 @@ TEST_CASE("glTF instancing: the draws of every mesh instance are counted from th
   CHECK(message.rfind("many.gltf: /scenes/0/nodes: its nodes place 2000 mesh instances, whose draws need an estimated ", 0) == 0);
   CHECK(message.find("over the memory limit of 32.0 MiB (counted before any mesh is built)") != std::string::npos);
 }
+
+TEST_CASE("glTF material extensions: ior, specular, clearcoat and sheen are read into the layers, each checked") {
+  const auto with_material = [](const Json& extensions, const char* required = nullptr) {
+    Json j = Json::parse(kTriangle);
+    j["materials"] = Json::array({Json{{"extensions", extensions}}});
+    j["meshes"][0]["primitives"][0]["material"] = 0;
+    Json used = Json::array();
+    for (const auto& [name, value] : extensions.items()) used.push_back(name);
+    j["extensionsUsed"] = used;
+    if (required != nullptr) j["extensionsRequired"] = Json::array({required});
+    return bytes_of(j.dump());
+  };
+  const Json all = {{"KHR_materials_ior", {{"ior", 1.7}}},
+                    {"KHR_materials_specular", {{"specularFactor", 0.5}, {"specularColorFactor", {1.0, 0.5, 2.0}}}},
+                    {"KHR_materials_clearcoat", {{"clearcoatFactor", 0.8}, {"clearcoatRoughnessFactor", 0.2}}},
+                    {"KHR_materials_sheen", {{"sheenColorFactor", {0.9, 0.8, 0.7}}, {"sheenRoughnessFactor", 0.4}}}};
+  const pbr::GltfScene g = pbr::load_gltf(with_material(all, "KHR_materials_clearcoat"), "layers.gltf", "/nonexistent-folder");
+  REQUIRE(g.objects.size() == 1);
+  const pbr::Material& m = g.objects[0].material;
+  CHECK(m.ior == 1.7f);
+  CHECK(m.specular.factor == 0.5f);
+  CHECK(m.specular.color == glm::vec3(1.0f, 0.5f, 2.0f));  // may exceed 1 (F0 is clamped)
+  CHECK(m.clearcoat.factor == 0.8f);
+  CHECK(m.clearcoat.roughness == 0.2f);
+  CHECK(m.sheen.color == glm::vec3(0.9f, 0.8f, 0.7f));
+  CHECK(m.sheen.roughness == 0.4f);
+  CHECK(m.layered());
+  for (const std::string& w : g.warnings) CHECK(w.find("not supported") == std::string::npos);
+  // Defaults: a material listing the extensions with no values is the core material.
+  const pbr::GltfScene d = pbr::load_gltf(
+      with_material({{"KHR_materials_ior", Json::object()}, {"KHR_materials_clearcoat", Json::object()},
+                     {"KHR_materials_sheen", Json::object()}, {"KHR_materials_specular", Json::object()}}),
+      "defaults.gltf", "/nonexistent-folder");
+  CHECK_FALSE(d.objects[0].material.layered());
+  // Each bad value is one line with its JSON pointer.
+  const struct {
+    Json extensions;
+    const char* message;
+  } bad[] = {
+      {{{"KHR_materials_ior", {{"ior", 0.5}}}}, "bad.gltf: /materials/0/extensions/KHR_materials_ior/ior: must be 0 or a finite number ≥ 1"},
+      {{{"KHR_materials_clearcoat", {{"clearcoatFactor", "x"}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_clearcoat/clearcoatFactor: expected a finite number"},
+      {{{"KHR_materials_sheen", {{"sheenColorFactor", {1, 2}}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_sheen/sheenColorFactor: expected three numbers"},
+      {{{"KHR_materials_specular", {{"specularTexture", {{"index", 7}}}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_specular/specularTexture/index: texture 7 does not exist"},
+      {{{"KHR_materials_clearcoat", {{"clearcoatNormalTexture", 3}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_clearcoat/clearcoatNormalTexture: expected a textureInfo object"},
+  };
+  for (const auto& b : bad) {
+    CAPTURE(b.extensions.dump());
+    CHECK(load_error(with_material(b.extensions), "bad.gltf") == b.message);
+  }
+}

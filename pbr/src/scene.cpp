@@ -99,18 +99,20 @@ namespace {
 // Whether an object needs the textured shader: anything PbrShader does not do.
 bool needs_textured_shader(const Object& o) {
   const Material& m = o.material;
-  return m.textured() || m.alpha_mode != AlphaMode::Opaque || m.double_sided || m.unlit || !o.mesh->colors.empty();
+  return m.textured() || m.alpha_mode != AlphaMode::Opaque || m.double_sided || m.unlit || !o.mesh->colors.empty() ||
+         m.layered();
 }
 
 // One object's draw: its shader, the vertices it reads and its state.
 struct ObjectDraw {
-  enum class Kind { Plain, Textured, TexturedUv0 };
+  enum class Kind { Plain, Textured, TexturedUv0, Layered };
   std::size_t object = 0;
   Kind kind = Kind::Plain;
   PbrShader plain;
   TexturedPbrShader textured;
   TexturedUv0PbrShader textured_uv0;   // mesh->vertices as they are
-  std::vector<TexturedVertex> vertices;  // Textured only
+  LayeredPbrShader layered;              // Layered (its `textured` draws its masked occlusion pass)
+  std::vector<TexturedVertex> vertices;  // Textured and Layered
   const Mesh* mesh = nullptr;
   std::shared_ptr<const Mesh> generated;  // the mesh with MikkTSpace tangents, when it had none
   raster::DrawState state;
@@ -120,6 +122,7 @@ struct ObjectDraw {
     switch (kind) {
       case Kind::Textured: return raster::kVaryingCount<TexturedPbrShader::Varyings>;
       case Kind::TexturedUv0: return raster::kVaryingCount<TexturedUv0PbrShader::Varyings>;
+      case Kind::Layered: return raster::kVaryingCount<LayeredPbrShader::Varyings>;
       case Kind::Plain: break;
     }
     return raster::kVaryingCount<PbrShader::Varyings>;
@@ -189,7 +192,7 @@ void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, i
           g.view_rotation = view_rotation;
           renderer.draw(g, vertices, d.mesh->indices, state);
         };
-        if (d.kind == ObjectDraw::Kind::Textured) draw_masked(d.textured, std::span<const TexturedVertex>(d.vertices));
+        if (d.kind != ObjectDraw::Kind::TexturedUv0) draw_masked(d.textured, std::span<const TexturedVertex>(d.vertices));
         else draw_masked(d.textured_uv0, std::span<const MeshVertex>(d.mesh->vertices));
         continue;
       }
@@ -293,12 +296,14 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       // With MSAA the shader's alpha is sharpened around the cutoff and becomes samples.
       d.state.alpha_to_coverage = alpha_to_coverage = target.samples() > 1;
     }
-    if (textured_streams(*material, !o.mesh->colors.empty()) == TexturedStreams::Uv0) {
+    const TexturedStreams streams = textured_streams(*material, !o.mesh->colors.empty());
+    if (streams == TexturedStreams::Uv0) {
       d.kind = ObjectDraw::Kind::TexturedUv0;
       set_up(d.textured_uv0);
     } else {
-      d.kind = ObjectDraw::Kind::Textured;
-      if (o.material.normal_texture && o.mesh->tangents.empty()) {
+      d.kind = streams == TexturedStreams::Layered ? ObjectDraw::Kind::Layered : ObjectDraw::Kind::Textured;
+      const bool coat_map = material->layered && material->layers.coat_normal.texture != nullptr;
+      if ((o.material.normal_texture || coat_map) && o.mesh->tangents.empty()) {
         // A normal map needs tangents: MikkTSpace, as glTF prescribes (per frame here;
         // loaders generate them once, when they build the mesh).
         auto copy = std::make_shared<Mesh>(*o.mesh);
@@ -308,6 +313,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       }
       d.vertices = with_context(where, [&] { return textured_vertices(*d.mesh); });
       set_up(d.textured);
+      if (d.kind == ObjectDraw::Kind::Layered) set_up(d.layered);
     }
     if (o.material.double_sided) d.state.cull = raster::Cull::None;
     if (o.material.alpha_mode == AlphaMode::Blend) {
@@ -347,6 +353,9 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
             break;
           case ObjectDraw::Kind::TexturedUv0:
             renderer.draw(d.textured_uv0, d.mesh->vertices, d.mesh->indices, d.state);
+            break;
+          case ObjectDraw::Kind::Layered:
+            renderer.draw(d.layered, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, d.state);
             break;
           case ObjectDraw::Kind::Plain:
             renderer.draw(d.plain, d.mesh->vertices, d.mesh->indices, d.state);

@@ -115,6 +115,7 @@ static_assert(::softpbr::raster::detail::kBaselineMaxWidth == SOFTPBR_PBR_BASELI
 SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::PbrShader);
 SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedPbrShader);
 SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::TexturedUv0PbrShader);
+SOFTPBR_PBR_EXTERN_PACKET_KERNELS(::softpbr::pbr::LayeredPbrShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::BackgroundShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::GBufferShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedGBufferShader<::softpbr::pbr::TexturedPbrShader>);

@@ -96,10 +96,57 @@ TexturedMaterial prepare_textured_material(const Material& m) {
   for (const TextureSlot* s : {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture,
                                &m.occlusion_texture, &m.emissive_texture})
     if (s->texture) t.keep.push_back(s->texture);
+  t.layered = m.layered() && !m.unlit;
+  if (t.layered) t.layers = prepare_layers(m, t.keep);
   return t;
 }
 
+PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<const raster::Texture>>& keep) {
+  require(m.ior == 0.0f || m.ior >= 1.0f, "ior", "must be 0 or a number ≥ 1");  // NaN fails, +∞ passes
+  require(in01(m.specular.factor), "specular.factor", "must be a number in [0, 1]");
+  require(color_ok(m.specular.color), "specular.color", "must be finite and non-negative");
+  require(in01(m.clearcoat.factor), "clearcoat.factor", "must be a number in [0, 1]");
+  require(in01(m.clearcoat.roughness), "clearcoat.roughness", "must be a number in [0, 1]");
+  require(std::isfinite(m.clearcoat.normal_scale), "clearcoat.normal_scale", "must be finite");
+  require(color_ok(m.sheen.color), "sheen.color", "must be finite and non-negative");
+  require(in01(m.sheen.roughness), "sheen.roughness", "must be a number in [0, 1]");
+  PreparedLayers l;
+  l.f0_ior = f0_from_ior(m.ior);
+  l.specular = m.specular.factor;
+  l.specular_color = m.specular.color;
+  l.specular_slot = prepare_slot(m.specular.texture, "specular");
+  l.specular_color_slot = prepare_slot(m.specular.color_texture, "specular_color");
+  l.coat = m.clearcoat.factor > 0.0f;
+  l.coat_factor = m.clearcoat.factor;
+  l.coat_roughness = m.clearcoat.roughness;
+  l.coat_normal_scale = m.clearcoat.normal_scale;
+  l.sheen = m.sheen.color != glm::vec3(0.0f);
+  l.sheen_color = m.sheen.color;
+  l.sheen_roughness = m.sheen.roughness;
+  const auto keep_slot = [&](const TextureSlot& slot) {
+    if (slot.texture) keep.push_back(slot.texture);
+  };
+  keep_slot(m.specular.texture);
+  keep_slot(m.specular.color_texture);
+  if (l.coat) {
+    l.coat_slot = prepare_slot(m.clearcoat.texture, "clearcoat");
+    l.coat_roughness_slot = prepare_slot(m.clearcoat.roughness_texture, "clearcoat_roughness");
+    l.coat_normal = prepare_slot(m.clearcoat.normal_texture, "clearcoat_normal");
+    keep_slot(m.clearcoat.texture);
+    keep_slot(m.clearcoat.roughness_texture);
+    keep_slot(m.clearcoat.normal_texture);
+  }
+  if (l.sheen) {
+    l.sheen_color_slot = prepare_slot(m.sheen.color_texture, "sheen_color");
+    l.sheen_roughness_slot = prepare_slot(m.sheen.roughness_texture, "sheen_roughness");
+    keep_slot(m.sheen.color_texture);
+    keep_slot(m.sheen.roughness_texture);
+  }
+  return l;
+}
+
 TexturedStreams textured_streams(const TexturedMaterial& m, bool vertex_colors) {
+  if (m.layered) return TexturedStreams::Layered;
   if (vertex_colors || m.normal.texture != nullptr) return TexturedStreams::All;
   for (const PreparedSlot* s : {&m.base_color, &m.metallic_roughness, &m.occlusion, &m.emissive})
     if (s->texture != nullptr && s->uv_set != 0) return TexturedStreams::All;

@@ -156,6 +156,7 @@ const Material& Materials::material(int index, const std::string& referrer) {
                g.occlusionTexture.extensions, CS::Linear, pointer + "/occlusionTexture");
   texture_slot(m->emissive_texture, g.emissiveTexture.index, g.emissiveTexture.texCoord, g.emissiveTexture.extensions,
                CS::Srgb, pointer + "/emissiveTexture");
+  layers(*m, g, pointer);
   return *(materials_[index] = std::move(m));
 }
 

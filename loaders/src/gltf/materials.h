@@ -1,5 +1,5 @@
 // The glTF reader's materials: glTF's materials (with KHR_materials_emissive_strength,
-// KHR_materials_unlit), their textures (KHR_texture_transform) and samplers, each material
+// KHR_materials_unlit, and the layers of KHR_materials_ior, _specular, _clearcoat, _sheen), their textures (KHR_texture_transform) and samplers, each material
 // read once; the textures are made at the end, all images decoding in parallel. Private to
 // the glTF reader (docs/design.md, "glTF").
 #pragma once
@@ -32,6 +32,12 @@ class Materials : public Context {
 
  private:
   raster::Sampler sampler(int index, const std::string& referrer);
+  // The material extensions' layers of `g` into `m` (material_extensions.cpp):
+  // KHR_materials_ior, _specular, _clearcoat and _sheen.
+  void layers(Material& m, const tg::Material& g, const std::string& pointer);
+  // A textureInfo object inside an extension (`info`, at `pointer`) into `slot`.
+  void extension_texture(TextureSlot& slot, const tg::Value& info, raster::ColorSpace space, const std::string& pointer,
+                         float* scale = nullptr);
   void texture_slot(TextureSlot& slot, int texture, int tex_coord, const tg::ExtensionMap& extensions,
                     raster::ColorSpace space, const std::string& pointer);
 

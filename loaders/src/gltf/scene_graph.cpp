@@ -56,7 +56,8 @@ void SceneGraph::load() {
 void SceneGraph::check_extensions() const {
   static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_materials_emissive_strength",
                                                    "KHR_mesh_quantization", "KHR_lights_punctual",
-                                                   "KHR_materials_unlit", kMeshopt, kDraco};
+                                                   "KHR_materials_unlit", "KHR_materials_ior", "KHR_materials_specular",
+                                                   "KHR_materials_clearcoat", "KHR_materials_sheen", kMeshopt, kDraco};
   for (std::size_t i = 0; i < m_.extensionsRequired.size(); ++i)
     if (!kSupported.count(m_.extensionsRequired[i]))
       fail("/extensionsRequired/" + str(i), "the required extension " + m_.extensionsRequired[i] + " is not supported");

@@ -16,7 +16,8 @@ Material read_material(const Reader& r, const Node& spec, TextureLibrary& textur
   }
   r.object(spec, {"preset", "base_color", "metallic", "roughness", "ao", "emissive", "alpha", "alpha_mode",
                   "alpha_cutoff", "double_sided", "base_color_texture", "metallic_roughness_texture",
-                  "normal_texture", "normal_scale", "occlusion_texture", "occlusion_strength", "emissive_texture"});
+                  "normal_texture", "normal_scale", "occlusion_texture", "occlusion_strength", "emissive_texture",
+                  "ior", "specular", "clearcoat", "sheen"});
   Material m;
   if (auto p = r.member(spec, "preset")) {
     if (!p->value.is_string()) r.fail(*p, "expected a preset name, got " + json_reader::show(p->value));
@@ -44,6 +45,34 @@ Material read_material(const Reader& r, const Node& spec, TextureLibrary& textur
   if (auto t = r.member(spec, "normal_texture")) m.normal_texture = textures.slot(*t, ColorSpace::Linear);
   if (auto t = r.member(spec, "occlusion_texture")) m.occlusion_texture = textures.slot(*t, ColorSpace::Linear);
   if (auto t = r.member(spec, "emissive_texture")) m.emissive_texture = textures.slot(*t, ColorSpace::Srgb);
+  // The material extensions' layers (KHR_materials_ior, _specular, _clearcoat, _sheen).
+  if (auto c = r.member(spec, "ior")) {
+    m.ior = r.number_f(*c, 0, 1e30);
+    if (m.ior != 0.0f && m.ior < 1.0f) r.fail(*c, "expected 0 or a number ≥ 1");
+  }
+  if (auto s = r.member(spec, "specular")) {
+    r.object(*s, {"factor", "texture", "color", "color_texture"});
+    if (auto c = r.member(*s, "factor")) m.specular.factor = r.number_f(*c, 0, 1);
+    if (auto c = r.member(*s, "color")) m.specular.color = r.vec3(*c, 0, 1e30);
+    if (auto t = r.member(*s, "texture")) m.specular.texture = textures.slot(*t, ColorSpace::Linear);
+    if (auto t = r.member(*s, "color_texture")) m.specular.color_texture = textures.slot(*t, ColorSpace::Srgb);
+  }
+  if (auto s = r.member(spec, "clearcoat")) {
+    r.object(*s, {"factor", "texture", "roughness", "roughness_texture", "normal_texture", "normal_scale"});
+    if (auto c = r.member(*s, "factor")) m.clearcoat.factor = r.number_f(*c, 0, 1);
+    if (auto c = r.member(*s, "roughness")) m.clearcoat.roughness = r.number_f(*c, 0, 1);
+    if (auto c = r.member(*s, "normal_scale")) m.clearcoat.normal_scale = r.number_f(*c, -1e30, 1e30);
+    if (auto t = r.member(*s, "texture")) m.clearcoat.texture = textures.slot(*t, ColorSpace::Linear);
+    if (auto t = r.member(*s, "roughness_texture")) m.clearcoat.roughness_texture = textures.slot(*t, ColorSpace::Linear);
+    if (auto t = r.member(*s, "normal_texture")) m.clearcoat.normal_texture = textures.slot(*t, ColorSpace::Linear);
+  }
+  if (auto s = r.member(spec, "sheen")) {
+    r.object(*s, {"color", "color_texture", "roughness", "roughness_texture"});
+    if (auto c = r.member(*s, "color")) m.sheen.color = r.vec3(*c, 0, 1);
+    if (auto c = r.member(*s, "roughness")) m.sheen.roughness = r.number_f(*c, 0, 1);
+    if (auto t = r.member(*s, "color_texture")) m.sheen.color_texture = textures.slot(*t, ColorSpace::Srgb);
+    if (auto t = r.member(*s, "roughness_texture")) m.sheen.roughness_texture = textures.slot(*t, ColorSpace::Linear);
+  }
   return m;
 }
 

@@ -16,6 +16,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "softpbr/pbr/lane_math.h"
 #include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr {
@@ -161,6 +162,63 @@ inline F Fd_Lambert() {
 
 // F0 of a dielectric in the metal/roughness model (glTF: ior 1.5).
 inline constexpr float kDielectricF0 = 0.04f;
+
+// F0 of a dielectric of index of refraction `ior` in air (Fresnel at normal incidence):
+// ((ior − 1) / (ior + 1))², in double, rounded once: exactly kDielectricF0 at 1.5. 0 and
+// +∞ give 1, as KHR_materials_ior allows for "F0 from the specular colour alone".
+inline float f0_from_ior(double ior) {
+  if (ior == 0.0 || ior > 1e30) return 1.0f;
+  const double r = (ior - 1.0) / (ior + 1.0);
+  return static_cast<float>(r * r);
+}
+
+// --- The sheen layer (KHR_materials_sheen): Estevez & Kulla 2017, "Production Friendly
+// Microfacet Sheen BRDF" ("Charlie"), with α = sheen roughness² as the glTF Sample Viewer
+// and Filament take it. Written against F (lanes, or double for the tables and the tests),
+// with lane_math.h's pow and exp. ---
+
+// The smallest sheen roughness shaded: α = 0.002 keeps D_Charlie's exponent 1/(2α) ≤ 250
+// and its peak (2 + 1/α)/(2π) ≤ 80 (the specification's roughness 0 has no finite D).
+inline constexpr float kMinSheenRoughness = 0.045f;
+
+// D(h) = (2 + 1/α) sin(θ_h)^(1/α) / (2π), from sin²θ_h: (sin²θ_h)^(1/(2α)). Normalised:
+// ∫ D (n·h) dω_h = 1. sin²θ_h = 1 − (n·h)², or, without cancellation, |n × h|².
+template <class F>
+inline F D_Charlie(F sin2h, F alpha) {
+  const F inv = F(1.0) / alpha;
+  return (F(2.0) + inv) * pow_lanes(sin2h, inv * F(0.5)) * F(0.5 * kInvPiDouble);
+}
+
+// The exponent's fit l(x) of the Charlie visibility (Estevez & Kulla 2017, eq. 3, its
+// table's two rows blended by (1 − α)²): a / (1 + b x^c) + d x + e.
+template <class F>
+inline F sheen_l(F x, F alpha) {
+  const F t = (F(1.0) - alpha) * (F(1.0) - alpha);
+  const F a = F(21.5473) + (F(25.3245) - F(21.5473)) * t;
+  const F b = F(3.82987) + (F(3.32435) - F(3.82987)) * t;
+  const F c = F(0.19823) + (F(0.16801) - F(0.19823)) * t;
+  const F d = F(-1.97760) + (F(-1.27393) - F(-1.97760)) * t;
+  const F e = F(-4.32054) + (F(-4.85967) - F(-4.32054)) * t;
+  return a / (F(1.0) + b * pow_lanes(x, c)) + d * x + e;
+}
+
+// Λ(cos θ) of the Charlie visibility: e^l(cos θ) below cos θ = 1/2, e^(2 l(1/2) − l(1 − cos θ))
+// above (the fit mirrored, as the paper's "terminator softening" prescribes). `l_half` is
+// sheen_l(1/2, α), the same for every light of a pixel. One pow and one exp per call.
+template <class F>
+inline F lambda_sheen(F cos_theta, F alpha, F l_half) {
+  const auto low = cos_theta < F(0.5);
+  const F l = sheen_l(simd::select(low, cos_theta, F(1.0) - cos_theta), alpha);
+  return exp_lanes(simd::select(low, l, l_half + l_half - l));
+}
+
+// The Charlie visibility times n·l: V (n·l) = n·l / ((1 + Λ(n·v) + Λ(n·l)) 4 (n·l)(n·v))
+// = 1 / ((1 + Λ(n·v) + Λ(n·l)) 4 n·v), n·v ≥ kMinNoV (the caller clamps), with V at most
+// 1 (as the glTF Sample Viewer clamps it): at most n·l.
+template <class F>
+inline F V_Charlie_times_NoL(F lambda_v, F lambda_l, F NoV, F NoL) {
+  return simd::min(F(1.0) / ((F(1.0) + lambda_v + lambda_l) * F(4.0) * NoV), NoL);
+}
 
 // F0 of the metal/roughness model: 4% for dielectrics, the base colour for metals.
 inline glm::vec3 f0_of(const glm::vec3& base_color, float metallic) {

@@ -47,6 +47,19 @@ const raster::Texture& dfg_table();
 // `samples` Hammersley samples (the tests' reference).
 glm::dvec2 dfg_reference(double NoV, double roughness, int samples);
 
+// The sheen layer's directional albedo E(n·v, roughness) = ∫ f_sheen (n·l) dω_l of the
+// Charlie sheen of colour 1 (brdf.h: D_Charlie and the Charlie visibility), what its
+// albedo scaling (1 − max(colour) · E) and its image-based light read: kSheenSize² texels,
+// u = n·v, v = sheen roughness at texel centres, min(E, 1) in r (g, b the same, a 1). Computed
+// once, on first use, in double with dmath, over a kSheenSamples × kSheenSamples grid of
+// light directions (n·l by midpoints, the azimuth over half the circle, doubled).
+inline constexpr int kSheenSize = 32;
+inline constexpr int kSheenSamples = 48;
+const raster::Texture& sheen_table();
+// The table's value for one point by the same integration with `samples`² directions (the
+// tests' reference).
+double sheen_albedo_reference(double NoV, double roughness, int samples);
+
 // What the shaders read, prepared once per frame.
 struct PreparedEnvironment {
   const Environment* map = nullptr;
@@ -275,6 +288,12 @@ inline void env_dfg(F NoV, F roughness, F& a, F& b) {
   const EnvVec3<F> c = env_bilinear(dfg_table(), NoV, roughness);
   a = c.x;
   b = c.y;
+}
+
+// The sheen's directional albedo at (n·v, sheen roughness).
+template <class F>
+inline F env_sheen_albedo(F NoV, F roughness) {
+  return env_bilinear(sheen_table(), NoV, roughness).x;
 }
 
 }  // namespace softpbr::pbr

@@ -46,6 +46,38 @@ struct TextureSlot {
 // object, farthest first.
 enum class AlphaMode : std::uint8_t { Opaque, Mask, Blend };
 
+// The layers of glTF's material extensions (KHR_materials_*), each off at its defaults: a
+// material whose layers are all off is drawn by the shaders of the core material, bit for
+// bit as without them. Each factor multiplies its texture's channel named beside it.
+
+// KHR_materials_clearcoat: a second GGX lobe of a dielectric coat (F0 0.04) over the
+// material, which loses what the coat reflects (its Fresnel, times the factor).
+struct Clearcoat {
+  float factor = 0.0f;                  // in [0, 1]; 0: no coat
+  TextureSlot texture;                  // linear R × factor
+  float roughness = 0.0f;               // perceptual, in [0, 1]
+  TextureSlot roughness_texture;        // linear G × roughness
+  TextureSlot normal_texture;           // the coat's own normal map (else the geometric normal)
+  float normal_scale = 1.0f;
+};
+
+// KHR_materials_sheen: the "Charlie" sheen of Estevez & Kulla 2017 over the material, which
+// is scaled by 1 − max(colour) · E(n·v) (the sheen's directional albedo).
+struct Sheen {
+  glm::vec3 color{0.0f, 0.0f, 0.0f};    // linear; black: no sheen
+  TextureSlot color_texture;            // RGB (sRGB colour) × color
+  float roughness = 0.0f;               // perceptual, in [0, 1]
+  TextureSlot roughness_texture;        // linear A × roughness
+};
+
+// KHR_materials_specular: the strength and the F0 colour of the dielectric's reflection.
+struct Specular {
+  float factor = 1.0f;                  // in [0, 1]: scales F0 and F90 of the dielectric
+  TextureSlot texture;                  // linear A × factor
+  glm::vec3 color{1.0f, 1.0f, 1.0f};    // linear, ≥ 0: F0 = min(F0(ior) · colour, 1)
+  TextureSlot color_texture;            // RGB (sRGB colour) × color
+};
+
 // The metal/roughness material of glTF 2.0. Each factor multiplies its texture when the
 // slot has one (the texture's linear value: colour textures are decoded from sRGB).
 struct Material {
@@ -67,6 +99,21 @@ struct Material {
   TextureSlot occlusion_texture;           // linear R: ao = 1 + strength · (R − 1)
   float occlusion_strength = 1.0f;         // in [0, 1]
   TextureSlot emissive_texture;            // RGB (sRGB) × emissive
+
+  // The material extensions' layers (see above) and KHR_materials_ior's index of
+  // refraction: the dielectric's F0 = ((ior − 1) / (ior + 1))², 0.04 at 1.5; 0 (or +∞)
+  // stands for F0 = 1, as the extension allows.
+  float ior = 1.5f;
+  Clearcoat clearcoat;
+  Sheen sheen;
+  Specular specular;
+
+  // Whether any layer of the extensions is on: a coat or a sheen, or a dielectric F0 other
+  // than the core material's 0.04 (an IOR other than 1.5, a specular factor or colour).
+  bool layered() const {
+    return clearcoat.factor != 0.0f || sheen.color != glm::vec3(0.0f) || ior != 1.5f || specular.factor != 1.0f ||
+           specular.texture || specular.color != glm::vec3(1.0f) || specular.color_texture;
+  }
 
   // Whether any slot holds a texture.
   bool textured() const {

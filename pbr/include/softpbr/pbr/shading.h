@@ -147,28 +147,52 @@ inline ViewTerms<F> view_terms(const Vec3L<F>& n, const Vec3L<F>& v) {
 // h = (l + v) / |l + v| is never formed: n·h and v·h come from s = n·(l + v), the part of
 // l + v across n and t = |l + v|² (D_GGX_denominator_t, DV_GGX_SchlickSmith_t, VoH_from_t
 // in brdf.h), so a light costs the one division of D · V and the square root of v·h.
+//
+// The half vector's terms are apart (HalfTerms, ggx_DV) so that the layers
+// (layered_shading.h) evaluate another normal's lobe for the same light.
+template <class F>
+struct HalfTerms {
+  Vec3L<F> u;  // l + v
+  F t_raw;     // |u|²
+  F t;         // |u|², at least kMinHalfLength2
+  F m5;        // schlick_weight(v·h)
+};
+
+template <class F>
+inline HalfTerms<F> half_terms(const Vec3L<F>& l, const Vec3L<F>& v) {
+  // u = l + v, t = |u|² (h = u / √t). Where u nearly vanishes (t below kMinHalfLength2: l
+  // and v within 0.06° of opposite) h is undetermined; there t is raised and n·h taken as 0
+  // (ggx_DV), which keeps the terms finite and shows no highlight.
+  HalfTerms<F> h;
+  h.u = l + v;
+  h.t_raw = simd::dot(h.u, h.u);
+  h.t = simd::max(h.t_raw, F(kMinHalfLength2));
+  const F VoH = simd::min(VoH_from_t(h.t), F(1.0f));
+  h.m5 = schlick_weight(VoH);
+  return h;
+}
+
+// D · V of the GGX lobe of normal n for the light of `h`: s = n·u = n·l + n·v and u's part
+// across n, u − s n. NoL = n·l clamped to [0, 1], NoV = n·v clamped to [kMinNoV, 1].
+template <class F>
+inline F ggx_DV(const HalfTerms<F>& h, const Vec3L<F>& n, F n_dot_l, F n_dot_v, F NoL, F NoV, F alpha, F alpha2, F k) {
+  const F s = n_dot_l + n_dot_v;
+  const Vec3L<F> u_across = h.u - n * s;
+  const F dt = simd::select(simd::both(s > F(0.0f), h.t_raw >= F(kMinHalfLength2)),
+                            D_GGX_denominator_t(s, u_across, alpha2), h.t);
+  return DV_GGX_SchlickSmith_t(dt, h.t, NoL, NoV, alpha, k);
+}
+
 template <class F>
 inline Vec3L<F> brdf_times(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, const ViewTerms<F>& vt,
                            const Vec3L<F>& n, const Vec3L<F>& l, const Vec3L<F>& v, F w) {
   const F one(1.0f);
   const F n_dot_l = simd::dot(n, l);
   const F NoL = simd::clamp(n_dot_l, F(0.0f), one);
-  // u = l + v, t = |u|², s = n·u = n·l + n·v (h = u / √t), and u's part across n,
-  // u − s n. Where u nearly vanishes (t below kMinHalfLength2: l and v within 0.06° of
-  // opposite) h is undetermined; there t is raised and n·h taken as 0, which keeps the
-  // terms finite and shows no highlight.
-  const Vec3L<F> u = l + v;
-  const F t_raw = simd::dot(u, u);
-  const F t = simd::max(t_raw, F(kMinHalfLength2));
-  const F s = n_dot_l + vt.n_dot_v;
-  const Vec3L<F> u_across = u - n * s;
-  const F dt = simd::select(simd::both(s > F(0.0f), t_raw >= F(kMinHalfLength2)),
-                            D_GGX_denominator_t(s, u_across, mt.alpha2), t);
-  const F VoH = simd::min(VoH_from_t(t), one);
-  const F m5 = schlick_weight(VoH);
-  const F specular = DV_GGX_SchlickSmith_t(dt, t, NoL, vt.NoV, m.alpha, m.k) * w;
-  const F diffuse = (one - m5) * w;
-  const Vec3L<F> Fr = m.f0 + mt.one_minus_f0 * m5;
+  const HalfTerms<F> h = half_terms(l, v);
+  const F specular = ggx_DV(h, n, n_dot_l, vt.n_dot_v, NoL, vt.NoV, m.alpha, mt.alpha2, m.k) * w;
+  const F diffuse = (one - h.m5) * w;
+  const Vec3L<F> Fr = m.f0 + mt.one_minus_f0 * h.m5;
   return mt.diffuse * diffuse + Fr * specular;
 }
 
@@ -191,9 +215,25 @@ inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F
 // diffuse term is also multiplied by it and the specular by 1 − e.specular_occlusion·(1 − it)
 // (Lagarde & de Rousiers 2014's specular occlusion needs a per-lane pow; docs/design.md).
 // Without it the operations are those of a scene without occlusion, bit for bit.
+//
+// With the material extensions (kLayered, `dielectric` given: layered_shading.h) the
+// dielectric's F0 is dielectric->f0 (KHR_materials_ior and _specular) and its specular
+// weight w = dielectric->weight scales its F0 and F90, as the glTF Sample Viewer's
+// getIBLGGXFresnel does: Fresnel with roughness F0 + (max((1 − roughness) F90, F0) − F0) c⁵,
+// FssEss = ks A + F90 B, Favg = F0 + (F90 − F0)/21, where F0 and F90 are the mixed
+// material's (m.f0 and dielectric->f90 = w + (1 − w) metallic) for the specular, the
+// dielectric's (w · F0, w) for the diffuse weight. At w = 1 and F0 = 0.04 every added
+// operation is a multiply by 1: the same bits as the core material's.
 template <class F>
+struct DielectricLanes {
+  Vec3L<F> f0;  // the dielectric's F0 times its weight w: w · min(F0(ior) · colour, 1)
+  F weight;     // w, the dielectric's F90
+  F f90;        // the mixed material's F90, w + (1 − w) metallic
+};
+
+template <class F, bool kLayered = false>
 inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, const Vec3L<F>& n, const Vec3L<F>& v,
-                    const F* occlusion = nullptr) {
+                    const F* occlusion = nullptr, const DielectricLanes<F>* dielectric = nullptr) {
   const F zero(0.0f), one(1.0f);
   const F n_dot_v = simd::dot(n, v);
   const F NoV = simd::clamp(n_dot_v, F(kMinNoV), one);
@@ -212,15 +252,50 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
   env_dfg(NoV, m.roughness, A, B);
   const F c = one - NoV, c2 = c * c;
   const F c5 = c2 * c2 * c;
-  const F smooth = one - m.roughness;
+  const F smooth_unweighted = one - m.roughness;
+  F smooth = smooth_unweighted, f90B = B;
+  if constexpr (kLayered) smooth = smooth_unweighted * dielectric->f90, f90B = B * dielectric->f90;
   const Vec3L<F> ks(m.f0.x + (simd::max(smooth, m.f0.x) - m.f0.x) * c5, m.f0.y + (simd::max(smooth, m.f0.y) - m.f0.y) * c5,
                     m.f0.z + (simd::max(smooth, m.f0.z) - m.f0.z) * c5);
-  const Vec3L<F> fss_ess = ks * A + Vec3L<F>(B);
+  const Vec3L<F> fss_ess = ks * A + Vec3L<F>(f90B);
   // The diffuse lobe is the dielectric layer's (glTF 2.0, Appendix B: material =
   // mix(dielectric_brdf, metal_brdf, metallic), dielectric_brdf = mix(diffuse, specular,
   // F(F0 = 0.04))): what it loses to reflection is the dielectric's F, not the F of the
   // mixed F0 — for metallic 0.83 that is 0.49 of the light left, not 0.96 (ksd, fss_d).
   // The same as before for metallic 0, where the mixed F0 is 0.04.
+  if constexpr (kLayered) {
+    const F w = dielectric->weight;
+    const F smooth_d = smooth_unweighted * w, wB = B * w;
+    const Vec3L<F>& f0d = dielectric->f0;
+    const Vec3L<F> ksd(f0d.x + (simd::max(smooth_d, f0d.x) - f0d.x) * c5, f0d.y + (simd::max(smooth_d, f0d.y) - f0d.y) * c5,
+                       f0d.z + (simd::max(smooth_d, f0d.z) - f0d.z) * c5);
+    const Vec3L<F> fss_d = ksd * A + Vec3L<F>(wB);
+    Vec3L<F> diffuse;
+    if (e.multiscatter) {
+      const F ems = one - (A + B);
+      const F f90 = dielectric->f90;
+      const Vec3L<F> favg = m.f0 + (Vec3L<F>(f90) - m.f0) * F(1.0f / 21.0f);
+      const F floor(1e-3f);
+      const Vec3L<F> fe = favg * ems;
+      const Vec3L<F> fms_ems(fss_ess.x * fe.x / simd::max(one - fe.x, floor), fss_ess.y * fe.y / simd::max(one - fe.y, floor),
+                             fss_ess.z * fe.z / simd::max(one - fe.z, floor));
+      const Vec3L<F> fe_d = (f0d + (Vec3L<F>(w) - f0d) * F(1.0f / 21.0f)) * ems;
+      const Vec3L<F> fms_d(fss_d.x * fe_d.x / simd::max(one - fe_d.x, floor), fss_d.y * fe_d.y / simd::max(one - fe_d.y, floor),
+                           fss_d.z * fe_d.z / simd::max(one - fe_d.z, floor));
+      const Vec3L<F> left = Vec3L<F>(one) - (fss_d + fms_d);
+      diffuse = fms_ems + m.albedo * m.one_minus_metallic *
+                              Vec3L<F>(simd::max(left.x, zero), simd::max(left.y, zero), simd::max(left.z, zero));
+    } else {
+      const Vec3L<F> left = Vec3L<F>(one) - ksd;
+      diffuse = Vec3L<F>(simd::max(left.x, zero), simd::max(left.y, zero), simd::max(left.z, zero)) *
+                m.one_minus_metallic * m.albedo;
+    }
+    const Vec3L<F> diffuse_light = Vec3L<F>(irr.x, irr.y, irr.z) * diffuse;
+    const Vec3L<F> specular_light = Vec3L<F>(pre.x, pre.y, pre.z) * fss_ess;
+    if (occlusion == nullptr) return (diffuse_light + specular_light) * m.ao;
+    const F so = one - (one - *occlusion) * F(e.specular_occlusion);
+    return (diffuse_light * *occlusion + specular_light * so) * m.ao;
+  }
   const F f0d(kDielectricF0);
   const F ksd = f0d + (simd::max(smooth, f0d) - f0d) * c5;
   const F fss_d = ksd * A + B;

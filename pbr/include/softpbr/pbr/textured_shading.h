@@ -40,6 +40,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "softpbr/pbr/layered_shading.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/raster/texture.h"
 
@@ -72,6 +73,22 @@ struct PreparedSlot {
   float a = 1, b = 0, c = 0, d = 0, e = 1, f = 0;
 };
 
+// The material extensions' layers ready for lookups (Material::layered(); each factor
+// multiplies its slot's channel, as Material's comments say).
+struct PreparedLayers {
+  float f0_ior = kDielectricF0;  // f0_from_ior(ior)
+  float specular = 1.0f;
+  glm::vec3 specular_color{1.0f};
+  PreparedSlot specular_slot, specular_color_slot;
+  bool coat = false;  // factor > 0
+  float coat_factor = 0.0f, coat_roughness = 0.0f, coat_normal_scale = 1.0f;
+  PreparedSlot coat_slot, coat_roughness_slot, coat_normal;
+  bool sheen = false;  // colour not black
+  glm::vec3 sheen_color{0.0f};
+  float sheen_roughness = 0.0f;
+  PreparedSlot sheen_color_slot, sheen_roughness_slot;
+};
+
 struct TexturedMaterial {
   ShadingMaterial base;  // the factors, validated (as PbrShader's)
   float roughness_factor;  // unclamped: the texture multiplies it before the clamp
@@ -83,6 +100,8 @@ struct TexturedMaterial {
   float normal_scale;
   float occlusion_strength;
   PreparedSlot base_color, metallic_roughness, normal, occlusion, emissive;
+  bool layered = false;  // Material::layered(): drawn by LayeredPbrShader
+  PreparedLayers layers;
   // Keeps the textures alive while a frame holds the shader.
   std::vector<std::shared_ptr<const raster::Texture>> keep;
 };
@@ -91,6 +110,9 @@ struct TexturedMaterial {
 // texture transform; computes the transform's matrix with dmath (the same bits everywhere).
 // Throws std::invalid_argument naming the field.
 TexturedMaterial prepare_textured_material(const Material& m);
+// The layers of a layered material (prepare_textured_material calls it): validates the
+// extensions' factors and slots; adds the slots' textures to `keep`.
+PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<const raster::Texture>>& keep);
 
 // Which vertex streams the textured shader carries to its pixels. Every varying costs
 // interpolation per pixel (and its derivatives, for the UVs): the full set is 18 floats,
@@ -99,6 +121,8 @@ enum class TexturedStreams {
   All,  // uv, uv1, tangent and colour: any material and mesh (TexturedPbrShader)
   Uv0,  // uv only: every texture on UV set 0, no normal map, no vertex colours
         // (TexturedUv0PbrShader, drawing MeshVertex as is)
+  Layered,  // All, and the material extensions' layers (LayeredPbrShader): the materials
+            // whose layered() is true, and only those, pay for them
 };
 
 // The streams `material` drawn on a mesh with or without vertex colours needs: Uv0 where
@@ -109,7 +133,8 @@ TexturedStreams textured_streams(const TexturedMaterial& material, bool vertex_c
 
 template <TexturedStreams kStreams>
 struct BasicTexturedPbrShader {
-  static constexpr bool kAllStreams = kStreams == TexturedStreams::All;
+  static constexpr bool kAllStreams = kStreams != TexturedStreams::Uv0;
+  static constexpr bool kLayered = kStreams == TexturedStreams::Layered;
   using Vertex = std::conditional_t<kAllStreams, TexturedVertex, MeshVertex>;
   struct AllVaryings {
     glm::vec3 world_position;
@@ -239,7 +264,13 @@ struct BasicTexturedPbrShader {
     metallic = simd::clamp(metallic, F(0.0f), F(1.0f));
     MaterialLanes<F> ml;
     ml.albedo = base;
-    ml.f0 = f0_of(base, metallic);
+    LayerLanes<F> layers;
+    if constexpr (kLayered) {
+      layers = layer_lanes(m.layers, lookup, metallic);
+      ml.f0 = layered_f0(layers.dielectric, base, metallic);
+    } else {
+      ml.f0 = f0_of(base, metallic);
+    }
     ml.one_minus_metallic = F(1.0f) - metallic;
     ml.alpha = roughness * roughness;
     ml.k = k_direct(roughness);
@@ -262,8 +293,23 @@ struct BasicTexturedPbrShader {
     Vec3L<F> n(p.v[kNormal], p.v[kNormal + 1], p.v[kNormal + 2]);
     const float facing = p.front_facing ? 1.0f : -1.0f;  // one facing per packet
     if (!p.front_facing) n = -n;
+    if constexpr (kLayered) {
+      // The coat's normal: the interpolated one, or its own map's (not the base's map).
+      if (layers.coat) {
+        layers.coat_lanes.normal = n;
+        if (m.layers.coat_normal.texture != nullptr)
+          layers.coat_lanes.normal = normal_mapped(m.layers.coat_normal, m.layers.coat_normal_scale, p, lookup, n, v, facing);
+      }
+    }
     if constexpr (kAllStreams) {
-      if (m.normal.texture != nullptr) n = normal_mapped(m, p, lookup, n, v, facing);
+      if (m.normal.texture != nullptr) n = normal_mapped(m.normal, m.normal_scale, p, lookup, n, v, facing);
+    }
+    if constexpr (kLayered) {
+      F o(1.0f);
+      const bool occluded = environment != nullptr && environment->occlusion != nullptr;
+      if (occluded) o = env_occlusion(*environment, p.pos_x, p.pos_y);
+      return output(m, shade_layered(ml, layers, *lights, ambient, position, n, v, environment, occluded ? &o : nullptr),
+                    alpha, alpha_width);
     }
     if (environment != nullptr && environment->occlusion != nullptr) {
       const F o = env_occlusion(*environment, p.pos_x, p.pos_y);
@@ -273,14 +319,53 @@ struct BasicTexturedPbrShader {
   }
 
  private:
-  // The normal map applied to the interpolated normal n (facing: −1 on a back face).
+  // The layers' lanes at this pixel: the factors times their textures (layered_shading.h).
   template <class F, class Lookup>
-  static Vec3L<F> normal_mapped(const TexturedMaterial& m, const raster::FragmentPacket<F, Varyings>& p,
+  static LayerLanes<F> layer_lanes(const PreparedLayers& L, const Lookup& lookup, F metallic) {
+    LayerLanes<F> out;
+    Vec3L<F> specular_color = lanes<F>(L.specular_color);
+    F weight(L.specular);
+    if (L.specular_color_slot.texture != nullptr) {
+      const raster::Color<F> c = lookup(L.specular_color_slot, raster::Texture::kRgb);
+      specular_color = specular_color * Vec3L<F>(c.r, c.g, c.b);
+    }
+    if (L.specular_slot.texture != nullptr) weight = weight * lookup(L.specular_slot, raster::Texture::kAlpha).a;
+    out.dielectric = dielectric_lanes(L.f0_ior, specular_color, weight, metallic);
+    out.coat = L.coat;
+    if (L.coat) {
+      CoatLanes<F>& c = out.coat_lanes;
+      c.factor = F(L.coat_factor);
+      if (L.coat_slot.texture != nullptr) c.factor = c.factor * lookup(L.coat_slot, raster::Texture::kRed).r;
+      F r(L.coat_roughness);
+      if (L.coat_roughness_slot.texture != nullptr) r = r * lookup(L.coat_roughness_slot, raster::Texture::kGreen).g;
+      c.roughness = simd::clamp(r, F(kMinRoughness), F(1.0f));
+      c.alpha = c.roughness * c.roughness;
+      c.k = k_direct(c.roughness);
+    }
+    out.sheen = L.sheen;
+    if (L.sheen) {
+      SheenLanes<F>& sh = out.sheen_lanes;
+      sh.color = lanes<F>(L.sheen_color);
+      if (L.sheen_color_slot.texture != nullptr) {
+        const raster::Color<F> c = lookup(L.sheen_color_slot, raster::Texture::kRgb);
+        sh.color = sh.color * Vec3L<F>(c.r, c.g, c.b);
+      }
+      F r(L.sheen_roughness);
+      if (L.sheen_roughness_slot.texture != nullptr) r = r * lookup(L.sheen_roughness_slot, raster::Texture::kAlpha).a;
+      sh.roughness = simd::clamp(r, F(kMinSheenRoughness), F(1.0f));
+    }
+    return out;
+  }
+
+  // The normal map of `slot` (scaled by `normal_scale`) applied to the interpolated normal
+  // n (facing: −1 on a back face).
+  template <class F, class Lookup>
+  static Vec3L<F> normal_mapped(const PreparedSlot& slot, float normal_scale, const raster::FragmentPacket<F, Varyings>& p,
                                 const Lookup& lookup, Vec3L<F> n, const Vec3L<F>& v, float facing) {
     constexpr int kTangent = offsetof(AllVaryings, tangent) / sizeof(float);
     n = normalize_or(n, v);
-    const raster::Color<F> c = lookup(m.normal, raster::Texture::kRgb);
-    const F scale(m.normal_scale);
+    const raster::Color<F> c = lookup(slot, raster::Texture::kRgb);
+    const F scale(normal_scale);
     const F x = (c.r * F(2.0f) - F(1.0f)) * scale, y = (c.g * F(2.0f) - F(1.0f)) * scale;
     const F z = c.b * F(2.0f) - F(1.0f);
     const Vec3L<F> t_in = Vec3L<F>(p.v[kTangent], p.v[kTangent + 1], p.v[kTangent + 2]) * F(facing);
@@ -330,5 +415,8 @@ struct BasicTexturedPbrShader {
 using TexturedPbrShader = BasicTexturedPbrShader<TexturedStreams::All>;
 // The same where textured_streams() says Uv0: 8 varyings instead of 18, MeshVertex drawn as is.
 using TexturedUv0PbrShader = BasicTexturedPbrShader<TexturedStreams::Uv0>;
+// The shader of the materials with layers (Material::layered()): TexturedPbrShader's streams
+// and the layers of layered_shading.h, chosen per draw.
+using LayeredPbrShader = BasicTexturedPbrShader<TexturedStreams::Layered>;
 
 }  // namespace softpbr::pbr
