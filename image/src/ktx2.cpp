@@ -1,0 +1,121 @@
+// KTX2 levels decoded to RGBA8 (see softpbr/image/ktx2.h): the structure checked by
+// ktx2_scan, a Zstandard level inflated into a buffer of exactly the size the level index
+// gives, then its blocks (uastc.h) or texels expanded.
+#include <zstd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <new>
+
+#include "formats.h"
+#include "ktx2_scan.h"
+#include "softpbr/image/ktx2.h"
+#include "uastc.h"
+
+namespace softpbr::image {
+
+namespace {
+
+// The level's stored bytes after supercompression is undone: the file's own bytes, or
+// `inflated` filled from Zstandard.
+std::span<const std::uint8_t> level_data(std::span<const std::uint8_t> file, const detail::Ktx2Scan& s, int l,
+                                         std::string_view name, std::vector<std::uint8_t>& inflated) {
+  const detail::Ktx2Level& lv = s.levels[static_cast<std::size_t>(l)];
+  const std::span<const std::uint8_t> stored = file.subspan(lv.offset, lv.length);
+  if (s.supercompression == 0) return stored;
+  inflated.resize(lv.data_bytes);
+  // A frame may decompress to at most the buffer's size: ZSTD_decompress stops with an
+  // error there, so a bomb costs nothing beyond the bound already checked.
+  const std::size_t got = ZSTD_decompress(inflated.data(), inflated.size(), stored.data(), stored.size());
+  if (ZSTD_isError(got))
+    detail::fail(name, "level " + std::to_string(l) + ": cannot decode its Zstandard data (" + ZSTD_getErrorName(got) + ")");
+  if (got != inflated.size())
+    detail::fail(name, "level " + std::to_string(l) + ": its Zstandard data inflates to " + std::to_string(got) +
+                           " bytes, not the level's " + std::to_string(inflated.size()));
+  return inflated;
+}
+
+void decode_uastc(std::span<const std::uint8_t> data, Image8& out, int l, std::string_view name) {
+  const int bw = (out.width + 3) / 4, bh = (out.height + 3) / 4;
+  std::uint8_t texels[64];
+  for (int by = 0; by < bh; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      const std::uint8_t* block = data.data() + (static_cast<std::size_t>(by) * bw + bx) * 16;
+      if (!detail::decode_uastc_block(block, texels))
+        detail::fail(name, "level " + std::to_string(l) + ": block (" + std::to_string(bx) + ", " + std::to_string(by) +
+                               ") is not a valid UASTC block");
+      // The block's texels inside the level (a level's last blocks may overhang it).
+      const int rows = std::min(4, out.height - by * 4), cols = std::min(4, out.width - bx * 4);
+      for (int y = 0; y < rows; ++y)
+        std::memcpy(&out.rgba[((static_cast<std::size_t>(by) * 4 + y) * out.width + bx * 4) * 4], texels + y * 16,
+                    static_cast<std::size_t>(cols) * 4);
+    }
+}
+
+// R, RG, RGB or RGBA bytes to RGBA as Vulkan samples them: absent G and B are 0, absent A 255.
+void expand_raw(std::span<const std::uint8_t> data, Image8& out, int texel_bytes) {
+  const std::size_t texels = static_cast<std::size_t>(out.width) * out.height;
+  for (std::size_t i = 0; i < texels; ++i) {
+    std::uint8_t* d = &out.rgba[i * 4];
+    const std::uint8_t* s = &data[i * static_cast<std::size_t>(texel_bytes)];
+    d[0] = s[0];
+    d[1] = texel_bytes > 1 ? s[1] : 0;
+    d[2] = texel_bytes > 2 ? s[2] : 0;
+    d[3] = texel_bytes > 3 ? s[3] : 255;
+  }
+}
+
+void flip_rows(Image8& im) {
+  const std::size_t row = static_cast<std::size_t>(im.width) * 4;
+  for (int y = 0; y < im.height / 2; ++y)
+    std::swap_ranges(im.rgba.begin() + static_cast<std::ptrdiff_t>(y * row),
+                     im.rgba.begin() + static_cast<std::ptrdiff_t>((y + 1) * row),
+                     im.rgba.begin() + static_cast<std::ptrdiff_t>((im.height - 1 - y) * row));
+}
+
+Image8 decode_level(std::span<const std::uint8_t> file, const detail::Ktx2Scan& s, int l, std::string_view name,
+                    Capacity capacity, std::vector<std::uint8_t>& scratch) {
+  const detail::Ktx2Level& lv = s.levels[static_cast<std::size_t>(l)];
+  const std::span<const std::uint8_t> data = level_data(file, s, l, name, scratch);
+  Image8 out;
+  out.width = lv.width;
+  out.height = lv.height;
+  const std::size_t size = static_cast<std::size_t>(lv.width) * lv.height * 4;
+  try {
+    if (capacity != nullptr) out.rgba.reserve(std::max(size, capacity(lv.width, lv.height)));
+    out.rgba.resize(size);
+  } catch (const std::bad_alloc&) {
+    detail::fail(name, "cannot decode (out of memory for " + std::to_string(size) + " bytes of pixels)");
+  }
+  if (s.codec == detail::Ktx2Codec::Uastc) decode_uastc(data, out, l, name);
+  else expand_raw(data, out, s.texel_bytes);
+  if (s.flip_y) flip_rows(out);
+  return out;
+}
+
+}  // namespace
+
+Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  const detail::Ktx2Scan s = detail::ktx2_scan(bytes, name, limits, detail::kAllKtx2Levels);
+  Ktx2Image out;
+  out.info = s.info;
+  std::vector<std::uint8_t> scratch;
+  for (int l = 0; l < static_cast<int>(s.levels.size()); ++l)
+    out.levels.push_back(decode_level(bytes, s, l, name, nullptr, scratch));
+  return out;
+}
+
+Ktx2Image load_ktx2(const std::filesystem::path& path, const Limits& limits) {
+  return load_ktx2(detail::read_file(path, limits), path.string(), limits);
+}
+
+Ktx2Info read_ktx2_info(std::span<const std::uint8_t> bytes) { return detail::ktx2_describe(bytes); }
+
+Image8 detail::ktx2_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits,
+                          Capacity capacity) {
+  const Ktx2Scan s = ktx2_scan(bytes, name, limits, 0);
+  std::vector<std::uint8_t> scratch;
+  return decode_level(bytes, s, 0, name, capacity, scratch);
+}
+
+}  // namespace softpbr::image
