@@ -139,7 +139,7 @@ TEST_CASE("ktx2: a header claiming 65536x65536 is refused before anything is all
   check_refused(b, "image size 8192x8192", small);
 }
 
-TEST_CASE("ktx2: cube maps, arrays, 3D and 1D textures, BasisLZ, ZLIB and unknown formats are refused saying what they are") {
+TEST_CASE("ktx2: cube maps, arrays, 3D and 1D textures, ZLIB, unknown formats and mismatched schemes are refused saying what they are") {
   struct Case {
     const char* what;
     void (*edit)(Ktx2Spec&);
@@ -148,7 +148,8 @@ TEST_CASE("ktx2: cube maps, arrays, 3D and 1D textures, BasisLZ, ZLIB and unknow
       {"is a cube map", [](Ktx2Spec& s) { s.faces = 6; }},
       {"is a texture array (4 layers)", [](Ktx2Spec& s) { s.layers = 4; }},
       {"is a 3D texture", [](Ktx2Spec& s) { s.depth = 4; }},
-      {"BasisLZ (ETC1S) supercompression is not supported yet", [](Ktx2Spec& s) { s.scheme = 1; }},
+      {"BasisLZ supercompression of vkFormat 37 is invalid", [](Ktx2Spec& s) { s.scheme = 1; }},
+      {"ETC1S data without BasisLZ supercompression is invalid", [](Ktx2Spec& s) { s.vk_format = 0; s.color_model = 163; }},
       {"ZLIB supercompression is not supported", [](Ktx2Spec& s) { s.scheme = 3; }},
       {"unknown supercompression scheme 9", [](Ktx2Spec& s) { s.scheme = 9; }},
       {"vkFormat 131 is not a format this reader decodes", [](Ktx2Spec& s) { s.vk_format = 131; }},

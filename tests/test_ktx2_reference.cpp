@@ -5,9 +5,11 @@
 // Needs `node` on PATH and SOFTPBR_BASIS_TRANSCODER_DIR naming the folder of
 // basis_transcoder.js and .wasm (`npm pack three@0.187.0`, then
 // package/examples/jsm/libs/basis); skipped, with a message, when either is absent.
-// The files: AnisotropyBarnLamp's four UASTC textures (../shared, or SOFTPBR_SHARED) and
+// The files: AnisotropyBarnLamp's four UASTC textures (../shared, or SOFTPBR_SHARED),
 // textures of random valid UASTC blocks made here, every mode and partition pattern many
-// times over, with full mip chains of odd sizes, stored plain and with Zstandard.
+// times over, with full mip chains of odd sizes, stored plain and with Zstandard, and the
+// KTX2 files SOFTPBR_KTX2_REFERENCE_FILES lists (colon-separated; e.g. Basis Universal's
+// own ETC1S and UASTC samples: test_files/kodim23.ktx2, webgl/ktx2_studio/assets/*.ktx2).
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -147,4 +149,20 @@ TEST_CASE("ktx2 reference: AnisotropyBarnLamp's UASTC textures decode as Basis U
   for (const char* name : {"AnisotropyBarnLamp_basecolor.ktx2", "AnisotropyBarnLamp_normalbump.ktx2",
                            "AnisotropyBarnLamp_occlusionroughnessmetal.ktx2", "AnisotropyBarnLamp_anisotropy.ktx2"})
     check_against_reference(dir, model / name);
+}
+
+TEST_CASE("ktx2 reference: the files SOFTPBR_KTX2_REFERENCE_FILES lists decode as Basis Universal's transcoder") {
+  const char* list = std::getenv("SOFTPBR_KTX2_REFERENCE_FILES");
+  if (list == nullptr || *list == 0) {
+    MESSAGE("skipped: SOFTPBR_KTX2_REFERENCE_FILES is not set");
+    return;
+  }
+  const std::string dir = transcoder_dir();
+  if (dir.empty()) return;
+  const std::string files = list;
+  for (std::size_t start = 0; start <= files.size();) {
+    const std::size_t end = std::min(files.find(':', start), files.size());
+    if (end > start) check_against_reference(dir, files.substr(start, end - start));
+    start = end + 1;
+  }
 }

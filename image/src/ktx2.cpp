@@ -7,6 +7,7 @@
 #include <cstring>
 #include <new>
 
+#include "etc1s.h"
 #include "formats.h"
 #include "ktx2_scan.h"
 #include "softpbr/image/ktx2.h"
@@ -22,7 +23,7 @@ std::span<const std::uint8_t> level_data(std::span<const std::uint8_t> file, con
                                          std::string_view name, std::vector<std::uint8_t>& inflated) {
   const detail::Ktx2Level& lv = s.levels[static_cast<std::size_t>(l)];
   const std::span<const std::uint8_t> stored = file.subspan(lv.offset, lv.length);
-  if (s.supercompression == 0) return stored;
+  if (s.supercompression != 2) return stored;  // none, or BasisLZ's slices
   inflated.resize(lv.data_bytes);
   // A frame may decompress to at most the buffer's size: ZSTD_decompress stops with an
   // error there, so a bomb costs nothing beyond the bound already checked.
@@ -33,6 +34,28 @@ std::span<const std::uint8_t> level_data(std::span<const std::uint8_t> file, con
     detail::fail(name, "level " + std::to_string(l) + ": its Zstandard data inflates to " + std::to_string(got) +
                            " bytes, not the level's " + std::to_string(inflated.size()));
   return inflated;
+}
+
+// A level's ETC1S slices (etc1s.h): colour, then alpha from the alpha slice when the
+// DFD has one (else alpha 255).
+void decode_etc1s(std::span<const std::uint8_t> level, const detail::Ktx2Scan& s, const detail::Etc1sGlobal& g,
+                  Image8& out, int l, std::string_view name) {
+  const std::string where = "level " + std::to_string(l) + ": ";
+  const detail::Etc1sImageDesc& d = g.images[static_cast<std::size_t>(l)];
+  if (d.flags & 2) detail::fail(name, where + "is a video P-frame (not a texture)");
+  auto slice = [&](std::uint64_t offset, std::uint64_t length, const char* what) {
+    if (length == 0 || offset > level.size() || length > level.size() - offset)
+      detail::fail(name, where + "its " + what + " slice (bytes " + std::to_string(offset) + " + " + std::to_string(length) +
+                             ") does not lie inside the level's " + std::to_string(level.size()) + " bytes");
+    return level.subspan(offset, length);
+  };
+  std::fill(out.rgba.begin(), out.rgba.end(), std::uint8_t{255});
+  std::string problem = detail::etc1s_decode_slice(g, slice(d.rgb_offset, d.rgb_length, "colour"), out.width, out.height,
+                                                   out.rgba.data(), false);
+  if (problem.empty() && s.etc1s_alpha)
+    problem = detail::etc1s_decode_slice(g, slice(d.alpha_offset, d.alpha_length, "alpha"), out.width, out.height,
+                                         out.rgba.data(), true);
+  if (!problem.empty()) detail::fail(name, where + problem);
 }
 
 void decode_uastc(std::span<const std::uint8_t> data, Image8& out, int l, std::string_view name) {
@@ -73,8 +96,8 @@ void flip_rows(Image8& im) {
                      im.rgba.begin() + static_cast<std::ptrdiff_t>((im.height - 1 - y) * row));
 }
 
-Image8 decode_level(std::span<const std::uint8_t> file, const detail::Ktx2Scan& s, int l, std::string_view name,
-                    Capacity capacity, std::vector<std::uint8_t>& scratch) {
+Image8 decode_level(std::span<const std::uint8_t> file, const detail::Ktx2Scan& s, const detail::Etc1sGlobal& g, int l,
+                    std::string_view name, Capacity capacity, std::vector<std::uint8_t>& scratch) {
   const detail::Ktx2Level& lv = s.levels[static_cast<std::size_t>(l)];
   const std::span<const std::uint8_t> data = level_data(file, s, l, name, scratch);
   Image8 out;
@@ -88,9 +111,20 @@ Image8 decode_level(std::span<const std::uint8_t> file, const detail::Ktx2Scan& 
     detail::fail(name, "cannot decode (out of memory for " + std::to_string(size) + " bytes of pixels)");
   }
   if (s.codec == detail::Ktx2Codec::Uastc) decode_uastc(data, out, l, name);
+  else if (s.codec == detail::Ktx2Codec::Etc1s) decode_etc1s(data, s, g, out, l, name);
   else expand_raw(data, out, s.texel_bytes);
   if (s.flip_y) flip_rows(out);
   return out;
+}
+
+// BasisLZ's codebooks and tables (nothing for other schemes).
+detail::Etc1sGlobal read_global(std::span<const std::uint8_t> file, const detail::Ktx2Scan& s, std::string_view name) {
+  detail::Etc1sGlobal g;
+  if (s.codec != detail::Ktx2Codec::Etc1s) return g;
+  const std::string problem =
+      detail::etc1s_read_global(file.subspan(s.sgd_offset, s.sgd_length), static_cast<int>(s.levels.size()), g);
+  if (!problem.empty()) detail::fail(name, problem);
+  return g;
 }
 
 }  // namespace
@@ -99,9 +133,10 @@ Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, 
   const detail::Ktx2Scan s = detail::ktx2_scan(bytes, name, limits, detail::kAllKtx2Levels);
   Ktx2Image out;
   out.info = s.info;
+  const detail::Etc1sGlobal g = read_global(bytes, s, name);
   std::vector<std::uint8_t> scratch;
   for (int l = 0; l < static_cast<int>(s.levels.size()); ++l)
-    out.levels.push_back(decode_level(bytes, s, l, name, nullptr, scratch));
+    out.levels.push_back(decode_level(bytes, s, g, l, name, nullptr, scratch));
   return out;
 }
 
@@ -114,8 +149,9 @@ Ktx2Info read_ktx2_info(std::span<const std::uint8_t> bytes) { return detail::kt
 Image8 detail::ktx2_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits,
                           Capacity capacity) {
   const Ktx2Scan s = ktx2_scan(bytes, name, limits, 0);
+  const Etc1sGlobal g = read_global(bytes, s, name);
   std::vector<std::uint8_t> scratch;
-  return decode_level(bytes, s, 0, name, capacity, scratch);
+  return decode_level(bytes, s, g, 0, name, capacity, scratch);
 }
 
 }  // namespace softpbr::image

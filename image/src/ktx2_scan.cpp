@@ -141,7 +141,6 @@ Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, co
 
   // §3.7 supercompression; §3.1 vkFormat with the DFD's colour model.
   s.supercompression = static_cast<int>(scheme);
-  if (scheme == 1) fail(name, "BasisLZ (ETC1S) supercompression is not supported yet");
   if (scheme == 3) fail(name, "ZLIB supercompression is not supported (none and Zstandard are)");
   if (scheme > 3) fail(name, "unknown supercompression scheme " + std::to_string(scheme));
   const std::uint32_t dfd_offset = u32(file, 48), dfd_length = u32(file, 52);
@@ -159,7 +158,10 @@ Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, co
       s.codec = Ktx2Codec::Uastc;
       block_bytes = 16;
     } else if (dfd.color_model == kColorModelEtc1s) {
-      fail(name, "ETC1S data without BasisLZ supercompression is invalid");
+      if (scheme != 1) fail(name, "ETC1S data without BasisLZ supercompression is invalid");
+      s.codec = Ktx2Codec::Etc1s;
+      // The samples: colour (RGB, RRR or GGG), then alpha (AAA, channel 15) when present.
+      s.etc1s_alpha = dfd.samples >= 2;
     } else {
       fail(name, "vkFormat 0 with colour model " + std::to_string(dfd.color_model) +
                      " is not a format this reader decodes (UASTC, or the 8-bit R/RG/RGB/RGBA formats)");
@@ -171,6 +173,7 @@ Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, co
       fail(name, "vkFormat " + std::to_string(vk_format) +
                      " is not a format this reader decodes (UASTC, or the 8-bit R/RG/RGB/RGBA formats)");
     s.texel_bytes = f->texel_bytes;
+    if (scheme == 1) fail(name, "BasisLZ supercompression of vkFormat " + std::to_string(vk_format) + " is invalid (it holds ETC1S only)");
     if (u32(file, 16) != 1) fail(name, "typeSize is " + std::to_string(u32(file, 16)) + " for an 8-bit format (1)");
   }
 
@@ -194,6 +197,9 @@ Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, co
   const std::uint64_t sgd_offset = u64(file, 64), sgd_length = u64(file, 72);
   if (!inside(sgd_offset, sgd_length, file.size()))
     fail(name, "its supercompression global data (" + range_text(sgd_offset, sgd_length) + ") lies past the end of the file");
+  if (scheme == 1 && sgd_length == 0) fail(name, "BasisLZ supercompression without its global data");
+  s.sgd_offset = sgd_offset;
+  s.sgd_length = sgd_length;
 
   // §3.9 the level index.
   const std::uint64_t index_end = kHeaderBytes + kLevelEntryBytes * static_cast<std::uint64_t>(levels);
@@ -223,6 +229,7 @@ Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, co
       fail(name, where + "uncompressedByteLength is " + std::to_string(uncompressed) + "; a " + std::to_string(lv.width) +
                      "x" + std::to_string(lv.height) + " level of this format is " + std::to_string(lv.data_bytes));
     if (scheme == 2 && lv.length == 0) fail(name, where + "its Zstandard data is empty");
+    if (scheme == 1) lv.data_bytes = lv.length;  // slices of variable length (etc1s.h)
     if (l <= last_level) {
       decoded += texels * 4;
       if (scheme == 2) scratch = std::max(scratch, lv.data_bytes);

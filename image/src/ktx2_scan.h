@@ -28,6 +28,8 @@ struct Ktx2Scan {
   int texel_bytes = 4;           // Raw: 1 to 4 (R, RG, RGB, RGBA)
   int supercompression = 0;      // 0 none, 1 BasisLZ, 2 Zstandard
   bool flip_y = false;           // KTXorientation "ru": rows stored bottom up
+  bool etc1s_alpha = false;      // ETC1S: the DFD's second sample is alpha (alpha slices)
+  std::uint64_t sgd_offset = 0, sgd_length = 0;  // the supercompression global data
   std::vector<Ktx2Level> levels; // level 0 first
 };
 
@@ -38,7 +40,7 @@ bool is_ktx2(std::span<const std::uint8_t> bytes);
 inline constexpr int kAllKtx2Levels = 1 << 30;
 
 // Throws "<name>: <what is wrong>" unless the file is a KTX2 file this reader decodes and
-// every level's data lies inside it. The decoded RGBA of levels [0, last_level] plus the
+// every level's data lies inside it (BasisLZ slices are checked when decoded: etc1s.h). The decoded RGBA of levels [0, last_level] plus the
 // largest Zstandard level's blocks must fit limits.max_decoded_bytes.
 Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, const Limits& limits, int last_level);
 

@@ -2,12 +2,16 @@
 // decoded to 8-bit RGBA on the CPU with integer arithmetic only: the same bytes on every
 // machine.
 //
-// Read: 2D textures (one layer, one face) with their mip levels; supercompression none or
-// Zstandard; Basis Universal UASTC blocks (colour model KHR_DF_MODEL_UASTC, vkFormat 0)
-// and the uncompressed formats glTF assets use — R8G8B8A8, R8G8B8, R8G8, R8 (UNORM or
-// SRGB), which read as Vulkan samples them: missing green and blue are 0, missing alpha 255.
-// Not read (refused with a message saying so): BasisLZ/ETC1S, ZLIB supercompression, cube
-// maps, arrays, 3D and 1D textures, other vkFormats.
+// Read: 2D textures (one layer, one face) with their mip levels, supercompressed or not:
+// - Basis Universal UASTC blocks (vkFormat 0, colour model KHR_DF_MODEL_UASTC), plain or
+//   Zstandard;
+// - Basis Universal ETC1S in BasisLZ supercompression (colour model KHR_DF_MODEL_ETC1S),
+//   with its alpha slices;
+// - the uncompressed formats glTF assets use — R8G8B8A8, R8G8B8, R8G8, R8 (UNORM or SRGB),
+//   plain or Zstandard — read as Vulkan samples them: missing green and blue are 0,
+//   missing alpha 255.
+// Refused with a message saying so: ZLIB supercompression, cube maps, arrays, 3D and 1D
+// textures, other vkFormats.
 //
 // Every size, offset and length is checked against the file and Limits before anything is
 // allocated (the decoded RGBA of every level, and a Zstandard level's inflated blocks,
