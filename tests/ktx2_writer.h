@@ -1,7 +1,8 @@
 // A minimal KTX 2.0 writer for the KTX2 test suites: a 2D texture's levels as given
-// (uncompressed texels or UASTC blocks), optionally Zstandard-compressed, with a basic
-// data format descriptor of one sample. Not a general writer: it writes what the tests
-// need and the fields the reader checks (KTX File Format Specification 2.0, §3).
+// (uncompressed texels, UASTC blocks or BasisLZ slices with their global data), optionally
+// Zstandard-compressed, with a basic data format descriptor of one or two samples. Not a
+// general writer: it writes what the tests need and the fields the reader checks (KTX File
+// Format Specification 2.0, §3). etc1s_writer.h makes BasisLZ data.
 #pragma once
 
 #include <zstd.h>
@@ -18,7 +19,9 @@ struct Ktx2Spec {
   std::uint32_t depth = 0, layers = 0, faces = 1;
   std::uint32_t level_count = 0;  // 0: levels.size()
   std::uint32_t scheme = 0;       // 0 none, 2 Zstandard
-  int color_model = 1;            // KHR_DF_MODEL_RGBSDA; 166 UASTC
+  int color_model = 1;            // KHR_DF_MODEL_RGBSDA; 166 UASTC, 163 ETC1S
+  int samples = 1;                // DFD samples: ETC1S with alpha slices has 2 (RGB, AAA)
+  std::vector<std::uint8_t> sgd;  // supercompression global data (BasisLZ)
   int transfer = 1;               // 1 linear, 2 sRGB
   std::string orientation;        // a KTXorientation value ("rd", "ru"), or none
   std::vector<std::vector<std::uint8_t>> levels;  // level 0 first
@@ -46,20 +49,24 @@ inline std::vector<std::uint8_t> write_ktx2(const Ktx2Spec& s) {
   put32(b, 36, s.faces);
   put32(b, 40, s.level_count ? s.level_count : static_cast<std::uint32_t>(levels));
   put32(b, 44, s.scheme);
-  // DFD: dfdTotalSize, then a basic block of 24 bytes plus one 16-byte sample.
-  const std::size_t dfd = b.size();
-  b.resize(dfd + 44, 0);
-  put32(b, dfd, 44);
-  put32(b, dfd + 4, 0);                   // vendor Khronos, descriptor type basic
-  put32(b, dfd + 8, 2 | (40u << 16));     // version 2, block size 40
+  // DFD: dfdTotalSize, then a basic block of 24 bytes plus 16 bytes a sample.
+  const std::size_t dfd = b.size(), dfd_bytes = 28 + 16 * static_cast<std::size_t>(s.samples);
+  b.resize(dfd + dfd_bytes, 0);
+  put32(b, dfd, dfd_bytes);
+  put32(b, dfd + 4, 0);                                   // vendor Khronos, descriptor type basic
+  put32(b, dfd + 8, 2 | ((dfd_bytes - 4) << 16));         // version 2, block size
   b[dfd + 12] = static_cast<std::uint8_t>(s.color_model);
   b[dfd + 13] = 1;                        // BT.709 primaries
   b[dfd + 14] = static_cast<std::uint8_t>(s.transfer);
-  b[dfd + 16] = s.color_model == 166 ? 3 : 0;  // texel block 4×4 (dimension − 1) for UASTC
-  b[dfd + 17] = s.color_model == 166 ? 3 : 0;
-  b[dfd + 28 + 2] = s.color_model == 166 ? 127 : 7;  // bitLength − 1
+  const bool blocks = s.color_model == 166 || s.color_model == 163;
+  b[dfd + 16] = blocks ? 3 : 0;  // texel block 4×4 (dimension − 1) for UASTC and ETC1S
+  b[dfd + 17] = blocks ? 3 : 0;
+  for (int k = 0; k < s.samples; ++k) {
+    b[dfd + 28 + 16 * static_cast<std::size_t>(k) + 2] = s.color_model == 166 ? 127 : s.color_model == 163 ? 63 : 7;  // bitLength − 1
+    b[dfd + 28 + 16 * static_cast<std::size_t>(k) + 3] = k == 1 ? 15 : 0;  // channel: colour, then alpha (AAA)
+  }
   put32(b, 48, dfd);
-  put32(b, 52, 44);
+  put32(b, 52, dfd_bytes);
   // Key/value data: KTXorientation.
   if (!s.orientation.empty()) {
     const std::string kv = std::string("KTXorientation") + '\0' + s.orientation + '\0';
@@ -69,6 +76,12 @@ inline std::vector<std::uint8_t> write_ktx2(const Ktx2Spec& s) {
     for (std::size_t i = 0; i < kv.size(); ++i) b[at + 4 + i] = static_cast<std::uint8_t>(kv[i]);
     put32(b, 56, at);
     put32(b, 60, b.size() - at);
+  }
+  if (!s.sgd.empty()) {
+    while (b.size() % 8) b.push_back(0);
+    put64(b, 64, b.size());
+    put64(b, 72, s.sgd.size());
+    b.insert(b.end(), s.sgd.begin(), s.sgd.end());
   }
   // The levels' data, smallest level first as the specification recommends.
   for (std::size_t l = levels; l-- > 0;) {
@@ -81,7 +94,7 @@ inline std::vector<std::uint8_t> write_ktx2(const Ktx2Spec& s) {
     while (b.size() % 16) b.push_back(0);
     put64(b, 80 + 24 * l, b.size());
     put64(b, 80 + 24 * l + 8, data.size());
-    put64(b, 80 + 24 * l + 16, s.levels[l].size());
+    put64(b, 80 + 24 * l + 16, s.scheme == 1 ? 0 : s.levels[l].size());  // BasisLZ: 0 (§3.9.7)
     b.insert(b.end(), data.begin(), data.end());
   }
   return b;

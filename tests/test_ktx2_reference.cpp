@@ -7,7 +7,8 @@
 // package/examples/jsm/libs/basis); skipped, with a message, when either is absent.
 // The files: AnisotropyBarnLamp's four UASTC textures (../shared, or SOFTPBR_SHARED),
 // textures of random valid UASTC blocks made here, every mode and partition pattern many
-// times over, with full mip chains of odd sizes, stored plain and with Zstandard, and the
+// times over, with full mip chains of odd sizes, stored plain and with Zstandard, the
+// ETC1S sample of ktx2_etc1s_sample.h with and without an alpha slice, and the
 // KTX2 files SOFTPBR_KTX2_REFERENCE_FILES lists (colon-separated; e.g. Basis Universal's
 // own ETC1S and UASTC samples: test_files/kodim23.ktx2, webgl/ktx2_studio/assets/*.ktx2).
 #include <doctest/doctest.h>
@@ -20,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "ktx2_etc1s_sample.h"
 #include "ktx2_writer.h"
 #include "softpbr/image/ktx2.h"
 #include "uastc.h"
@@ -132,6 +134,18 @@ TEST_CASE("ktx2 reference: UASTC of random valid blocks decodes as Basis Univers
       s.levels.push_back(random_blocks(std::max(1, s.width >> l), std::max(1, s.height >> l), rng));
     const fs::path file = scratch(scheme ? "random_uastc_zstd.ktx2" : "random_uastc.ktx2");
     const std::vector<std::uint8_t> bytes = ktx2_test::write_ktx2(s);
+    std::ofstream(file, std::ios::binary | std::ios::trunc)
+        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    check_against_reference(dir, file);
+  }
+}
+
+TEST_CASE("ktx2 reference: ETC1S with and without alpha slices (tests/etc1s_writer.h) decodes as Basis Universal's transcoder") {
+  const std::string dir = transcoder_dir();
+  if (dir.empty()) return;
+  for (bool with_alpha : {false, true}) {
+    const std::vector<std::uint8_t> bytes = ktx2_test::etc1s_sample(with_alpha).file();
+    const fs::path file = scratch(with_alpha ? "etc1s_alpha.ktx2" : "etc1s.ktx2");
     std::ofstream(file, std::ios::binary | std::ios::trunc)
         .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     check_against_reference(dir, file);
