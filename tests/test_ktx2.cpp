@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "ktx2_checks.h"
 #include "ktx2_writer.h"
 #include "softpbr/image/ktx2.h"
 #include "softpbr/image/load.h"
@@ -15,6 +16,7 @@
 
 namespace image = softpbr::image;
 using ktx2_test::Ktx2Spec;
+using ktx2_test::check_refused;
 using ktx2_test::write_ktx2;
 
 namespace {
@@ -24,21 +26,6 @@ std::vector<std::uint8_t> texels(int w, int h, int channels, int salt) {
   std::vector<std::uint8_t> v(static_cast<std::size_t>(w) * h * channels);
   for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<std::uint8_t>(i * 7 + salt * 31 + (i >> 5));
   return v;
-}
-
-// Loading `bytes` throws std::runtime_error whose one-line message starts with
-// "<name>: " and contains `what`.
-void check_refused(const std::vector<std::uint8_t>& bytes, const std::string& what, image::Limits limits = {}) {
-  try {
-    image::load_ktx2(bytes, "t.ktx2", limits);
-    FAIL("no exception");
-  } catch (const std::runtime_error& e) {
-    const std::string message = e.what();
-    CAPTURE(message);
-    CHECK(message.rfind("t.ktx2: ", 0) == 0);
-    CHECK(message.find(what) != std::string::npos);
-    CHECK(message.find('\n') == std::string::npos);
-  }
 }
 
 // A 16-byte UASTC block of mode 8 (solid colour): the mode's 5-bit code 0x17, then RGBA.
