@@ -200,7 +200,7 @@ TEST_CASE("ktx2: read_image_header and read_ktx2_info describe a texture without
   CHECK(image::read_ktx2_info(std::vector<std::uint8_t>(b.begin(), b.begin() + 40)).format.empty());
 }
 
-TEST_CASE("uastc: a solid-colour block decodes to its colour, clipped at the level's edge; the reserved mode is refused") {
+TEST_CASE("uastc: a solid-colour block decodes to its colour, clipped at the level's edge, and the reserved mode is refused") {
   Ktx2Spec s;
   s.vk_format = 0;
   s.color_model = 166;

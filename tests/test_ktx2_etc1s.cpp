@@ -74,7 +74,7 @@ TEST_CASE("etc1s: every truncation of a file is a one-line error naming it") {
   }
 }
 
-TEST_CASE("etc1s: every bit of the global data flipped loads or is a one-line error; incomplete Huffman tables are refused") {
+TEST_CASE("etc1s: every bit of the global data flipped loads or is a one-line error, and over-full Huffman tables are refused") {
   const Etc1sSample s = etc1s_sample(true);
   const std::vector<std::uint8_t> whole = s.file();
   const std::size_t sgd = static_cast<std::size_t>(whole[64]) | (static_cast<std::size_t>(whole[65]) << 8);

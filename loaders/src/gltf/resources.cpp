@@ -14,6 +14,13 @@
 
 namespace softpbr::pbr::gltf {
 
+void use_texture_basisu_sources(tg::Model& model) {
+  for (tg::Texture& t : model.textures)
+    if (auto it = t.extensions.find("KHR_texture_basisu"); it != t.extensions.end() && it->second.IsObject() &&
+                                                          it->second.Has("source") && it->second.Get("source").IsInt())
+      t.source = it->second.Get("source").GetNumberAsInt();
+}
+
 void Resources::decode_compressed_views() {
   decode_meshopt_views(m_, fallback_, options_.max_file_bytes, decoded_,
                        [this](const std::string& pointer, const std::string& what) { fail(pointer, what); });
