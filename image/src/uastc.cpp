@@ -85,23 +85,25 @@ constexpr std::array<std::array<int, 3>, 21> kRanges = {{
 // UASTC mode's fields reach that far; the guard keeps a reader inside the block anyway).
 class BlockBits {
  public:
-  explicit BlockBits(const std::uint8_t* block) : block_(block) {}
+  explicit BlockBits(const std::uint8_t* block) {
+    for (int i = 15; i >= 0; --i) bits_ = (bits_ << 8) | block[i];
+  }
   int read(int count) {
-    int v = 0;
-    for (int i = 0; i < count; ++i, ++pos_)
-      if (pos_ < 128) v |= ((block_[pos_ >> 3] >> (pos_ & 7)) & 1) << i;
+    if (pos_ >= 128) return 0;
+    const int v = static_cast<int>((bits_ >> pos_) & ((1u << count) - 1));
+    pos_ += count;
     return v;
   }
   void skip(int count) { pos_ += count; }
 
  private:
-  const std::uint8_t* block_;
+  unsigned __int128 bits_ = 0;
   int pos_ = 0;
 };
 
 // ASTC §23.15: a weight of a power-of-two range to 0..64 (bits replicated to 6, then
-// values above 32 raised by one).
-int unquantize_weight(int bits, int w) {
+// values above 32 raised by one), tabled by bit count (1..5) and value.
+constexpr int unquantize_weight(int bits, int w) {
   int v = 0;
   switch (bits) {
     case 1: v = w ? 63 : 0; break;
@@ -112,17 +114,23 @@ int unquantize_weight(int bits, int w) {
   }
   return v > 32 ? v + 1 : v;
 }
+constexpr std::array<std::array<std::uint8_t, 32>, 6> weight_table() {
+  std::array<std::array<std::uint8_t, 32>, 6> t{};
+  for (int bits = 1; bits <= 5; ++bits)
+    for (int w = 0; w < (1 << bits); ++w)
+      t[static_cast<std::size_t>(bits)][static_cast<std::size_t>(w)] = static_cast<std::uint8_t>(unquantize_weight(bits, w));
+  return t;
+}
+constexpr auto kWeights = weight_table();
 
 // ASTC §23.16: an 8-bit endpoint and a weight to the decoded 8-bit value. The endpoints
 // are widened to 16 bits by replication (×257, decode mode "linear" — what Basis Universal's
 // transcoder writes for RGBA32 whatever the transfer function), blended, and the top byte kept.
-int interpolate(int e0, int e1, int w) {
-  const int l = e0 * 257, h = e1 * 257;
-  return ((l * (64 - w) + h * w + 32) >> 6) >> 8;
-}
+// `l` and `h` are the endpoints already widened (× 257).
+int interpolate(int l, int h, int w) { return ((l * (64 - w) + h * w + 32) >> 6) >> 8; }
 
 // ASTC's partition hash (§23.21).
-std::uint32_t hash52(std::uint32_t p) {
+constexpr std::uint32_t hash52(std::uint32_t p) {
   p ^= p >> 15;
   p -= p << 17;
   p += p << 7;
@@ -136,9 +144,7 @@ std::uint32_t hash52(std::uint32_t p) {
   return p;
 }
 
-}  // namespace
-
-int astc_partition(int seed, int x, int y, int partitions) {
+constexpr int partition_of(int seed, int x, int y, int partitions) {
   // A block of fewer than 31 texels doubles its coordinates (4×4 here).
   x <<= 1;
   y <<= 1;
@@ -172,8 +178,21 @@ int astc_partition(int seed, int x, int y, int partitions) {
   return 2;
 }
 
-int astc_unquantize_endpoint(int range, int value) {
-  const auto [n, trits, quints] = kRanges[static_cast<std::size_t>(range)];
+// The 4×4 patterns of each common-pattern table, computed once at compile time.
+template <std::size_t N>
+constexpr std::array<std::array<std::uint8_t, 16>, N> patterns(const std::array<int, N>& seeds, int partitions) {
+  std::array<std::array<std::uint8_t, 16>, N> out{};
+  for (std::size_t p = 0; p < N; ++p)
+    for (int i = 0; i < 16; ++i) out[p][static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(partition_of(seeds[p], i & 3, i >> 2, partitions));
+  return out;
+}
+constexpr auto kPatterns2 = patterns(kSeeds2, 2);
+constexpr auto kPatterns3 = patterns(kSeeds3, 3);
+constexpr auto kPatternsMode7 = patterns(kSeedsMode7, 2);
+
+constexpr int unquantize_endpoint(int range, int value) {
+  const int n = kRanges[static_cast<std::size_t>(range)][0], trits = kRanges[static_cast<std::size_t>(range)][1],
+            quints = kRanges[static_cast<std::size_t>(range)][2];
   if (!trits && !quints) {  // bits only: replicate to 8 bits
     int v = value << (8 - n);
     for (int have = n; have < 8; have += n) v |= v >> n;
@@ -212,6 +231,25 @@ int astc_unquantize_endpoint(int range, int value) {
   return (a & 0x80) | (t >> 2);
 }
 
+// Every range's values (BISE index → 0..255), computed at compile time.
+constexpr std::array<std::array<std::uint8_t, 256>, 21> endpoint_table() {
+  std::array<std::array<std::uint8_t, 256>, 21> t{};
+  for (int range = 0; range < 21; ++range) {
+    const int levels = (1 + 2 * kRanges[static_cast<std::size_t>(range)][1] + 4 * kRanges[static_cast<std::size_t>(range)][2])
+                       << kRanges[static_cast<std::size_t>(range)][0];
+    for (int v = 0; v < levels && v < 256; ++v)
+      t[static_cast<std::size_t>(range)][static_cast<std::size_t>(v)] = static_cast<std::uint8_t>(unquantize_endpoint(range, v));
+  }
+  return t;
+}
+constexpr auto kEndpoints = endpoint_table();
+
+}  // namespace
+
+int astc_partition(int seed, int x, int y, int partitions) { return partition_of(seed, x, y, partitions); }
+
+int astc_unquantize_endpoint(int range, int value) { return unquantize_endpoint(range, value); }
+
 bool decode_uastc_block(const std::uint8_t* block, std::uint8_t* rgba) {
   BlockBits bits(block);
   const int mode_index = kModeOfCode[block[0] & 127];
@@ -229,23 +267,20 @@ bool decode_uastc_block(const std::uint8_t* block, std::uint8_t* rgba) {
   const Mode& m = kModes[static_cast<std::size_t>(mode_index)];
   bits.skip(m.hint_bits);
 
-  // The partition of each texel, from the pattern's ASTC seed.
+  // The partition of each texel: the common pattern's, from its ASTC seed.
   std::array<std::uint8_t, 16> part{};
   if (m.subsets > 1) {
-    const int pattern = bits.read(m.pattern_bits);
-    int seed = 0;
+    const std::size_t pattern = static_cast<std::size_t>(bits.read(m.pattern_bits));
     if (mode_index == 3) {
-      if (pattern >= static_cast<int>(kSeeds3.size())) return false;
-      seed = kSeeds3[static_cast<std::size_t>(pattern)];
+      if (pattern >= kPatterns3.size()) return false;
+      part = kPatterns3[pattern];
     } else if (mode_index == 7) {
-      if (pattern >= static_cast<int>(kSeedsMode7.size())) return false;
-      seed = kSeedsMode7[static_cast<std::size_t>(pattern)];
+      if (pattern >= kPatternsMode7.size()) return false;
+      part = kPatternsMode7[pattern];
     } else {
-      if (pattern >= static_cast<int>(kSeeds2.size())) return false;
-      seed = kSeeds2[static_cast<std::size_t>(pattern)];
+      if (pattern >= kPatterns2.size()) return false;
+      part = kPatterns2[pattern];
     }
-    for (int i = 0; i < 16; ++i)
-      part[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(astc_partition(seed, i & 3, i >> 2, m.subsets));
   }
   // Dual plane: the channel on the second plane (mode 17: alpha).
   int ccs = -1;
@@ -274,7 +309,7 @@ bool decode_uastc_block(const std::uint8_t* block, std::uint8_t* rgba) {
   for (int i = 0; i < values; ++i) {
     const int low = bits.read(ep_bits);
     endpoint[static_cast<std::size_t>(i)] =
-        astc_unquantize_endpoint(m.endpoint_range, (tq[static_cast<std::size_t>(i)] << ep_bits) | low);
+        kEndpoints[static_cast<std::size_t>(m.endpoint_range)][static_cast<std::size_t>((tq[static_cast<std::size_t>(i)] << ep_bits) | low)];
   }
 
   // "Weight encoding": texel order, plane 0 and 1 interleaved; the first texel of each
@@ -287,25 +322,30 @@ bool decode_uastc_block(const std::uint8_t* block, std::uint8_t* rgba) {
       anchor[static_cast<std::size_t>(i)] = true;
     }
   std::array<int, 32> weight{};
+  const auto& weights = kWeights[static_cast<std::size_t>(m.weight_bits)];
   for (int i = 0; i < 16; ++i)
     for (int p = 0; p < m.planes; ++p) {
       const int w = bits.read(anchor[static_cast<std::size_t>(i)] ? m.weight_bits - 1 : m.weight_bits);
-      weight[static_cast<std::size_t>(i * 2 + p)] = unquantize_weight(m.weight_bits, w);
+      weight[static_cast<std::size_t>(i * 2 + p)] = weights[static_cast<std::size_t>(w)];
     }
 
-  // Texels: each channel blended between its subset's endpoints. Luminance-alpha
-  // endpoints are (L, A): L goes to R, G and B. RGB modes have alpha 255.
-  for (int i = 0; i < 16; ++i) {
-    const int base = part[static_cast<std::size_t>(i)] * m.comps * 2;
+  // Each subset's endpoints in RGBA order, widened to 16 bits: luminance-alpha endpoints
+  // (L, A) give L to R, G and B; RGB modes have alpha 255 at both ends (which blends to 255).
+  std::array<std::array<int, 4>, 3> lo{}, hi{};
+  for (int sub = 0; sub < m.subsets; ++sub)
     for (int k = 0; k < 4; ++k) {
-      const int w = weight[static_cast<std::size_t>(i * 2 + (k == ccs ? 1 : 0))];
-      int comp = k;
-      if (m.comps == 2) comp = k == 3 ? 1 : 0;
-      int value = 255;
-      if (comp < m.comps)
-        value = interpolate(endpoint[static_cast<std::size_t>(base + comp * 2)],
-                            endpoint[static_cast<std::size_t>(base + comp * 2 + 1)], w);
-      rgba[i * 4 + k] = static_cast<std::uint8_t>(value);
+      const int comp = m.comps == 2 ? (k == 3 ? 1 : 0) : k;
+      const bool present = comp < m.comps;
+      const std::size_t at = static_cast<std::size_t>(sub * m.comps * 2 + comp * 2);
+      lo[static_cast<std::size_t>(sub)][static_cast<std::size_t>(k)] = (present ? endpoint[at] : 255) * 257;
+      hi[static_cast<std::size_t>(sub)][static_cast<std::size_t>(k)] = (present ? endpoint[at + 1] : 255) * 257;
+    }
+  for (int i = 0; i < 16; ++i) {
+    const std::size_t sub = part[static_cast<std::size_t>(i)];
+    const int w0 = weight[static_cast<std::size_t>(i * 2)], w1 = weight[static_cast<std::size_t>(i * 2 + 1)];
+    for (int k = 0; k < 4; ++k) {
+      const int w = k == ccs ? w1 : w0;
+      rgba[i * 4 + k] = static_cast<std::uint8_t>(interpolate(lo[sub][static_cast<std::size_t>(k)], hi[sub][static_cast<std::size_t>(k)], w));
     }
   }
   return true;
