@@ -4,7 +4,9 @@
 // describes the KTX2 image. The KTX2 decoder itself: test_ktx2*.cpp.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ktx2_writer.h"
+#include "softpbr/image/ktx2.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/gltf_info.h"
 
@@ -143,4 +146,39 @@ TEST_CASE("gltf KHR_texture_basisu: info lists the texture's KTX2 image with its
   CHECK(info.images[1].width == 8);
   CHECK(info.images[1].height == 4);
   CHECK(info.images[1].detail == "R8G8B8A8_SRGB, none, 1 level, sRGB");
+}
+
+TEST_CASE("gltf KHR_texture_basisu: AnisotropyBarnLamp's KTX2 variant loads its four UASTC textures, each slot in its colour space") {
+  const char* shared_env = std::getenv("SOFTPBR_SHARED");
+  const fs::path shared = shared_env ? fs::path(shared_env) : fs::path(SOFTPBR_SOURCE_DIR).parent_path() / "shared";
+  const fs::path dir = shared / "gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu";
+  if (!fs::exists(dir)) {
+    MESSAGE("skipped: " << dir << " is absent");
+    return;
+  }
+  const pbr::GltfScene scene = pbr::load_gltf(dir / "AnisotropyBarnLamp.gltf");
+  const pbr::Material* metal = nullptr;
+  for (const pbr::Object& o : scene.objects)
+    if (o.material.base_color_texture) metal = &o.material;
+  REQUIRE(metal != nullptr);
+  using softpbr::raster::ColorSpace;
+  struct Slot {
+    const pbr::TextureSlot* slot;
+    const char* file;
+    ColorSpace space;
+  };
+  for (const Slot& s : {Slot{&metal->base_color_texture, "AnisotropyBarnLamp_basecolor.ktx2", ColorSpace::Srgb},
+                        Slot{&metal->metallic_roughness_texture, "AnisotropyBarnLamp_occlusionroughnessmetal.ktx2", ColorSpace::Linear},
+                        Slot{&metal->occlusion_texture, "AnisotropyBarnLamp_occlusionroughnessmetal.ktx2", ColorSpace::Linear},
+                        Slot{&metal->normal_texture, "AnisotropyBarnLamp_normalbump.ktx2", ColorSpace::Linear}}) {
+    CAPTURE(s.file);
+    REQUIRE(s.slot->texture != nullptr);
+    CHECK(s.slot->texture->color_space() == s.space);
+    // Level 0 holds the file's decoded texels, byte for byte.
+    const softpbr::image::Ktx2Image k = softpbr::image::load_ktx2(dir / s.file);
+    REQUIRE(s.slot->texture->width() == k.levels[0].width);
+    REQUIRE(s.slot->texture->height() == k.levels[0].height);
+    const std::span<const std::uint8_t> base = s.slot->texture->texels8().first(k.levels[0].rgba.size());
+    CHECK(std::equal(base.begin(), base.end(), k.levels[0].rgba.begin()));
+  }
 }

@@ -12,6 +12,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/write.h"
 #include "softpbr/loaders/scene_file.h"
+#include "ktx2_writer.h"
 #include "texture_file_helpers.h"
 
 namespace pbr = softpbr::pbr;
@@ -263,6 +264,32 @@ TEST_CASE("scene textures: a 16-bit PNG loads as its high bytes (stb_image's red
   CHECK(t.texels8()[0] == 0xab);
   CHECK(t.texels8()[1] == 0xab);
   CHECK(t.texels8()[3] == 0xff);  // RGB: opaque
+}
+
+TEST_CASE("scene textures: a KTX2 image is read as its level 0 (an R8G8 Zstandard texture as Vulkan samples it), a damaged one is one line") {
+  const fs::path dir = scratch("ktx2");
+  ktx2_test::Ktx2Spec k;
+  k.vk_format = 16;  // VK_FORMAT_R8G8_UNORM
+  k.scheme = 2;
+  k.width = 3;
+  k.height = 2;
+  k.levels = {{10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120}, {5, 6}};
+  texture_test::write_bytes(dir / "rg.ktx2", ktx2_test::write_ktx2(k));
+  const pbr::Material m =
+      parse_in(dir, scene_with(R"({"metallic_roughness_texture": "rg.ktx2"})")).scene.objects[0].material;
+  REQUIRE(m.metallic_roughness_texture);
+  const raster::Texture& t = *m.metallic_roughness_texture.texture;
+  CHECK(t.width() == 3);
+  CHECK(t.height() == 2);
+  const std::vector<int> expected = {10, 20, 0, 255, 30, 40, 0, 255, 50, 60, 0, 255};
+  for (std::size_t i = 0; i < expected.size(); ++i) CHECK(t.texels8()[i] == expected[i]);
+  std::vector<std::uint8_t> cut = ktx2_test::write_ktx2(k);
+  cut.resize(cut.size() - 3);
+  texture_test::write_bytes(dir / "cut.ktx2", cut);
+  const std::string message = error_in(dir, scene_with(R"({"base_color_texture": "cut.ktx2"})"));
+  CAPTURE(message);
+  CHECK(message.rfind("t.json: /objects/0/material/base_color_texture: ", 0) == 0);
+  CHECK(message.find("cut.ktx2: level 0: its data") != std::string::npos);
 }
 
 TEST_CASE("scene textures: texels are charged to the memory budget, and an image too large for what is left is refused from its header") {
