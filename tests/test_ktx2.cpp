@@ -4,6 +4,9 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -137,6 +140,9 @@ TEST_CASE("ktx2: cube maps, arrays, 3D and 1D textures, ZLIB, unknown formats an
       {"is a 3D texture", [](Ktx2Spec& s) { s.depth = 4; }},
       {"BasisLZ supercompression of vkFormat 37 is invalid", [](Ktx2Spec& s) { s.scheme = 1; }},
       {"ETC1S data without BasisLZ supercompression is invalid", [](Ktx2Spec& s) { s.vk_format = 0; s.color_model = 163; }},
+      // fuzz_ktx2 (fuzz/findings/ktx2-uastc-basislz-overread): UASTC blocks under BasisLZ
+      // escaped the level-size check and were read past the level's end.
+      {"BasisLZ supercompression of UASTC data is invalid", [](Ktx2Spec& s) { s.vk_format = 0; s.color_model = 166; s.scheme = 1; }},
       {"ZLIB supercompression is not supported", [](Ktx2Spec& s) { s.scheme = 3; }},
       {"unknown supercompression scheme 9", [](Ktx2Spec& s) { s.scheme = 9; }},
       {"vkFormat 131 is not a format this reader decodes", [](Ktx2Spec& s) { s.vk_format = 131; }},
@@ -260,4 +266,14 @@ TEST_CASE("uastc: ASTC endpoint unquantization matches the specification's table
   CHECK(astc_unquantize_endpoint(20, 173) == 173);
   CHECK(astc_unquantize_endpoint(8, 15) == 255);
   CHECK(astc_unquantize_endpoint(11, 16) == 132);
+}
+
+TEST_CASE("ktx2: the fuzz findings are refused with one line") {
+  for (const char* finding : {"ktx2-uastc-basislz-overread"}) {
+    CAPTURE(finding);
+    std::ifstream in(std::filesystem::path(SOFTPBR_SOURCE_DIR) / "fuzz/findings" / finding, std::ios::binary);
+    const std::vector<std::uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    REQUIRE(!bytes.empty());
+    check_refused(bytes, "");
+  }
 }

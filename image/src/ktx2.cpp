@@ -60,6 +60,9 @@ void decode_etc1s(std::span<const std::uint8_t> level, const detail::Ktx2Scan& s
 
 void decode_uastc(std::span<const std::uint8_t> data, Image8& out, int l, std::string_view name) {
   const int bw = (out.width + 3) / 4, bh = (out.height + 3) / 4;
+  // ktx2_scan made the level exactly this long; checked again where the blocks are read.
+  if (data.size() < static_cast<std::size_t>(bw) * static_cast<std::size_t>(bh) * 16)
+    detail::fail(name, "level " + std::to_string(l) + ": its UASTC data is shorter than its blocks");
   std::uint8_t texels[64];
   for (int by = 0; by < bh; ++by)
     for (int bx = 0; bx < bw; ++bx) {

@@ -155,6 +155,8 @@ Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, co
   std::uint64_t block_bytes = 0;  // 0: uncompressed
   if (vk_format == 0) {
     if (dfd.color_model == kColorModelUastc) {
+      // (fuzz_ktx2: UASTC under BasisLZ had its blocks read past the level's end.)
+      if (scheme == 1) fail(name, "BasisLZ supercompression of UASTC data is invalid (it holds ETC1S only)");
       s.codec = Ktx2Codec::Uastc;
       block_bytes = 16;
     } else if (dfd.color_model == kColorModelEtc1s) {
