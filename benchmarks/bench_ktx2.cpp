@@ -25,6 +25,7 @@
 
 #include "etc1s_writer.h"
 #include "ktx2_writer.h"
+#include "shared_assets.h"
 #include "softpbr/image/ktx2.h"
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
@@ -33,11 +34,6 @@ namespace fs = std::filesystem;
 namespace image = softpbr::image;
 
 namespace {
-
-fs::path shared() {
-  if (const char* s = std::getenv("SOFTPBR_SHARED")) return s;
-  return fs::path(SOFTPBR_SOURCE_DIR).parent_path() / "shared";
-}
 
 void report(benchmark::State& state, int w, int h) {
   state.counters["Mtexels_per_s"] =
@@ -89,7 +85,7 @@ std::vector<std::uint8_t> etc1s_2048() {
 }
 
 const bool registered = [] {
-  const fs::path model = shared() / "gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu";
+  const fs::path model = shared_assets::folder() / "gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu";
   for (const char* name : {"basecolor", "normalbump", "occlusionroughnessmetal", "anisotropy"}) {
     const fs::path file = model / (std::string("AnisotropyBarnLamp_") + name + ".ktx2");
     if (!fs::exists(file)) {

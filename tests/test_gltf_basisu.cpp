@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ktx2_writer.h"
+#include "shared_assets.h"
 #include "softpbr/image/ktx2.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/gltf_info.h"
@@ -149,9 +150,7 @@ TEST_CASE("gltf KHR_texture_basisu: info lists the texture's KTX2 image with its
 }
 
 TEST_CASE("gltf KHR_texture_basisu: AnisotropyBarnLamp's KTX2 variant loads its four UASTC textures, each slot in its colour space") {
-  const char* shared_env = std::getenv("SOFTPBR_SHARED");
-  const fs::path shared = shared_env ? fs::path(shared_env) : fs::path(SOFTPBR_SOURCE_DIR).parent_path() / "shared";
-  const fs::path dir = shared / "gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu";
+  const fs::path dir = shared_assets::folder() / "gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu";
   if (!fs::exists(dir)) {
     MESSAGE("skipped: " << dir << " is absent");
     return;

@@ -23,6 +23,8 @@
 
 #include "ktx2_etc1s_sample.h"
 #include "ktx2_writer.h"
+#include "scratch_file.h"
+#include "shared_assets.h"
 #include "softpbr/image/ktx2.h"
 #include "uastc.h"
 
@@ -31,16 +33,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path shared() {
-  if (const char* s = std::getenv("SOFTPBR_SHARED")) return s;
-  return fs::path(SOFTPBR_SOURCE_DIR).parent_path() / "shared";
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_ktx2_reference";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path scratch(const std::string& name) { return test_files::scratch_file("test_ktx2_reference", name); }
 
 // The transcoder's folder, or "" (with a message) when the reference cannot run.
 std::string transcoder_dir() {
@@ -153,7 +146,7 @@ TEST_CASE("ktx2 reference: ETC1S with and without alpha slices (tests/etc1s_writ
 }
 
 TEST_CASE("ktx2 reference: AnisotropyBarnLamp's UASTC textures decode as Basis Universal's transcoder") {
-  const fs::path model = shared() / "gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu";
+  const fs::path model = shared_assets::folder() / "gltf/AnisotropyBarnLamp/glTF-KTX2-Basisu";
   if (!fs::exists(model)) {
     MESSAGE("skipped: " << model << " is absent");
     return;

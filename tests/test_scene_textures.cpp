@@ -4,6 +4,7 @@
 // naming the scene file, the JSON pointer and the image file with the image library's reason.
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,17 @@ std::string error_in(const fs::path& dir, const std::string& text, const pbr::Sc
     return e.what();
   }
   return "";
+}
+
+// The metallic-roughness texture of a cube whose material names `file`, written into `dir`
+// with `bytes` first.
+std::shared_ptr<const raster::Texture> metallic_roughness_from(const fs::path& dir, const std::string& file,
+                                                               const std::vector<std::uint8_t>& bytes) {
+  texture_test::write_bytes(dir / file, bytes);
+  const pbr::Material m =
+      parse_in(dir, scene_with(R"({"metallic_roughness_texture": ")" + file + R"("})")).scene.objects[0].material;
+  REQUIRE(m.metallic_roughness_texture);
+  return m.metallic_roughness_texture.texture;
 }
 
 // Five small images, one per slot.
@@ -253,12 +265,9 @@ TEST_CASE("scene textures: each bad texture value or image is one line with the 
 }
 
 TEST_CASE("scene textures: a 16-bit PNG loads as its high bytes (stb_image's reduction to 8 bits)") {
-  const fs::path dir = scratch("png16");
-  texture_test::write_bytes(dir / "deep.png", texture_test::png16(3, 2, 0xab54));
-  const pbr::Material m =
-      parse_in(dir, scene_with(R"({"metallic_roughness_texture": "deep.png"})")).scene.objects[0].material;
-  REQUIRE(m.metallic_roughness_texture);
-  const raster::Texture& t = *m.metallic_roughness_texture.texture;
+  const std::shared_ptr<const raster::Texture> texture =
+      metallic_roughness_from(scratch("png16"), "deep.png", texture_test::png16(3, 2, 0xab54));
+  const raster::Texture& t = *texture;
   CHECK(t.width() == 3);
   CHECK(t.height() == 2);
   CHECK(t.texels8()[0] == 0xab);
@@ -274,11 +283,8 @@ TEST_CASE("scene textures: a KTX2 image is read as its level 0 (an R8G8 Zstandar
   k.width = 3;
   k.height = 2;
   k.levels = {{10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120}, {5, 6}};
-  texture_test::write_bytes(dir / "rg.ktx2", ktx2_test::write_ktx2(k));
-  const pbr::Material m =
-      parse_in(dir, scene_with(R"({"metallic_roughness_texture": "rg.ktx2"})")).scene.objects[0].material;
-  REQUIRE(m.metallic_roughness_texture);
-  const raster::Texture& t = *m.metallic_roughness_texture.texture;
+  const std::shared_ptr<const raster::Texture> texture = metallic_roughness_from(dir, "rg.ktx2", ktx2_test::write_ktx2(k));
+  const raster::Texture& t = *texture;
   CHECK(t.width() == 3);
   CHECK(t.height() == 2);
   const std::vector<int> expected = {10, 20, 0, 255, 30, 40, 0, 255, 50, 60, 0, 255};
