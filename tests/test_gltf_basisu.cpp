@@ -27,7 +27,10 @@ using Json = nlohmann::json;
 
 namespace {
 
-// An 8×4 R8G8B8A8_SRGB KTX2 texture, texel (x, y) = (32x, 64y, 7, 255).
+// An 8×4 R8G8B8A8_SRGB KTX2 texture, texel (x, y) = (32x, 64y, 7, 255), and a 4×2 level 1
+// of its own (every texel (1, 2, 3, 4): no average of level 0).
+const std::vector<std::uint8_t> kLevel1 = {1, 2, 3, 4, 1, 2, 3, 4, 1, 2, 3, 4, 1, 2, 3, 4,
+                                           1, 2, 3, 4, 1, 2, 3, 4, 1, 2, 3, 4, 1, 2, 3, 4};
 std::vector<std::uint8_t> ktx2_texture() {
   ktx2_test::Ktx2Spec s;
   s.vk_format = 43;
@@ -38,6 +41,7 @@ std::vector<std::uint8_t> ktx2_texture() {
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 8; ++x) level.insert(level.end(), {std::uint8_t(32 * x), std::uint8_t(64 * y), 7, 255});
   s.levels.push_back(level);
+  s.levels.push_back(kLevel1);
   return ktx2_test::write_ktx2(s);
 }
 
@@ -94,7 +98,7 @@ std::string load_error(const Json& g) {
 
 }  // namespace
 
-TEST_CASE("gltf KHR_texture_basisu: the KTX2 source is decoded in the slot's colour space and the PNG fallback is not read") {
+TEST_CASE("gltf KHR_texture_basisu: the KTX2 source is decoded in the slot's colour space with its own mip levels, and the PNG fallback is not read") {
   write(folder() / "tex.ktx2", ktx2_texture());
   for (bool required : {false, true}) {
     CAPTURE(required);
@@ -114,6 +118,11 @@ TEST_CASE("gltf KHR_texture_basisu: the KTX2 source is decoded in the slot's col
         CHECK(t[static_cast<std::size_t>((y * 8 + x) * 4 + 0)] == 32 * x);
         CHECK(t[static_cast<std::size_t>((y * 8 + x) * 4 + 1)] == 64 * y);
       }
+    // The file's level 1 is used as stored, not rebuilt from level 0.
+    const softpbr::raster::Texture::Level& l1 = slot.texture->level(1);
+    REQUIRE(l1.width == 4);
+    REQUIRE(l1.height == 2);
+    CHECK(std::equal(kLevel1.begin(), kLevel1.end(), t.begin() + static_cast<std::ptrdiff_t>(l1.offset * 4)));
     for (const std::string& w : scene.warnings) CHECK(w.find("KHR_texture_basisu") == std::string::npos);
   }
 }
@@ -146,7 +155,7 @@ TEST_CASE("gltf KHR_texture_basisu: info lists the texture's KTX2 image with its
   CHECK(info.images[1].format == "ktx2");
   CHECK(info.images[1].width == 8);
   CHECK(info.images[1].height == 4);
-  CHECK(info.images[1].detail == "R8G8B8A8_SRGB, none, 1 level, sRGB");
+  CHECK(info.images[1].detail == "R8G8B8A8_SRGB, none, 2 levels, sRGB");
 }
 
 TEST_CASE("gltf KHR_texture_basisu: AnisotropyBarnLamp's KTX2 variant loads its four UASTC textures, each slot in its colour space") {

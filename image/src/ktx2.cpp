@@ -133,15 +133,21 @@ detail::Etc1sGlobal read_global(std::span<const std::uint8_t> file, const detail
 }  // namespace
 
 Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits) {
+  return load_ktx2(bytes, name, limits, nullptr);
+}
+
+Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity) {
   const detail::Ktx2Scan s = detail::ktx2_scan(bytes, name, limits, detail::kAllKtx2Levels);
   Ktx2Image out;
   out.info = s.info;
   const detail::Etc1sGlobal g = read_global(bytes, s, name);
   std::vector<std::uint8_t> scratch;
   for (int l = 0; l < static_cast<int>(s.levels.size()); ++l)
-    out.levels.push_back(decode_level(bytes, s, g, l, name, nullptr, scratch));
+    out.levels.push_back(decode_level(bytes, s, g, l, name, l == 0 ? capacity : nullptr, scratch));
   return out;
 }
+
+bool is_ktx2(std::span<const std::uint8_t> bytes) { return detail::is_ktx2(bytes); }
 
 Ktx2Image load_ktx2(const std::filesystem::path& path, const Limits& limits) {
   return load_ktx2(detail::read_file(path, limits), path.string(), limits);

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "softpbr/image/image.h"
+#include "softpbr/image/load.h"
 
 namespace softpbr::image {
 
@@ -48,6 +49,13 @@ struct Ktx2Image {
 
 Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
 Ktx2Image load_ktx2(const std::filesystem::path& path, const Limits& limits = {});
+// As above, level 0's buffer reserved to capacity(width, height) bytes (load.h's Capacity:
+// raster::Texture::rgba8_chain_bytes, so that a Texture made from it with the other levels
+// keeps the buffer).
+Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+
+// Whether `bytes` begin with KTX 2.0's identifier.
+bool is_ktx2(std::span<const std::uint8_t> bytes);
 
 // The header's description without decoding or checking anything beyond it ("" fields
 // where the bytes are not a KTX2 header). For `softpbr info`.
