@@ -199,7 +199,8 @@ int info_gltf(const std::string& path) {
     if (t.source >= 0 && static_cast<std::size_t>(t.source) < info.images.size()) {
       const pbr::GltfImageInfo& im = info.images[static_cast<std::size_t>(t.source)];
       const std::string size = im.width > 0 ? std::to_string(im.width) + "x" + std::to_string(im.height) : "size unknown";
-      what = (im.format.empty() ? std::string("unknown format") : im.format) + " " + size + ", image " +
+      what = (im.format.empty() ? std::string("unknown format") : im.format) + " " + size +
+             (im.detail.empty() ? "" : " (" + im.detail + ")") + ", image " +
              std::to_string(t.source) + " (" + printable_line(im.location) + ", " + pbr::format_bytes(im.bytes) + ")";
     }
     std::printf("    %-3zu %-24s %s\n", i, or_unnamed(t.name).c_str(), what.c_str());

@@ -240,8 +240,8 @@ TEST_CASE("a hand-written glTF triangle loads, hostile variants fail with the fi
          return j.replace(j.find(from), from.size(), R"({"buffer": 0, "byteLength": 36, "byteStride": 6})");
        }(),
        "stride.gltf: /bufferViews/0/byteStride: must be a multiple of 4 in [4, 252], got 6"},
-      {"required.gltf", triangle_gltf(kGoodAccessors, R"(, "extensionsRequired": ["KHR_texture_basisu"], "extensionsUsed": ["KHR_texture_basisu"])"),
-       "required.gltf: /extensionsRequired/0: the required extension KHR_texture_basisu is not supported"},
+      {"required.gltf", triangle_gltf(kGoodAccessors, R"(, "extensionsRequired": ["EXT_softpbr_never_supported"], "extensionsUsed": ["EXT_softpbr_never_supported"])"),
+       "required.gltf: /extensionsRequired/0: the required extension EXT_softpbr_never_supported is not supported"},
       {"cycle.gltf",
        std::string(R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"children": [1]}, {"children": [0]}]})"),
        "cycle.gltf: /nodes/0: is its own ancestor (the node hierarchy has a cycle)"},

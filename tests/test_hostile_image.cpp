@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "scratch_file.h"
 #include "softpbr/image/load.h"
 #include "softpbr/image/write.h"
 
@@ -19,11 +20,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_hostile_image";
-  fs::create_directories(dir);
-  return dir / name;
-}
+fs::path scratch(const std::string& name) { return test_files::scratch_file("test_hostile_image", name); }
 
 void write(const fs::path& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;

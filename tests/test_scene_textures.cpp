@@ -4,6 +4,7 @@
 // naming the scene file, the JSON pointer and the image file with the image library's reason.
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/image/write.h"
 #include "softpbr/loaders/scene_file.h"
+#include "ktx2_writer.h"
 #include "texture_file_helpers.h"
 
 namespace pbr = softpbr::pbr;
@@ -39,6 +41,17 @@ std::string error_in(const fs::path& dir, const std::string& text, const pbr::Sc
     return e.what();
   }
   return "";
+}
+
+// The metallic-roughness texture of a cube whose material names `file`, written into `dir`
+// with `bytes` first.
+std::shared_ptr<const raster::Texture> metallic_roughness_from(const fs::path& dir, const std::string& file,
+                                                               const std::vector<std::uint8_t>& bytes) {
+  texture_test::write_bytes(dir / file, bytes);
+  const pbr::Material m =
+      parse_in(dir, scene_with(R"({"metallic_roughness_texture": ")" + file + R"("})")).scene.objects[0].material;
+  REQUIRE(m.metallic_roughness_texture);
+  return m.metallic_roughness_texture.texture;
 }
 
 // Five small images, one per slot.
@@ -204,7 +217,7 @@ TEST_CASE("scene textures: each bad texture value or image is one line with the 
       {R"({"emissive_texture": "empty.png"})",
        "t.json: /objects/0/material/emissive_texture: " + d + "empty.png: image size 0x0 is outside 1x1 .. 16384x16384"},
       {R"({"occlusion_texture": "notes.png"})",
-       "t.json: /objects/0/material/occlusion_texture: " + d + "notes.png: not a readable image (no PNG or JPEG signature)"},
+       "t.json: /objects/0/material/occlusion_texture: " + d + "notes.png: not a readable image (no PNG, JPEG or KTX2 signature)"},
       {R"({"base_color_texture": ""})", "t.json: /objects/0/material/base_color_texture: expected a file name, got \"\""},
       {R"({"base_color_texture": 7})",
        "t.json: /objects/0/material/base_color_texture: expected an image path or a texture object {\"image\": …}, got 7"},
@@ -252,17 +265,37 @@ TEST_CASE("scene textures: each bad texture value or image is one line with the 
 }
 
 TEST_CASE("scene textures: a 16-bit PNG loads as its high bytes (stb_image's reduction to 8 bits)") {
-  const fs::path dir = scratch("png16");
-  texture_test::write_bytes(dir / "deep.png", texture_test::png16(3, 2, 0xab54));
-  const pbr::Material m =
-      parse_in(dir, scene_with(R"({"metallic_roughness_texture": "deep.png"})")).scene.objects[0].material;
-  REQUIRE(m.metallic_roughness_texture);
-  const raster::Texture& t = *m.metallic_roughness_texture.texture;
+  const std::shared_ptr<const raster::Texture> texture =
+      metallic_roughness_from(scratch("png16"), "deep.png", texture_test::png16(3, 2, 0xab54));
+  const raster::Texture& t = *texture;
   CHECK(t.width() == 3);
   CHECK(t.height() == 2);
   CHECK(t.texels8()[0] == 0xab);
   CHECK(t.texels8()[1] == 0xab);
   CHECK(t.texels8()[3] == 0xff);  // RGB: opaque
+}
+
+TEST_CASE("scene textures: a KTX2 image is read as its level 0 (an R8G8 Zstandard texture as Vulkan samples it), a damaged one is one line") {
+  const fs::path dir = scratch("ktx2");
+  ktx2_test::Ktx2Spec k;
+  k.vk_format = 16;  // VK_FORMAT_R8G8_UNORM
+  k.scheme = 2;
+  k.width = 3;
+  k.height = 2;
+  k.levels = {{10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120}, {5, 6}};
+  const std::shared_ptr<const raster::Texture> texture = metallic_roughness_from(dir, "rg.ktx2", ktx2_test::write_ktx2(k));
+  const raster::Texture& t = *texture;
+  CHECK(t.width() == 3);
+  CHECK(t.height() == 2);
+  const std::vector<int> expected = {10, 20, 0, 255, 30, 40, 0, 255, 50, 60, 0, 255};
+  for (std::size_t i = 0; i < expected.size(); ++i) CHECK(t.texels8()[i] == expected[i]);
+  std::vector<std::uint8_t> cut = ktx2_test::write_ktx2(k);
+  cut.resize(cut.size() - 3);
+  texture_test::write_bytes(dir / "cut.ktx2", cut);
+  const std::string message = error_in(dir, scene_with(R"({"base_color_texture": "cut.ktx2"})"));
+  CAPTURE(message);
+  CHECK(message.rfind("t.json: /objects/0/material/base_color_texture: ", 0) == 0);
+  CHECK(message.find("cut.ktx2: level 0: its data") != std::string::npos);
 }
 
 TEST_CASE("scene textures: texels are charged to the memory budget, and an image too large for what is left is refused from its header") {

@@ -29,6 +29,7 @@ const char* loader_of(Format f) {
     case Format::Png: return "load_png";
     case Format::Jpeg: return "load_jpeg";
     case Format::Hdr: return "load_hdr";
+    case Format::Ktx2: return "load_ktx2";
     default: return "load_exr";
   }
 }
@@ -40,6 +41,7 @@ Format sniff(std::span<const std::uint8_t> bytes) {
   if (starts_with(bytes, "\xff\xd8\xff"sv)) return Format::Jpeg;
   if (starts_with(bytes, "#?RADIANCE\n"sv) || starts_with(bytes, "#?RGBE\n"sv)) return Format::Hdr;
   if (starts_with(bytes, "\x76\x2f\x31\x01"sv)) return Format::Exr;
+  if (starts_with(bytes, "\xabKTX 20\xbb\r\n\x1a\n"sv)) return Format::Ktx2;
   return Format::Unknown;
 }
 
@@ -62,6 +64,9 @@ void expect_format(std::span<const std::uint8_t> bytes, std::string_view name, F
                        " (float) image; load it with " + loader_of(found));
       fail(name, std::string("is a ") + (found == Format::Hdr ? "Radiance .hdr" : "OpenEXR") + " image; load it with " +
                      loader_of(found) + " (or load_imagef)");
+    case Format::Ktx2:
+      if (wanted_float) fail(name, "is a KTX2 (8-bit) texture, not a float image; load it with load_ktx2 or load_image8");
+      fail(name, "is a KTX2 texture; load it with load_ktx2 (or load_image8)");
     default: {
       const char* what = wanted == Format::Png ? "PNG" : wanted == Format::Jpeg ? "JPEG" : wanted == Format::Hdr ? "Radiance .hdr" : "OpenEXR";
       fail(name, std::string("not a readable image (no ") + what + " signature)");

@@ -19,14 +19,17 @@ namespace softpbr::image::detail {
 // (nullptr: exactly the pixels).
 Image8 png_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
 Image8 jpeg_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+// A KTX2 file's level 0 (ktx2.h), the same way.
+Image8 ktx2_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
 
 // Throws std::runtime_error("<name>: <what>").
 [[noreturn]] void fail(std::string_view name, std::string_view what);
 
 // A file's format by its first bytes: the PNG signature (ISO/IEC 15948 §5.2), JPEG's SOI
 // marker followed by another marker (ITU-T T.81 B.1.1.3), Radiance's "#?RADIANCE\n" or
-// "#?RGBE\n" line (the two stb_image accepts), OpenEXR's magic number 20000630.
-enum class Format { Unknown, Png, Jpeg, Hdr, Exr };
+// "#?RGBE\n" line (the two stb_image accepts), OpenEXR's magic number 20000630, KTX 2.0's
+// 12-byte identifier.
+enum class Format { Unknown, Png, Jpeg, Hdr, Exr, Ktx2 };
 Format sniff(std::span<const std::uint8_t> bytes);
 
 // Throws unless `bytes` has the signature of `wanted`; the message says what the file is

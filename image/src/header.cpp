@@ -3,6 +3,7 @@
 
 #include "formats.h"
 #include "jpeg_scan.h"
+#include "softpbr/image/ktx2.h"
 #include "softpbr/image/load.h"
 
 namespace softpbr::image {
@@ -35,6 +36,16 @@ ImageHeader read_image_header(std::span<const std::uint8_t> bytes) {
     }
     case detail::Format::Hdr: h.format = "hdr"; break;
     case detail::Format::Exr: h.format = "exr"; break;
+    case detail::Format::Ktx2: {
+      h.format = "ktx2";
+      const Ktx2Info k = read_ktx2_info(bytes);
+      if (k.format.empty()) break;  // a truncated header
+      h.width = k.width;
+      h.height = k.height;
+      h.detail = k.format + ", " + (k.supercompression.empty() ? "unknown supercompression" : k.supercompression) +
+                 ", " + std::to_string(k.levels) + (k.levels == 1 ? " level" : " levels") + (k.srgb ? ", sRGB" : ", linear");
+      break;
+    }
     default: break;
   }
   return h;

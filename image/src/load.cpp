@@ -12,9 +12,10 @@ Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, c
   switch (detail::sniff(bytes)) {
     case detail::Format::Jpeg: return detail::jpeg_rgba8(bytes, name, limits, capacity);
     case detail::Format::Png: return detail::png_rgba8(bytes, name, limits, capacity);
+    case detail::Format::Ktx2: return detail::ktx2_rgba8(bytes, name, limits, capacity);
     case detail::Format::Hdr: detail::fail(name, "is a Radiance .hdr (float) image; load it with load_hdr (or load_imagef)");
     case detail::Format::Exr: detail::fail(name, "is an OpenEXR (float) image; load it with load_exr (or load_imagef)");
-    default: detail::fail(name, "not a readable image (no PNG or JPEG signature)");
+    default: detail::fail(name, "not a readable image (no PNG, JPEG or KTX2 signature)");
   }
 }
 
@@ -27,7 +28,8 @@ ImageF load_imagef(std::span<const std::uint8_t> bytes, std::string_view name, c
     case detail::Format::Hdr: return load_hdr(bytes, name, limits);
     case detail::Format::Exr: return load_exr(bytes, name, limits);
     case detail::Format::Png:
-    case detail::Format::Jpeg: detail::fail(name, "is an 8-bit image; load it with load_image8");
+    case detail::Format::Jpeg:
+    case detail::Format::Ktx2: detail::fail(name, "is an 8-bit image; load it with load_image8");
     default: detail::fail(name, "not a readable image (no Radiance .hdr or OpenEXR signature)");
   }
 }

@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <iterator>
 #include <stdexcept>
 #include <system_error>
 
+#include "softpbr/image/ktx2.h"
 #include "softpbr/image/load.h"
 #include "softpbr/loaders/format_bytes.h"
 
@@ -30,9 +32,18 @@ TextureImage read_texture_image(const fs::path& path, std::uint64_t max_bytes) {
   out.is_float = is_float_image_path(path);
   try {
     if (out.is_float) out.imagef = image::load_imagef(path, limits);
-    // With room for the mip chain: make_texture(TextureImage&&) keeps the buffer.
-    else out.image8 = image::load_image8(image::read_file(path, limits), path.string(), limits,
-                                         &raster::Texture::rgba8_chain_bytes);
+    else {
+      // With room for the mip chain: make_texture(TextureImage&&) keeps the buffer. A KTX2
+      // file's own levels are kept to be used as stored.
+      const std::vector<std::uint8_t> bytes = image::read_file(path, limits);
+      if (image::is_ktx2(bytes)) {
+        image::Ktx2Image k = image::load_ktx2(bytes, path.string(), limits, &raster::Texture::rgba8_chain_bytes);
+        out.image8 = std::move(k.levels[0]);
+        out.more_levels.assign(std::make_move_iterator(k.levels.begin() + 1), std::make_move_iterator(k.levels.end()));
+      } else {
+        out.image8 = image::load_image8(bytes, path.string(), limits, &raster::Texture::rgba8_chain_bytes);
+      }
+    }
   } catch (const std::runtime_error& e) {
     // The library's "… needs N bytes decoded, over the limit of M": say where M comes from.
     const std::string what = e.what();
@@ -48,7 +59,7 @@ std::shared_ptr<const raster::Texture> make_texture(TextureImage&& image, raster
                                                     const std::string& name) {
   if (image.is_float) return make_texture(static_cast<const TextureImage&>(image), space, name);
   try {
-    return std::make_shared<const raster::Texture>(std::move(image.image8), space);
+    return std::make_shared<const raster::Texture>(std::move(image.image8), image.more_levels, space);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(name + ": " + e.what());
   }
@@ -58,6 +69,10 @@ std::shared_ptr<const raster::Texture> make_texture(const TextureImage& image, r
                                                     const std::string& name) {
   try {
     if (image.is_float) return std::make_shared<const raster::Texture>(image::ImageViewF(image.imagef));
+    if (!image.more_levels.empty()) {  // the levels as stored: a copy of the base to move in
+      image::Image8 base = image.image8;
+      return std::make_shared<const raster::Texture>(std::move(base), image.more_levels, space);
+    }
     return std::make_shared<const raster::Texture>(image::ImageView8(image.image8), space);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(name + ": " + e.what());

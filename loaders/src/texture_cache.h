@@ -24,6 +24,7 @@ namespace softpbr::pbr::detail {
 struct TextureImage {
   bool is_float = false;
   image::Image8 image8;
+  std::vector<image::Image8> more_levels;  // a KTX2 file's levels after image8, used as stored
   image::ImageF imagef;
 
   int width() const { return is_float ? imagef.width : image8.width; }

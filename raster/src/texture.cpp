@@ -303,11 +303,32 @@ std::size_t Texture::rgba8_chain_bytes(int width, int height) {
   return texels * 4;
 }
 
-void Texture::build_mips8(ThreadPool* pool) {
+Texture::Texture(image::Image8&& image, std::span<const image::Image8> more_levels, ColorSpace space,
+                 const TextureOptions& options, ThreadPool* pool)
+    : space_(space) {
+  const std::size_t bytes = levels8(image, options);
+  const std::size_t given = std::min(more_levels.size(), levels_.size() - 1);
+  for (std::size_t l = 0; l < given; ++l) {
+    const Level& level = levels_[l + 1];
+    image::check_pixels(more_levels[l], "texture level " + std::to_string(l + 1));
+    if (more_levels[l].width != level.width || more_levels[l].height != level.height)
+      throw std::invalid_argument("texture: level " + std::to_string(l + 1) + " is " + std::to_string(more_levels[l].width) +
+                                  "x" + std::to_string(more_levels[l].height) + ", not " + std::to_string(level.width) + "x" +
+                                  std::to_string(level.height));
+  }
+  texels8_ = std::move(image.rgba);
+  image.width = image.height = 0;
+  texels8_.resize(bytes);
+  for (std::size_t l = 0; l < given; ++l)
+    std::copy(more_levels[l].rgba.begin(), more_levels[l].rgba.end(), texels8_.begin() + static_cast<std::ptrdiff_t>(levels_[l + 1].offset * 4));
+  build_mips8(pool, given + 1);
+}
+
+void Texture::build_mips8(ThreadPool* pool, std::size_t first) {
   const ColorSpace space = space_;
   rgb_table_ = space == ColorSpace::Srgb ? srgb8_decode_table() : unorm8_decode_table();
   const float* alpha_table = unorm8_decode_table();
-  for (std::size_t l = 1; l < levels_.size(); ++l) {
+  for (std::size_t l = first; l < levels_.size(); ++l) {
     const Level& src = levels_[l - 1];
     const Level& dst = levels_[l];
     const std::uint8_t* in = texels8_.data() + src.offset * 4;

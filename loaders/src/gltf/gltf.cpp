@@ -164,6 +164,7 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     if (end == std::string::npos) break;
     start = end + 1;
   }
+  gltf::use_texture_basisu_sources(model);
   gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, doc.placeholders, doc.draco_indices).load();
   if (info != nullptr) {
     std::map<int, image::ImageHeader> headers;

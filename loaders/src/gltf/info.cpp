@@ -10,6 +10,7 @@
 #include "gltf/document.h"
 #include "gltf/files.h"
 #include "gltf/info.h"
+#include "gltf/resources.h"
 #include "gltf/tinygltf.h"
 #include "softpbr/image/load.h"
 #include "softpbr/loaders/gltf_info.h"
@@ -147,6 +148,7 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
     throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
   }
 
+  gltf::use_texture_basisu_sources(m);
   GltfInfo info = gltf::describe(m, file, base_dir, warn, std::move(ctx.headers), std::move(ctx.sizes), options);
   if (doc.rewritten()) gltf::restore_prepass(info, m, doc.draco_indices, doc.placeholders);
   return info;
@@ -238,6 +240,7 @@ GltfInfo describe(const tg::Model& m, const std::string& file, const std::string
       ii.format = it->second.format;
       ii.width = it->second.width;
       ii.height = it->second.height;
+      ii.detail = it->second.detail;
       ii.bytes = sizes[static_cast<int>(i)];
     }
     info.images.push_back(std::move(ii));

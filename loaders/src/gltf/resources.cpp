@@ -8,11 +8,19 @@
 
 #include "gltf/files.h"
 #include "gltf/meshopt.h"
+#include "softpbr/image/ktx2.h"
 #include "softpbr/image/load.h"
 #include "softpbr/loaders/format_bytes.h"
 #include "softpbr/raster/pool.h"
 
 namespace softpbr::pbr::gltf {
+
+void use_texture_basisu_sources(tg::Model& model) {
+  for (tg::Texture& t : model.textures)
+    if (auto it = t.extensions.find("KHR_texture_basisu"); it != t.extensions.end() && it->second.IsObject() &&
+                                                          it->second.Has("source") && it->second.Get("source").IsInt())
+      t.source = it->second.Get("source").GetNumberAsInt();
+}
 
 void Resources::decode_compressed_views() {
   decode_meshopt_views(m_, fallback_, options_.max_file_bytes, decoded_,
@@ -404,9 +412,16 @@ std::vector<std::shared_ptr<const raster::Texture>> Resources::textures(
     const std::span<const std::uint8_t> bytes = encoded(index);
     if (bytes.empty()) throw LoadError(name + ": the image could not be read" + (im.uri.empty() ? "" : " (an empty file)"));
     try {
-      // Decoded with room for the mip chain, which the texture then builds in place.
-      image::Image8 pixels = image::load_image8(bytes, name, options_.image_limits, &raster::Texture::rgba8_chain_bytes);
-      textures[j] = std::make_shared<const raster::Texture>(std::move(pixels), space);
+      // Decoded with room for the mip chain, which the texture then builds in place; a KTX2
+      // file's own levels are used as stored (only those it lacks are built).
+      if (image::is_ktx2(bytes)) {
+        image::Ktx2Image k = image::load_ktx2(bytes, name, options_.image_limits, &raster::Texture::rgba8_chain_bytes);
+        textures[j] = std::make_shared<const raster::Texture>(std::move(k.levels[0]),
+                                                              std::span<const image::Image8>(k.levels).subspan(1), space);
+      } else {
+        image::Image8 pixels = image::load_image8(bytes, name, options_.image_limits, &raster::Texture::rgba8_chain_bytes);
+        textures[j] = std::make_shared<const raster::Texture>(std::move(pixels), space);
+      }
     } catch (const LoadError&) {
       throw;
     } catch (const std::bad_alloc&) {

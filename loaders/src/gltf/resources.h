@@ -20,6 +20,12 @@
 
 namespace softpbr::pbr::gltf {
 
+// KHR_texture_basisu: a texture whose extension names a KTX2 image takes that image as its
+// source (the core "source", a PNG or JPEG fallback when present, is then not read). Run
+// on the model tinygltf built, before anything reads a texture's source; the schema check
+// (schema.cpp) has made the extension's source an image index in range.
+void use_texture_basisu_sources(tg::Model& model);
+
 class Resources : public Context {
  public:
   // `fallback`: the buffers without data (EXT_meshopt_compression's placeholders, see

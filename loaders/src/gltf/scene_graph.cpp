@@ -54,7 +54,8 @@ void SceneGraph::load() {
 }
 
 void SceneGraph::check_extensions() const {
-  static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_materials_emissive_strength",
+  static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_texture_basisu",
+                                                   "KHR_materials_emissive_strength",
                                                    "KHR_mesh_quantization", "KHR_lights_punctual",
                                                    "KHR_materials_unlit", "KHR_materials_ior", "KHR_materials_specular",
                                                    "KHR_materials_clearcoat", "KHR_materials_sheen", kMeshopt, kDraco};

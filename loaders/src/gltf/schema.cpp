@@ -390,7 +390,7 @@ void check_extension_integers(const Json& v, const std::string& p, bool inside) 
 
 // The extensions' references softpbr follows, as integers in range: a node's
 // KHR_lights_punctual light, a primitive's Draco bufferView and attribute ids, a
-// bufferView's EXT_meshopt_compression buffer.
+// bufferView's EXT_meshopt_compression buffer, a texture's KHR_texture_basisu image.
 // The object `name` of an element's `extensions`, or null when there is none.
 const Json* extension(const Json& element, const char* name) {
   const Json* e = member(element, "extensions");
@@ -428,6 +428,13 @@ void check_extension_references(const Json& root) {
           fail(p + "/attributes/" + json_reader::escape_token(it.key()),
                "must be a Draco attribute id (an integer in 0 … " + std::to_string(kIntMax) + "), got " + got(it.value()));
     }
+  }
+  for (std::size_t t = 0; t < count_of(root, "textures"); ++t) {
+    const Json* basisu = extension(root["textures"][t], "KHR_texture_basisu");
+    if (basisu == nullptr) continue;
+    const std::string p = "/textures/" + std::to_string(t) + "/extensions/KHR_texture_basisu";
+    integer(*basisu, p, "source", 0, true);
+    reference(*basisu, p, "source", count_of(root, "images"), "image");
   }
   for (std::size_t v = 0; v < count_of(root, "bufferViews"); ++v) {
     const Json* meshopt = extension(root["bufferViews"][v], "EXT_meshopt_compression");

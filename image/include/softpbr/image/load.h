@@ -48,7 +48,8 @@ ImageF load_png16(std::span<const std::uint8_t> bytes, std::string_view name, co
 Image8 load_jpeg(const std::filesystem::path& path, const Limits& limits = {});
 Image8 load_jpeg(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
 
-// PNG or JPEG, whichever the first bytes say (glTF textures are one or the other).
+// PNG, JPEG or KTX2, whichever the first bytes say (glTF textures are one of these). A KTX2
+// file gives its level 0 (ktx2.h; load_ktx2 reads every level).
 Image8 load_image8(const std::filesystem::path& path, const Limits& limits = {});
 Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
 
@@ -80,11 +81,15 @@ ImageF load_imagef(std::span<const std::uint8_t> bytes, std::string_view name, c
 // What an image's header says, read without decoding it (`softpbr info` lists a glTF
 // file's images this way, however large): the format by the first bytes, and for PNG the
 // IHDR chunk's size, for JPEG the frame header's (found by the same marker walk the loader
-// runs first). width and height are 0 when the header does not give them (a truncated
-// file, .hdr/.exr: not read); nothing is checked against Limits.
+// runs first), for KTX2 the header's and its data format descriptor's (ktx2.h). width and
+// height are 0 when the header does not give them (a truncated file, .hdr/.exr: not read);
+// nothing is checked against Limits.
 struct ImageHeader {
-  std::string format;  // "png", "jpeg", "hdr", "exr", or "" for anything else
+  std::string format;  // "png", "jpeg", "hdr", "exr", "ktx2", or "" for anything else
   int width = 0, height = 0;
+  // KTX2 only: its block or texel format, supercompression and levels, e.g.
+  // "UASTC, Zstandard, 10 levels, sRGB"; "" for other formats.
+  std::string detail;
 };
 ImageHeader read_image_header(std::span<const std::uint8_t> bytes);
 

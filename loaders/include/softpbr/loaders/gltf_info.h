@@ -59,6 +59,7 @@ struct GltfImageInfo {
   std::string format;     // by the first bytes: "png", "jpeg", … ("" unknown or unread)
   int width = 0, height = 0;  // from the header; 0 when it could not be read
   std::size_t bytes = 0;      // encoded
+  std::string detail;         // KTX2: "UASTC, Zstandard, 1 level, sRGB" (image::ImageHeader::detail)
 };
 
 struct GltfNamedInfo {

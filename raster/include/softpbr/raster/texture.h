@@ -110,6 +110,12 @@ class Texture {
   // copied and no second buffer is allocated; otherwise the texels move to a new buffer.
   // The same texels either way.
   Texture(image::Image8&& image, ColorSpace space, const TextureOptions& options = {}, ThreadPool* pool = nullptr);
+  // The same with mip levels the image came with (a KTX2 file's, image::load_ktx2): level
+  // l + 1 is `more_levels[l]`, which must be max(1, ⌊w/2^(l+1)⌋) × max(1, ⌊h/2^(l+1)⌋)
+  // (std::invalid_argument otherwise), used as stored; the levels after the last given are
+  // built from it as above. Levels beyond the chain (or any, without mipmaps) are ignored.
+  Texture(image::Image8&& image, std::span<const image::Image8> more_levels, ColorSpace space,
+          const TextureOptions& options = {}, ThreadPool* pool = nullptr);
   // Bytes of an 8-bit texture's texels with its whole mip chain, for a base of width ×
   // height (its level count as mip_level_count); 0 for a size outside [1, kMaxTextureSide].
   static std::size_t rgba8_chain_bytes(int width, int height);
@@ -193,7 +199,8 @@ class Texture {
   // Checks an 8-bit image and space_, sets levels_; returns the bytes of every level.
   std::size_t levels8(const image::ImageView8& image, const TextureOptions& options);
   // The 8-bit texture's levels after the base, which texels8_ holds (sized for all).
-  void build_mips8(ThreadPool* pool);
+  // Levels [first, level_count()) from the one before each.
+  void build_mips8(ThreadPool* pool, std::size_t first = 1);
 
   std::vector<Level> levels_;
   image::PixelVector<std::uint8_t> texels8_;  // RGBA8, every level
