@@ -337,7 +337,7 @@ TEST_CASE("golden: examples/scenes/layers.json (coat, sheen, specular, IOR rows)
   CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, file.render.output), "goldens/layers");
   for (int lanes : {1, 4, 8, 16}) {
     CAPTURE(lanes);
-    const raster::Target o = render({.threads = lanes == 8 ? 1 : 2, .tile_size = 16 * (lanes % 3 + 1), .lanes = lanes,
+    const raster::Target o = render({.threads = lanes == 8 ? 1u : 2u, .tile_size = 16 * (lanes % 3 + 1), .lanes = lanes,
                                      .dispatch = lanes != 16});
     CHECK(raster::hash_colors(o) == raster::hash_colors(t));
   }
