@@ -133,7 +133,7 @@ errors)
 "roughness": 0.5|"roughness": 2|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got 2
 "roughness": 0.5|"roughness": "NaN"|3|bad.json: /objects/0/material/roughness: expected a number in [0, 1], got "NaN"
 "roughness": 0.5|"rougness": 0.5|3|bad.json: /objects/0/material/rougness: unknown key "rougness" (did you mean "roughness"?)
-"roughness": 0.5|"roughness": 0.5, "shiny": true|3|bad.json: /objects/0/material/shiny: unknown key "shiny" (expected one of: preset, base_color, metallic, roughness, ao, emissive, alpha, alpha_mode, alpha_cutoff, double_sided, base_color_texture, metallic_roughness_texture, normal_texture, normal_scale, occlusion_texture, occlusion_strength, emissive_texture)
+"roughness": 0.5|"roughness": 0.5, "shiny": true|3|bad.json: /objects/0/material/shiny: unknown key "shiny" (expected one of: preset, base_color, metallic, roughness, ao, emissive, alpha, alpha_mode, alpha_cutoff, double_sided, base_color_texture, metallic_roughness_texture, normal_texture, normal_scale, occlusion_texture, occlusion_strength, emissive_texture, ior, specular, clearcoat, sheen)
 "roughness": 0.5|"roughness": 0.5, "base_color_texture": "truncated-texture.png"|3|bad.json: /objects/0/material/base_color_texture: truncated-texture.png: cannot decode (truncated: chunk 'IDAT' at byte 33 claims 7818 bytes, more than the file has left)
 "roughness": 0.5|"roughness": 0.5, "normal_texture": {"image": "textures/missing.png"}|3|bad.json: /objects/0/material/normal_texture/image: textures/missing.png: no such file
 "roughness": 0.5|"roughness": 0.5, "emissive_texture": "huge-texture.png"|3|bad.json: /objects/0/material/emissive_texture: huge-texture.png: image size 100000x100000 is outside 1x1 .. 16384x16384
