@@ -108,7 +108,7 @@ raster::Target render(const pbr::LoadedScene& f, raster::Renderer& renderer) {
 
 }  // namespace
 
-TEST_CASE("gltf KHR_materials_variants: a variant's mappings replace the materials, by name or index; none is the default") {
+TEST_CASE("gltf KHR_materials_variants: a variant's mappings replace the materials, by name or index, and none is the default") {
   const Json g = model();
   CHECK(reds(load(g, "")) == std::vector<float>{0.1f, 0.1f});
   CHECK(reds(load(g, "red")) == std::vector<float>{0.2f, 0.1f});    // primitive 1 has no mapping for it
@@ -122,7 +122,7 @@ TEST_CASE("gltf KHR_materials_variants: a variant's mappings replace the materia
   CHECK(reds(load(named, "2")) == std::vector<float>{0.2f, 0.1f});
 }
 
-TEST_CASE("gltf KHR_materials_variants: an unknown variant is one line listing the file's; a file without any says so") {
+TEST_CASE("gltf KHR_materials_variants: an unknown variant is one line listing the file's, and a file without any says so") {
   const Json g = model();
   CHECK(load_error(g, "purple") ==
         "m.gltf: /extensions/KHR_materials_variants/variants: no variant \"purple\" (the variants: 0 \"red\", 1 \"green\", 2 \"blue\")");
@@ -193,7 +193,7 @@ TEST_CASE("golden glTF renders: MaterialsVariantsShoe's variants each give their
   }
 }
 
-TEST_CASE("gltf KHR_materials_variants: a scene file's glTF mesh takes a \"variant\"; an unknown one names the key's model") {
+TEST_CASE("gltf KHR_materials_variants: a scene file's glTF mesh takes a \"variant\", and an unknown one names the key's model") {
   std::ofstream(folder() / "m.gltf", std::ios::trunc) << model().dump();
   auto scene = [&](const std::string& mesh) {
     const fs::path p = folder() / "scene.json";
