@@ -36,7 +36,8 @@ struct YuvPlanes {
 };
 
 // width × height × 4 bytes of RGBA8 into `rgba`. Chroma is upsampled bilinearly with the
-// chroma samples centred between their luma samples (JPEG's and VP8's siting): weights 3/4
+// chroma samples centred between their luma samples (JPEG's and VP8's siting; AV1's
+// chroma_sample_position is not consulted): weights 3/4
 // and 1/4 along each subsampled axis (9, 3, 3, 1 sixteenths for 4:2:0), edges clamped. The
 // upsampled chroma keeps its 4 extra bits into the conversion, whose coefficients are
 // 16-bit fixed point from the matrix's rational Kr and Kb; each channel is rounded once, to
