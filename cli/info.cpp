@@ -207,6 +207,12 @@ int info_gltf(const std::string& path) {
   }
   std::printf("  extensions used: %s; required: %s\n", join(info.extensions_used).c_str(),
               join(info.extensions_required).c_str());
+  if (!info.variants.empty()) {
+    // KHR_materials_variants: what `softpbr render --variant NAME` (or N) shows.
+    std::printf("  variants   %zu\n", info.variants.size());
+    for (std::size_t i = 0; i < info.variants.size(); ++i)
+      std::printf("    %-3zu %s\n", i, or_unnamed(info.variants[i]).c_str());
+  }
   std::printf("  cameras    %zu\n", info.cameras.size());
   for (std::size_t i = 0; i < info.cameras.size(); ++i)
     std::printf("    %-3zu %-24s %s\n", i, or_unnamed(info.cameras[i].name).c_str(), printable_line(info.cameras[i].type).c_str());

@@ -62,6 +62,9 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--pitch", s.pitch, "glTF models: raise the automatic camera this many degrees (-89..89; default 15, "
                                     "0 for a level view)");
   c->add_option("--camera", s.camera, "glTF models: view through camera N of the file (from 0)");
+  c->add_option("--variant", s.variant,
+                "glTF models: show the material variant NAME (KHR_materials_variants; or N, its index from 0; "
+                "`softpbr info` lists them)");
   c->add_option("--env", s.env,
                 "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
                 "glTF models) or \"none\"");

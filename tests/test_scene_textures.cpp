@@ -217,7 +217,7 @@ TEST_CASE("scene textures: each bad texture value or image is one line with the 
       {R"({"emissive_texture": "empty.png"})",
        "t.json: /objects/0/material/emissive_texture: " + d + "empty.png: image size 0x0 is outside 1x1 .. 16384x16384"},
       {R"({"occlusion_texture": "notes.png"})",
-       "t.json: /objects/0/material/occlusion_texture: " + d + "notes.png: not a readable image (no PNG, JPEG or KTX2 signature)"},
+       "t.json: /objects/0/material/occlusion_texture: " + d + "notes.png: not a readable image (no PNG, JPEG, KTX2, WebP or AVIF signature)"},
       {R"({"base_color_texture": ""})", "t.json: /objects/0/material/base_color_texture: expected a file name, got \"\""},
       {R"({"base_color_texture": 7})",
        "t.json: /objects/0/material/base_color_texture: expected an image path or a texture object {\"image\": …}, got 7"},

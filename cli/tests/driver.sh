@@ -592,6 +592,23 @@ $(cat out.txt)"
     || fail "broken.gltf: $("$softpbr" info broken.gltf 2>&1)"
   "$softpbr" info huge.glb 2>&1 | grep -q "30000x30000" && pass "huge.glb: refused by its header's size" || fail "huge.glb: $("$softpbr" info huge.glb 2>&1)"
   expect_error 2 "notes.txt: expected an .obj, .gltf or .glb model or a .json scene" info notes.txt
+  # KHR_materials_variants: info lists them, render --variant shows one, an unknown one is
+  # one line listing them (with the Khronos shoe, when the shared assets are there).
+  shoe=${SOFTPBR_SHARED:-$src/../shared}/gltf/MaterialsVariantsShoe/glTF/MaterialsVariantsShoe.gltf
+  if [ -f "$shoe" ]; then
+    "$softpbr" info "$shoe" >out.txt
+    grep -q "^  variants   3\$" out.txt && grep -q "^    0   midnight\$" out.txt && grep -q "^    1   beach\$" out.txt \
+      && grep -q "^    2   street\$" out.txt && pass "info lists MaterialsVariantsShoe's variants" || fail "info shoe: $(cat out.txt)"
+    "$softpbr" render "$shoe" -o beach.png --variant beach --width 64 --height 48 -q &&
+      "$softpbr" render "$shoe" -o one.png --variant 1 --width 64 --height 48 -q &&
+      "$softpbr" render "$shoe" -o street.png --variant street --width 64 --height 48 -q &&
+      "$softpbr" diff beach.png one.png -q && ! "$softpbr" diff beach.png street.png -q \
+      && pass "--variant beach is --variant 1, and not street" || fail "--variant renders"
+    expect_error 3 "$shoe: /extensions/KHR_materials_variants/variants: no variant \"red\" (the variants: 0 \"midnight\", 1 \"beach\", 2 \"street\")" \
+      render "$shoe" -o keep.png --variant red
+  fi
+  expect_error 2 "--variant: a glTF model's setting; in a scene file, a glTF object gives its own \"variant\"" \
+    render "$scenes/lights.json" -o keep.png --variant beach
   # Compressed meshes (what gltfpack and gltf-transform write): listed as the file has them.
   for model in meshopt.glb draco.glb; do
     "$softpbr" info "$src/fuzz/corpus/gltf/$model" >out.txt 2>err.txt; rc=$?

@@ -24,12 +24,29 @@ bool starts_with(std::span<const std::uint8_t> bytes, std::string_view magic) {
          });
 }
 
+// ISO/IEC 14496-12 §4.3: the first box, "ftyp", holds the major brand and then the
+// compatible brands up to its size (read as far as the file goes: a cut file is still an
+// AVIF, whose decoder then says it is cut). MIAF/AVIF brands: "avif" (still image), "avis"
+// (sequence).
+bool is_avif(std::span<const std::uint8_t> bytes) {
+  using namespace std::string_view_literals;
+  if (bytes.size() < 12 || !starts_with(bytes.subspan(4), "ftyp"sv)) return false;
+  const std::uint64_t box = (std::uint64_t{bytes[0]} << 24) | (std::uint64_t{bytes[1]} << 16) |
+                            (std::uint64_t{bytes[2]} << 8) | std::uint64_t{bytes[3]};
+  const std::size_t end = static_cast<std::size_t>(std::min<std::uint64_t>(box < 16 ? 12 : box, bytes.size()));
+  for (std::size_t at = 8; at + 4 <= end; at += at == 8 ? 8 : 4)  // the major brand, then (after minor_version) the compatible ones
+    if (starts_with(bytes.subspan(at), "avif"sv) || starts_with(bytes.subspan(at), "avis"sv)) return true;
+  return false;
+}
+
 const char* loader_of(Format f) {
   switch (f) {
     case Format::Png: return "load_png";
     case Format::Jpeg: return "load_jpeg";
     case Format::Hdr: return "load_hdr";
     case Format::Ktx2: return "load_ktx2";
+    case Format::Webp: return "load_webp";
+    case Format::Avif: return "load_avif";
     default: return "load_exr";
   }
 }
@@ -42,6 +59,9 @@ Format sniff(std::span<const std::uint8_t> bytes) {
   if (starts_with(bytes, "#?RADIANCE\n"sv) || starts_with(bytes, "#?RGBE\n"sv)) return Format::Hdr;
   if (starts_with(bytes, "\x76\x2f\x31\x01"sv)) return Format::Exr;
   if (starts_with(bytes, "\xabKTX 20\xbb\r\n\x1a\n"sv)) return Format::Ktx2;
+  if (starts_with(bytes, "RIFF"sv) && starts_with(bytes.subspan(std::min<std::size_t>(8, bytes.size())), "WEBP"sv))
+    return Format::Webp;
+  if (is_avif(bytes)) return Format::Avif;
   return Format::Unknown;
 }
 
@@ -67,8 +87,21 @@ void expect_format(std::span<const std::uint8_t> bytes, std::string_view name, F
     case Format::Ktx2:
       if (wanted_float) fail(name, "is a KTX2 (8-bit) texture, not a float image; load it with load_ktx2 or load_image8");
       fail(name, "is a KTX2 texture; load it with load_ktx2 (or load_image8)");
+    case Format::Webp:
+    case Format::Avif: {
+      const char* what = found == Format::Webp ? "WebP" : "AVIF";
+      if (wanted_float)
+        fail(name, std::string("is a ") + what + " (8-bit) image, not a float image; load it with " + loader_of(found) +
+                       " or load_image8");
+      fail(name, std::string("is a ") + what + " image; load it with " + loader_of(found) + " (or load_image8)");
+    }
     default: {
-      const char* what = wanted == Format::Png ? "PNG" : wanted == Format::Jpeg ? "JPEG" : wanted == Format::Hdr ? "Radiance .hdr" : "OpenEXR";
+      const char* what = wanted == Format::Png    ? "PNG"
+                         : wanted == Format::Jpeg ? "JPEG"
+                         : wanted == Format::Webp ? "WebP"
+                         : wanted == Format::Avif ? "AVIF"
+                         : wanted == Format::Hdr  ? "Radiance .hdr"
+                                                  : "OpenEXR";
       fail(name, std::string("not a readable image (no ") + what + " signature)");
     }
   }

@@ -21,6 +21,13 @@ Image8 png_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, con
 Image8 jpeg_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
 // A KTX2 file's level 0 (ktx2.h), the same way.
 Image8 ktx2_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+// load_webp and load_avif, the same way.
+Image8 webp_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+Image8 avif_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+// A WebP's or an AVIF's size from its headers (no pixel decoded); false when they do not
+// give one.
+bool webp_size(std::span<const std::uint8_t> bytes, int& width, int& height);
+bool avif_size(std::span<const std::uint8_t> bytes, int& width, int& height);
 
 // Throws std::runtime_error("<name>: <what>").
 [[noreturn]] void fail(std::string_view name, std::string_view what);
@@ -28,8 +35,9 @@ Image8 ktx2_rgba8(std::span<const std::uint8_t> bytes, std::string_view name, co
 // A file's format by its first bytes: the PNG signature (ISO/IEC 15948 §5.2), JPEG's SOI
 // marker followed by another marker (ITU-T T.81 B.1.1.3), Radiance's "#?RADIANCE\n" or
 // "#?RGBE\n" line (the two stb_image accepts), OpenEXR's magic number 20000630, KTX 2.0's
-// 12-byte identifier.
-enum class Format { Unknown, Png, Jpeg, Hdr, Exr, Ktx2 };
+// 12-byte identifier, WebP's "RIFF" … "WEBP" header, and AVIF's ISOBMFF "ftyp" box with
+// the brand "avif" or "avis" (major or compatible).
+enum class Format { Unknown, Png, Jpeg, Hdr, Exr, Ktx2, Webp, Avif };
 Format sniff(std::span<const std::uint8_t> bytes);
 
 // Throws unless `bytes` has the signature of `wanted`; the message says what the file is

@@ -46,6 +46,14 @@ ImageHeader read_image_header(std::span<const std::uint8_t> bytes) {
                  ", " + std::to_string(k.levels) + (k.levels == 1 ? " level" : " levels") + (k.srgb ? ", sRGB" : ", linear");
       break;
     }
+    case detail::Format::Webp:
+      h.format = "webp";
+      if (!detail::webp_size(bytes, h.width, h.height)) h.width = h.height = 0;
+      break;
+    case detail::Format::Avif:
+      h.format = "avif";
+      if (!detail::avif_size(bytes, h.width, h.height)) h.width = h.height = 0;
+      break;
     default: break;
   }
   return h;

@@ -13,9 +13,11 @@ Image8 load_image8(std::span<const std::uint8_t> bytes, std::string_view name, c
     case detail::Format::Jpeg: return detail::jpeg_rgba8(bytes, name, limits, capacity);
     case detail::Format::Png: return detail::png_rgba8(bytes, name, limits, capacity);
     case detail::Format::Ktx2: return detail::ktx2_rgba8(bytes, name, limits, capacity);
+    case detail::Format::Webp: return detail::webp_rgba8(bytes, name, limits, capacity);
+    case detail::Format::Avif: return detail::avif_rgba8(bytes, name, limits, capacity);
     case detail::Format::Hdr: detail::fail(name, "is a Radiance .hdr (float) image; load it with load_hdr (or load_imagef)");
     case detail::Format::Exr: detail::fail(name, "is an OpenEXR (float) image; load it with load_exr (or load_imagef)");
-    default: detail::fail(name, "not a readable image (no PNG, JPEG or KTX2 signature)");
+    default: detail::fail(name, "not a readable image (no PNG, JPEG, KTX2, WebP or AVIF signature)");
   }
 }
 
@@ -29,7 +31,9 @@ ImageF load_imagef(std::span<const std::uint8_t> bytes, std::string_view name, c
     case detail::Format::Exr: return load_exr(bytes, name, limits);
     case detail::Format::Png:
     case detail::Format::Jpeg:
-    case detail::Format::Ktx2: detail::fail(name, "is an 8-bit image; load it with load_image8");
+    case detail::Format::Ktx2:
+    case detail::Format::Webp:
+    case detail::Format::Avif: detail::fail(name, "is an 8-bit image; load it with load_image8");
     default: detail::fail(name, "not a readable image (no Radiance .hdr or OpenEXR signature)");
   }
 }

@@ -118,6 +118,7 @@ void validate(const Settings& s) {
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
   if (s.camera && *s.camera < 0) bad_setting("camera", "expected an index >= 0, got " + std::to_string(*s.camera));
+  if (s.variant && s.variant->empty()) bad_setting("variant", "expected a material variant's name or index, got \"\"");
   if (s.max_memory_mib && !(*s.max_memory_mib > 0 && *s.max_memory_mib <= 1e9))
     bad_setting("max_memory", "expected a number of MiB in (0, 1e9], got " + show_value(*s.max_memory_mib));
   for (const fs::path& r : s.roots) {
@@ -142,7 +143,8 @@ pbr::LoadedScene load_model(const std::string& input, const Settings& s, raster:
     g = pbr::load_gltf(input, {.pool = &pool,
                                .memory_limit = requested_memory_limit(s),
                                .roots = s.roots,
-                               .missing_images = missing_images(s)});
+                               .missing_images = missing_images(s),
+                               .variant = s.variant.value_or("")});
   } catch (const std::bad_alloc&) {
     throw Error(Error::Kind::Memory, "",
                 input + ": out of memory while loading it (the process's memory or address-space limit)");
@@ -224,6 +226,8 @@ pbr::LoadedScene load(const std::string& input, const Settings& s, raster::Threa
   if (lower_extension_is(input, {".gltf", ".glb"})) {
     file = load_model(input, s, pool);
   } else {
+    if (s.variant)
+      bad_setting("variant", "a glTF model's setting; in a scene file, a glTF object gives its own \"variant\"");
     file = pbr::load_scene_file(input, {.memory_limit = requested_memory_limit(s),
                                         .pool = &pool,
                                         .environment_cache = s.env_cache,

@@ -63,10 +63,15 @@ Scene.from_dict = staticmethod(_scene_from_dict)  # type: ignore[attr-defined]
 
 
 def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", None] = None,
-               width: Optional[int] = None, height: Optional[int] = None) -> Scene:
+               width: Optional[int] = None, height: Optional[int] = None, variant: Optional[str] = None) -> Scene:
     """A Scene from a path, a dict (see Scene.from_dict) or a Scene (returned as is). A glTF
     model (.gltf, .glb) is framed for a width x height image (default 1280x720) and lit by
-    the studio environment as ``softpbr render model.glb`` shows it (Scene.load_gltf)."""
+    the studio environment as ``softpbr render model.glb`` shows it (Scene.load_gltf), with
+    its material variant ``variant`` (KHR_materials_variants: a name or an index, as
+    ``--variant``) when given; ValueError for a variant with any other scene."""
+    if variant is not None and not (isinstance(scene, (str, os.PathLike))
+                                    and os.fspath(scene).lower().endswith((".gltf", ".glb"))):
+        raise ValueError("variant: a glTF model's setting; in a scene file, a glTF object gives its own \"variant\"")
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, Mapping):
@@ -74,7 +79,7 @@ def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", Non
     if isinstance(scene, (str, os.PathLike)):
         path = os.fspath(scene)
         if path.lower().endswith((".gltf", ".glb")):
-            return Scene.load_gltf(path, width=width or 1280, height=height or 720)
+            return Scene.load_gltf(path, width=width or 1280, height=height or 720, variant=variant)
         return Scene.load(path)
     raise TypeError(f"scene: expected a path, a dict or a softpbr.Scene, got {type(scene).__name__}")
 
@@ -82,7 +87,7 @@ def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", Non
 def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[int] = None, threads: Optional[int] = None,
            tile_size: Optional[int] = None, tonemap: Optional[str] = None, exposure: Optional[float] = None,
            gamma: Optional[float] = None, msaa: Optional[int] = None, frame: int = 0,
-           base_dir: Union[str, "os.PathLike[str]", None] = None) -> numpy.ndarray:
+           base_dir: Union[str, "os.PathLike[str]", None] = None, variant: Optional[str] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) uint8 array: tone mapped, sRGB (or gamma)
     encoded, the bytes ``softpbr render scene.json -o out.png`` writes. ``scene`` is a scene
     file's path, a glTF model's (framed automatically), a dict with the scene-file schema or
@@ -92,20 +97,22 @@ def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[in
     width, height (1..16384), threads (0 = all cores; the image is the same for any),
     tile_size, tonemap ("none", "reinhard", "aces", "neutral"), exposure (stops), gamma
     (0 = exact sRGB), msaa (samples a pixel: 1, 4 or 8, as ``--msaa``). ``frame`` picks a
-    frame of the scene's turntable animation.
+    frame of the scene's turntable animation. ``variant`` shows a glTF model's material
+    variant (KHR_materials_variants), by name or index, as ``--variant``.
     The GIL is released while rendering; Ctrl-C raises KeyboardInterrupt from here.
     """
-    return _softpbr.render(load_scene(scene, base_dir=base_dir, width=width, height=height), width=width, height=height, threads=threads,
+    return _softpbr.render(load_scene(scene, base_dir=base_dir, width=width, height=height, variant=variant), width=width, height=height, threads=threads,
                            tile_size=tile_size, tonemap=tonemap, exposure=exposure, gamma=gamma, msaa=msaa, frame=frame)
 
 
 def render_hdr(scene: SceneLike, *, width: Optional[int] = None, height: Optional[int] = None, threads: Optional[int] = None,
                tile_size: Optional[int] = None, exposure: Optional[float] = None, msaa: Optional[int] = None,
-               frame: int = 0, base_dir: Union[str, "os.PathLike[str]", None] = None) -> numpy.ndarray:
+               frame: int = 0, base_dir: Union[str, "os.PathLike[str]", None] = None,
+               variant: Optional[str] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) float32 array of linear colour x 2^exposure
     (what ``.exr`` output holds; with MSAA the samples' linear average, the box filter),
     without a copy of the render target's colour buffer."""
-    return _softpbr.render_hdr(load_scene(scene, base_dir=base_dir, width=width, height=height), width=width, height=height, threads=threads,
+    return _softpbr.render_hdr(load_scene(scene, base_dir=base_dir, width=width, height=height, variant=variant), width=width, height=height, threads=threads,
                                tile_size=tile_size, exposure=exposure, msaa=msaa, frame=frame)
 
 

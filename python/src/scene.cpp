@@ -161,10 +161,12 @@ pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
 // (job::load_model: pbr::gltf_scene_file, docs/scene-format.md "glTF models") with the same
 // view and the job's messages.
 std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
-                                    std::optional<int> camera, bool environment, const std::string& missing_images) {
+                                    std::optional<int> camera, bool environment, const std::string& missing_images,
+                                    std::optional<std::string> variant) {
   require_readable(path);
   job::Settings view;
   view.missing_images = missing_images;
+  view.variant = std::move(variant);
   view.width = width;
   view.height = height;
   view.yaw = static_cast<float>(yaw);
@@ -198,18 +200,20 @@ struct PyGltfModel {
 };
 
 std::shared_ptr<PyGltfModel> load_gltf_model(const std::filesystem::path& path, std::optional<int> scene,
-                                             const std::string& missing_images) {
+                                             const std::string& missing_images, std::optional<std::string> variant) {
   require_readable(path);
   if (scene && *scene < 0) value_error("load_gltf: scene: expected an index >= 0, got " + std::to_string(*scene));
   if (missing_images != "error" && missing_images != "warn")
     value_error("load_gltf: missing_images: expected error or warn, got \"" + missing_images + "\"");
+  if (variant && variant->empty()) value_error("load_gltf: variant: expected a material variant's name or index, got \"\"");
   auto out = std::make_shared<PyGltfModel>();
   py::gil_scoped_release unlocked;
   raster::ThreadPool pool(0);
   out->model = pbr::load_gltf(path, {.scene = scene.value_or(-1),
                                      .pool = &pool,
                                      .missing_images = missing_images == "warn" ? pbr::MissingImages::Warn
-                                                                                : pbr::MissingImages::Error});
+                                                                                : pbr::MissingImages::Error,
+                                     .variant = variant.value_or("")});
   return out;
 }
 
@@ -560,10 +564,11 @@ is the whole model framed and lit as `softpbr render model.glb` shows it.)")
                std::to_string(g.model.lights.size()) + " lights, " + std::to_string(g.model.cameras.size()) + " cameras>";
       });
   m.def("load_gltf", &load_gltf_model, py::arg("path"), py::kw_only(), py::arg("scene") = py::none(),
-        py::arg("missing_images") = "error",
+        py::arg("missing_images") = "error", py::arg("variant") = py::none(),
         "Loads a glTF 2.0 model (.gltf, .glb): its objects, lights and cameras (scene: the glTF scene to read, default "
         "the file's; missing_images=\"warn\": an image file that cannot be read leaves its textures out, with a "
-        "warning, as --missing-images warn). OSError if it cannot be read; ValueError with the file and the JSON "
+        "warning, as --missing-images warn; variant: a KHR_materials_variants variant's name or index, as "
+        "--variant). OSError if it cannot be read; ValueError with the file and the JSON "
         "pointer if it is invalid.");
 
   py::class_<PyEnvironment, std::shared_ptr<PyEnvironment>>(m, "Environment", R"(An HDR environment prefiltered for image-based lighting (docs/design.md, "Image-based lighting").
@@ -606,12 +611,13 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
           "Reads a scene file. OSError if it cannot be read; ValueError with the file and JSON pointer if it is invalid.")
       .def_static("load_gltf", &gltf_scene, py::arg("path"), py::kw_only(), py::arg("width") = 1280, py::arg("height") = 720,
                   py::arg("yaw") = 0.0, py::arg("pitch") = static_cast<double>(pbr::kDefaultPitch), py::arg("camera") = py::none(), py::arg("environment") = true,
-                  py::arg("missing_images") = "error",
+                  py::arg("missing_images") = "error", py::arg("variant") = py::none(),
                   "A glTF 2.0 model (.gltf, .glb) as `softpbr render model.glb` shows it: framed for a width x height "
                   "image, turned by yaw and raised by pitch (degrees; 15 by default, 0 for a level view), or through camera N of the file; lit by the "
                   "built-in studio environment (blurred background) and the file's lights, or with environment=False "
                   "(`--env none`) by the file's lights or the default light rig when it has none; missing_images=\"warn\" "
-                  "leaves out a texture whose image file cannot be read, with a warning (`--missing-images warn`). "
+                  "leaves out a texture whose image file cannot be read, with a warning (`--missing-images warn`); "
+                  "variant: the KHR_materials_variants variant to show, by name or index (`--variant`). "
                   "OSError if unreadable, "
                   "ValueError naming the JSON pointer if invalid.")
       .def_static(

@@ -405,3 +405,22 @@ def test_a_gltf_orthographic_camera_is_the_commands_camera_option(cli, source_di
     again.camera = softpbr.Camera(position=c.position, target=c.target, up=c.up, near=c.near, far=c.far,
                                   orthographic=True, ymag=c.ymag, xmag=c.xmag)
     assert_same(softpbr.render(again), png)
+
+
+# ---- KHR_materials_variants ------------------------------------------------------------------
+
+def test_a_material_variant_renders_as_the_command_and_an_unknown_one_lists_them(cli, source_dir, tmp_path):
+    model = khronos_sample(source_dir, "MaterialsVariantsShoe")
+    png, _ = cli_render(cli, model, tmp_path, "--width", 64, "--height", 48, "--variant", "beach", name="beach", png_only=True)
+    beach = softpbr.render(model, width=64, height=48, variant="beach")
+    assert_same(beach, png)
+    assert_same(softpbr.render(model, width=64, height=48, variant="1"), beach)  # by index
+    assert not numpy.array_equal(beach, softpbr.render(model, width=64, height=48, variant="street"))
+    # The default material of every primitive is the first variant's ("midnight").
+    assert_same(softpbr.render(model, width=64, height=48), softpbr.render(model, width=64, height=48, variant="midnight"))
+    loaded = softpbr.load_gltf(model, variant="street")
+    assert len(loaded.objects) == 1
+    with pytest.raises(ValueError, match='no variant "red" \\(the variants: 0 "midnight", 1 "beach", 2 "street"\\)'):
+        softpbr.render(model, width=64, height=48, variant="red")
+    with pytest.raises(ValueError, match="variant: a glTF model's setting"):
+        softpbr.render(source_dir / "examples" / "scenes" / "lights.json", variant="beach")

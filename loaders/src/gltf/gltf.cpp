@@ -20,6 +20,7 @@
 #include "gltf/scene_graph.h"
 #include "gltf/schema.h"
 #include "gltf/tinygltf.h"
+#include "gltf/variants.h"
 #include "softpbr/image/load.h"
 #include "softpbr/image/read_file.h"
 #include "softpbr/loaders/gltf_info.h"
@@ -164,7 +165,8 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     if (end == std::string::npos) break;
     start = end + 1;
   }
-  gltf::use_texture_basisu_sources(model);
+  gltf::use_texture_extension_sources(model);
+  if (!options.variant.empty()) gltf::select_variant(model, options.variant, file);
   gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, doc.placeholders, doc.draco_indices).load();
   if (info != nullptr) {
     std::map<int, image::ImageHeader> headers;

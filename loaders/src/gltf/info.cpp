@@ -12,6 +12,7 @@
 #include "gltf/info.h"
 #include "gltf/resources.h"
 #include "gltf/tinygltf.h"
+#include "gltf/variants.h"
 #include "softpbr/image/load.h"
 #include "softpbr/loaders/gltf_info.h"
 #include "texture_cache.h"
@@ -148,7 +149,7 @@ GltfInfo inspect_gltf(const std::filesystem::path& path, const GltfOptions& opti
     throw LoadError(file + ": " + (err.empty() ? std::string("not a glTF file") : first_line(err)));
   }
 
-  gltf::use_texture_basisu_sources(m);
+  gltf::use_texture_extension_sources(m);
   GltfInfo info = gltf::describe(m, file, base_dir, warn, std::move(ctx.headers), std::move(ctx.sizes), options);
   if (doc.rewritten()) gltf::restore_prepass(info, m, doc.draco_indices, doc.placeholders);
   return info;
@@ -248,6 +249,7 @@ GltfInfo describe(const tg::Model& m, const std::string& file, const std::string
   for (const tg::Camera& c : m.cameras) info.cameras.push_back({c.name, c.type});
   for (const tg::Light& l : m.lights) info.lights.push_back({l.name, l.type});
   info.extensions_used = m.extensionsUsed;
+  info.variants = variant_names(m);
   info.extensions_required = m.extensionsRequired;
   return info;
 }

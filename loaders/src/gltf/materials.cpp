@@ -59,7 +59,8 @@ void Materials::texture_slot(TextureSlot& slot, int texture, int tex_coord, cons
   const tg::Texture& t = m_.textures[static_cast<std::size_t>(texture)];
   const std::string tp = "/textures/" + std::to_string(texture);
   if (t.source < 0) {
-    warn(tp + ": has no image this loader can read (only PNG and JPEG sources are); the slot is left empty");
+    warn(tp + ": has no image (no source, nor one of KHR_texture_basisu, EXT_texture_webp or EXT_texture_avif); "
+              "the slot is left empty");
     return;
   }
   if (static_cast<std::size_t>(t.source) >= m_.images.size())

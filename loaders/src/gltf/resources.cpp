@@ -15,11 +15,14 @@
 
 namespace softpbr::pbr::gltf {
 
-void use_texture_basisu_sources(tg::Model& model) {
+void use_texture_extension_sources(tg::Model& model) {
   for (tg::Texture& t : model.textures)
-    if (auto it = t.extensions.find("KHR_texture_basisu"); it != t.extensions.end() && it->second.IsObject() &&
-                                                          it->second.Has("source") && it->second.Get("source").IsInt())
-      t.source = it->second.Get("source").GetNumberAsInt();
+    for (const char* name : kTextureSourceExtensions)
+      if (auto it = t.extensions.find(name); it != t.extensions.end() && it->second.IsObject() &&
+                                             it->second.Has("source") && it->second.Get("source").IsInt()) {
+        t.source = it->second.Get("source").GetNumberAsInt();
+        break;
+      }
 }
 
 void Resources::decode_compressed_views() {

@@ -20,11 +20,18 @@
 
 namespace softpbr::pbr::gltf {
 
-// KHR_texture_basisu: a texture whose extension names a KTX2 image takes that image as its
-// source (the core "source", a PNG or JPEG fallback when present, is then not read). Run
-// on the model tinygltf built, before anything reads a texture's source; the schema check
-// (schema.cpp) has made the extension's source an image index in range.
-void use_texture_basisu_sources(tg::Model& model);
+// The extensions that give a texture another image than its core "source", in the order
+// one is chosen when a texture has several (all are decoded: any of them will do):
+// KHR_texture_basisu (KTX2), EXT_texture_webp, EXT_texture_avif.
+inline constexpr const char* kTextureSourceExtensions[] = {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"};
+
+// A texture whose extension (kTextureSourceExtensions) names an image takes that image as
+// its source: softpbr decodes all three formats, so the core "source" — the PNG or JPEG
+// fallback the specifications ask for when the extension is optional, absent when it is
+// required — is then not read. Run on the model tinygltf built, before anything reads a
+// texture's source; the schema check (schema.cpp) has made the extension's source an image
+// index in range.
+void use_texture_extension_sources(tg::Model& model);
 
 class Resources : public Context {
  public:

@@ -54,11 +54,12 @@ void SceneGraph::load() {
 }
 
 void SceneGraph::check_extensions() const {
-  static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_texture_basisu",
+  static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif",
                                                    "KHR_materials_emissive_strength",
                                                    "KHR_mesh_quantization", "KHR_lights_punctual",
                                                    "KHR_materials_unlit", "KHR_materials_ior", "KHR_materials_specular",
-                                                   "KHR_materials_clearcoat", "KHR_materials_sheen", kMeshopt, kDraco};
+                                                   "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_variants",
+                                                   kMeshopt, kDraco};
   for (std::size_t i = 0; i < m_.extensionsRequired.size(); ++i)
     if (!kSupported.count(m_.extensionsRequired[i]))
       fail("/extensionsRequired/" + str(i), "the required extension " + m_.extensionsRequired[i] + " is not supported");

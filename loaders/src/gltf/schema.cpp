@@ -390,7 +390,8 @@ void check_extension_integers(const Json& v, const std::string& p, bool inside) 
 
 // The extensions' references softpbr follows, as integers in range: a node's
 // KHR_lights_punctual light, a primitive's Draco bufferView and attribute ids, a
-// bufferView's EXT_meshopt_compression buffer, a texture's KHR_texture_basisu image.
+// bufferView's EXT_meshopt_compression buffer, a texture's KHR_texture_basisu,
+// EXT_texture_webp or EXT_texture_avif image.
 // The object `name` of an element's `extensions`, or null when there is none.
 const Json* extension(const Json& element, const char* name) {
   const Json* e = member(element, "extensions");
@@ -429,12 +430,51 @@ void check_extension_references(const Json& root) {
                "must be a Draco attribute id (an integer in 0 … " + std::to_string(kIntMax) + "), got " + got(it.value()));
     }
   }
-  for (std::size_t t = 0; t < count_of(root, "textures"); ++t) {
-    const Json* basisu = extension(root["textures"][t], "KHR_texture_basisu");
-    if (basisu == nullptr) continue;
-    const std::string p = "/textures/" + std::to_string(t) + "/extensions/KHR_texture_basisu";
-    integer(*basisu, p, "source", 0, true);
-    reference(*basisu, p, "source", count_of(root, "images"), "image");
+  for (std::size_t t = 0; t < count_of(root, "textures"); ++t)
+    for (const char* name : {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"}) {
+      const Json* source = extension(root["textures"][t], name);
+      if (source == nullptr) continue;
+      const std::string p = "/textures/" + std::to_string(t) + "/extensions/" + name;
+      integer(*source, p, "source", 0, true);
+      reference(*source, p, "source", count_of(root, "images"), "image");
+    }
+  // KHR_materials_variants: the root's variants (objects with a name), and each
+  // primitive's mappings of variants to a material.
+  std::size_t variants = 0;
+  if (const Json* kv = extension(root, "KHR_materials_variants")) {
+    const std::string p = "/extensions/KHR_materials_variants";
+    const Json& list = required(*kv, p, "variants");
+    if (!list.is_array()) fail(p + "/variants", "must be an array of variants, got " + got(list));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      object(list[i], p + "/variants/" + std::to_string(i));
+      string(list[i], p + "/variants/" + std::to_string(i), "name", true);
+    }
+    variants = list.size();
+  }
+  for (std::size_t m = 0; m < count_of(root, "meshes"); ++m) {
+    const Json& primitives = root["meshes"][m]["primitives"];
+    for (std::size_t k = 0; k < primitives.size(); ++k) {
+      const Json* kv = extension(primitives[k], "KHR_materials_variants");
+      if (kv == nullptr) continue;
+      const std::string p = "/meshes/" + std::to_string(m) + "/primitives/" + std::to_string(k) +
+                            "/extensions/KHR_materials_variants";
+      const Json& mappings = required(*kv, p, "mappings");
+      if (!mappings.is_array()) fail(p + "/mappings", "must be an array of mappings, got " + got(mappings));
+      for (std::size_t i = 0; i < mappings.size(); ++i) {
+        const std::string mp = p + "/mappings/" + std::to_string(i);
+        object(mappings[i], mp);
+        integer(mappings[i], mp, "material", 0, true);
+        reference(mappings[i], mp, "material", count_of(root, "materials"), "material");
+        const Json& used = required(mappings[i], mp, "variants");
+        if (!used.is_array()) fail(mp + "/variants", "must be an array of variant indices, got " + got(used));
+        for (std::size_t j = 0; j < used.size(); ++j) {
+          const std::string vp = mp + "/variants/" + std::to_string(j);
+          if (!is_integer(used[j]) || used[j].get<double>() < 0) fail(vp, "must be an index (an integer >= 0), got " + got(used[j]));
+          if (used[j].get<double>() >= static_cast<double>(variants))
+            fail(vp, "variant " + got(used[j]) + " does not exist (" + how_many(variants, "variant") + " in /extensions/KHR_materials_variants)");
+        }
+      }
+    }
   }
   for (std::size_t v = 0; v < count_of(root, "bufferViews"); ++v) {
     const Json* meshopt = extension(root["bufferViews"][v], "EXT_meshopt_compression");

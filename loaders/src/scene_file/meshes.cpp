@@ -127,7 +127,7 @@ LoadedMesh MeshLibrary::build(const Node& spec) {
 }
 
 LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
-  r_.object(spec, {"file", "fit"});
+  r_.object(spec, {"file", "fit", "variant"});
   const std::filesystem::path rel = r_.string(file);
   if (rel.empty()) r_.fail(file, "expected a file name, got \"\"");
   const std::filesystem::path path = rel.is_absolute() ? rel : base_dir_ / rel;
@@ -143,12 +143,20 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   std::uint64_t gltf_texture_bytes = 0;
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  // A glTF model's material variant (KHR_materials_variants), by name or index.
+  std::string variant;
+  const std::optional<Node> variant_key = r_.member(spec, "variant");
+  if (variant_key) {
+    variant = r_.string(*variant_key);
+    if (variant.empty()) r_.fail(*variant_key, "expected a material variant's name or index, got \"\"");
+  }
   if (ext == ".gltf" || ext == ".glb") {
     // A glTF model: its primitives become the parts, baked into the model's space by their
     // node transforms, each with its material, like an OBJ's shapes (its lights and cameras
     // are not used here).
     check_at(r_, file, [&] {
       GltfOptions g;
+      g.variant = variant;
       g.roots = textures_.cache().roots();
       g.memory_limit = budget_.left();
       g.missing_images = missing_images_;
@@ -158,6 +166,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
       model = std::make_shared<ObjModel>(gltf_as_model(load_gltf(path, g), gltf_texture_bytes));
     });
   } else {
+    if (variant_key) r_.fail(*variant_key, "a glTF model's material variant; an OBJ model has none");
     check_at(r_, file, [&] { model = std::make_shared<ObjModel>(detail::load_obj(path, options, textures_.cache())); });
   }
   for (const std::string& w : model->warnings) warnings_.push_back(w);

@@ -61,6 +61,9 @@ struct Settings {
   // or the file's camera N.
   std::optional<float> yaw{}, pitch{};
   std::optional<long> camera{};
+  // A glTF model's material variant (KHR_materials_variants): a name, or an index ("1");
+  // GltfOptions::variant. Not for a scene file, whose glTF objects say their own.
+  std::optional<std::string> variant{};
   // Image-based lighting: a file, "studio" or "none"; its intensity and rotation (degrees);
   // what is seen behind the scene: environment, blur, transparent or R,G,B (linear).
   std::optional<std::string> env{};

@@ -18,7 +18,10 @@
 //   (strength), emissive (with KHR_materials_emissive_strength), alphaMode/alphaCutoff,
 //   doubleSided, KHR_materials_unlit, KHR_texture_transform on every texture; the default material for
 //   primitives without one; samplers mapped to raster::Sampler (see gltf.cpp);
-// - images (PNG, JPEG) decoded by softpbr::image with its limits, on `pool` in parallel;
+//   KHR_materials_variants: GltfOptions::variant's mappings replace the primitives' materials;
+// - images (PNG, JPEG, and WebP, AVIF and KTX2 through EXT_texture_webp, EXT_texture_avif and
+//   KHR_texture_basisu, whose source replaces the core one) decoded by softpbr::image with
+//   its limits, on `pool` in parallel;
 //   an image in its own file is read only when a material uses it (on `pool` too), its
 //   URI percent-decoded as RFC 3986 says ("%20" a space, "+" itself), within `roots` and
 //   max_file_bytes; every such file is listed in GltfScene::files, read or not;
@@ -80,6 +83,10 @@ struct GltfOptions {
   // An image whose file cannot be read: the model refused (Error) or its texture slots left
   // empty with a warning (Warn); missing_images.h.
   MissingImages missing_images = MissingImages::Error;
+  // KHR_materials_variants: the variant to show, by name (or, when no variant has that
+  // name, by index: "0"); empty: the primitives' own materials (the file's default). A
+  // name the file does not have is a LoadError listing the file's variants.
+  std::string variant{};
 };
 
 struct GltfCamera {

@@ -79,6 +79,7 @@ struct GltfInfo {
   std::vector<GltfImageInfo> images;
   std::vector<GltfNamedInfo> cameras, lights;
   std::vector<std::string> extensions_used, extensions_required;
+  std::vector<std::string> variants;          // KHR_materials_variants' names, in their order
   std::vector<std::string> parser_warnings;   // tinygltf's, one per line, prefixed by the file
   std::size_t primitives() const;
   std::size_t triangles() const;              // in the meshes, each counted once
