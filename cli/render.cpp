@@ -62,6 +62,12 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--pitch", s.pitch, "glTF models: raise the automatic camera this many degrees (-89..89; default 15, "
                                     "0 for a level view)");
   c->add_option("--camera", s.camera, "glTF models: view through camera N of the file (from 0)");
+  c->add_option("--time", s.time,
+                "glTF models: the moment, in seconds, at which the animations are applied (without it none is: "
+                "the nodes' own pose, skins and morph weights evaluated)");
+  c->add_option("--animation", s.animation,
+                "glTF models: apply only animation N (from 0) or NAME (default: every animation; `softpbr info` "
+                "lists them)");
   c->add_option("--env", s.env,
                 "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
                 "glTF models) or \"none\"");

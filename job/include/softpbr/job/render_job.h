@@ -61,6 +61,10 @@ struct Settings {
   // or the file's camera N.
   std::optional<float> yaw{}, pitch{};
   std::optional<long> camera{};
+  // A glTF model's animations (pbr::GltfOptions): the moment, seconds in [-1e9, 1e9], and
+  // the animation applied, an index or a name (default: every one).
+  std::optional<double> time{};
+  std::optional<std::string> animation{};
   // Image-based lighting: a file, "studio" or "none"; its intensity and rotation (degrees);
   // what is seen behind the scene: environment, blur, transparent or R,G,B (linear).
   std::optional<std::string> env{};
