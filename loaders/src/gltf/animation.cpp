@@ -195,11 +195,16 @@ std::vector<AnimationSummary> Animations::summaries() const {
   for (std::size_t i = 0; i < m_.animations.size(); ++i) {
     const tg::Animation& an = m_.animations[i];
     AnimationSummary a{an.name, 0.0, an.channels.size()};
+    // The duration from each FLOAT SCALAR input's last key; an input that is not one is
+    // left out here (it is an error only when the animation is applied: pose()).
     for (std::size_t s = 0; s < an.samplers.size(); ++s) {
+      const int in = an.samplers[s].input;
+      if (in < 0 || static_cast<std::size_t>(in) >= m_.accessors.size()) continue;
+      const tg::Accessor& x = m_.accessors[static_cast<std::size_t>(in)];
+      if (x.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || x.type != TINYGLTF_TYPE_SCALAR) continue;
       const std::string sp = "/animations/" + str(i) + "/samplers/" + str(s);
-      const std::vector<float> t = resources_.read_floats(an.samplers[s].input, sp + "/input", {1});
-      for (float x : t)
-        if (std::isfinite(x)) a.duration = std::max(a.duration, static_cast<double>(x));
+      const std::vector<float> t = resources_.read_floats(in, sp + "/input", {1});
+      if (!t.empty() && std::isfinite(t.back())) a.duration = std::max(a.duration, static_cast<double>(t.back()));
     }
     out.push_back(std::move(a));
   }

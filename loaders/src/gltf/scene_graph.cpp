@@ -94,6 +94,26 @@ void SceneGraph::check_draw_memory(const std::vector<int>& roots, const std::str
   std::vector<bool> seen(m_.nodes.size(), false);  // each node once (one parent each: schema.cpp)
   std::vector<int> stack(roots.rbegin(), roots.rend());
   std::uint64_t placed = 0;
+  // A skinned or morphed instance owns a deformed copy of its vertices, and reads its
+  // targets' deltas (deform.h): counted as if every target were read.
+  double deformed = 0.0;
+  auto count = [&](int a) -> double {
+    return a >= 0 && static_cast<std::size_t>(a) < m_.accessors.size()
+               ? static_cast<double>(m_.accessors[static_cast<std::size_t>(a)].count)
+               : 0.0;
+  };
+  auto deform_bytes = [&](int mesh, bool skinned) {
+    double bytes = 0.0;
+    for (const tg::Primitive& p : m_.meshes[static_cast<std::size_t>(mesh)].primitives) {
+      if (!skinned && p.targets.empty()) continue;
+      const auto position = p.attributes.find("POSITION");
+      const double vertices = position != p.attributes.end() ? count(position->second) : 0.0;
+      bytes += vertices * (sizeof(MeshVertex) + sizeof(glm::vec4) + (skinned ? 8.0 * 12.0 : 0.0));
+      for (const auto& target : p.targets)
+        for (const auto& [name, a] : target) bytes += count(a) * 12.0;
+    }
+    return bytes;
+  };
   while (!stack.empty()) {
     const int n = stack.back();
     stack.pop_back();
@@ -103,10 +123,11 @@ void SceneGraph::check_draw_memory(const std::vector<int>& roots, const std::str
     if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < m_.meshes.size()) {
       ++instances[static_cast<std::size_t>(node.mesh)];
       ++placed;
+      deformed += deform_bytes(node.mesh, node.skin >= 0);
     }
     stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
   }
-  double bytes = 0.0;  // (a sum of products: double, which cannot overflow here)
+  double bytes = deformed;  // (a sum of products: double, which cannot overflow here)
   for (std::size_t m = 0; m < instances.size(); ++m)
     if (instances[m] > 0)
       bytes += static_cast<double>(instances[m]) * static_cast<double>(meshes_.draw_bytes_lower_bound(static_cast<int>(m)));
@@ -192,7 +213,12 @@ void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string&
   // A skinned node's own transform is ignored (§3.7.3.1): its joints place the vertices
   // in world space. Morph weights other than 0, or a skin: the primitive is deformed
   // (deform_meshes).
-  const bool skinned = m_.nodes[node].skin >= 0;
+  // A skinned node whose mesh has no JOINTS_0 (which §3.7.3 requires) is drawn without its
+  // skin, with a warning.
+  const bool jointed = !mesh.primitives.empty() && mesh.primitives.front().attributes.count("JOINTS_0") > 0;
+  if (m_.nodes[node].skin >= 0 && !jointed)
+    warn("/nodes/" + str(node) + "/skin: its mesh has no JOINTS_0 and WEIGHTS_0: drawn without the skin");
+  const bool skinned = m_.nodes[node].skin >= 0 && jointed;
   const NodePose* posed = node < pose_.size() ? &pose_[node] : nullptr;
   std::vector<double> weights =
       rigging_.weights(static_cast<int>(node), index, posed != nullptr && posed->weights ? &*posed->weights : nullptr);
@@ -222,6 +248,7 @@ void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string&
       placed_.back().mesh_index = index;
       placed_.back().primitive = k;
       placed_.back().weights = weights;
+      placed_.back().skinned = skinned;
     }
   }
 }
@@ -244,7 +271,7 @@ void SceneGraph::deform_meshes() {
     d.flat = sources.flat;
     d.targets = rigging_.targets(p, o.weights, vertices, pp);
     SkinInfluences influences;
-    if (n.skin >= 0) {
+    if (o.skinned) {
       auto it = joints.find(n.skin);
       if (it == joints.end())
         it = joints.emplace(n.skin, rigging_.joint_matrices(n.skin, world_, visited_,

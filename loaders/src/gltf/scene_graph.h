@@ -68,6 +68,7 @@ class SceneGraph : public Context {
     int mesh_index = -1;
     std::size_t primitive = 0;
     std::vector<double> weights{};
+    bool skinned = false;
   };
   std::vector<Placed> placed_;
 };
