@@ -223,7 +223,7 @@ TEST_CASE("animation samplers: a rotation between two keys is slerp in double, n
   CHECK(m.objects[0].transform[0][1] == doctest::Approx(std::sin(M_PI / 6)).epsilon(1e-6));
 }
 
-TEST_CASE("animations: a node's translation at a time; without a time the node's own; a chosen animation only") {
+TEST_CASE("animations: a node's translation at a time, the node's own without one, a chosen animation alone") {
   Glb g;
   add_quad(g);
   g.j["nodes"] = json::array({{{"mesh", 0}, {"translation", {5, 0, 0}}}});
@@ -302,7 +302,7 @@ TEST_CASE("skins: joints at rest give the unskinned mesh bit for bit, the skinne
   CHECK(render(a) == render(b));
 }
 
-TEST_CASE("skins: vertices move with their joints' matrices, weighted; normals by the inverse transpose") {
+TEST_CASE("skins: vertices move with their joints' matrices, weighted, normals by the inverse transpose") {
   // Joint 1 turned 90° about z and moved to (0, 0, 3); no inverse bind matrices.
   const float s = std::sqrt(0.5f);
   Glb g = skinned_quad({1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0.5f, 1.5f, 0, 0},

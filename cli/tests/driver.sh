@@ -600,7 +600,7 @@ $(cat out.txt)"
   done
   # Animations (issue 50): listed with their names, durations and channels; rendered at a
   # moment with the same bits for any threads, another image than without --time.
-  model=$src/../shared/gltf/InterpolationTest/glTF-Binary/InterpolationTest.glb
+  model=${SOFTPBR_SHARED:-$src/../shared}/gltf/InterpolationTest/glTF-Binary/InterpolationTest.glb
   if [ -f "$model" ]; then
     "$softpbr" info "$model" >out.txt 2>err.txt || fail "info InterpolationTest failed: $(cat err.txt)"
     grep -q "^  animation  0 skins, 9 animations" out.txt && grep -Eq "^    8   Linear Translation +1\.667 s  1 channel\$" out.txt \
