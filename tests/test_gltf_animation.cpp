@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "gltf/animation.h"
 #include "shared_assets.h"
 #include "softpbr/loaders/gltf.h"
+#include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
@@ -564,4 +566,31 @@ TEST_CASE("golden animated glTF renders: Fox walking at 1 s, SimpleSkin at 1 s, 
     pbr::render(s, renderer, t);
     CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, pbr::OutputSettings{}), std::string("goldens/gltf_anim_") + c.name);
   }
+}
+
+TEST_CASE("scene files: a glTF mesh's time and animation keys pose the model as --time and --animation do") {
+  Glb g;
+  add_quad(g);
+  g.j["nodes"] = json::array({{{"mesh", 0}}});
+  animate(g, "translation", "LINEAR", {0, 2}, {0, 0, 0, 4, 0, 0}, "VEC3", 3);
+  g.j["animations"][0]["name"] = "slide";
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "gltf_animation";
+  fs::create_directories(dir);
+  {
+    const std::vector<std::uint8_t> bytes = g.bytes();
+    std::ofstream(dir / "slide.glb", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                                            static_cast<std::streamsize>(bytes.size()));
+  }
+  auto first_x = [&](const std::string& keys) {
+    const std::string text = R"({"objects": [{"mesh": {"file": "slide.glb")" + keys + "}}]}";
+    const pbr::SceneFile f = pbr::parse_scene_file(text, "t.json", dir);
+    REQUIRE(!f.scene.objects.empty());
+    return f.scene.objects[0].mesh->vertices[0].position.x;  // node transforms are baked in
+  };
+  CHECK(first_x("") == -1.0f);
+  CHECK(first_x(R"(, "time": 1)") == 1.0f);
+  CHECK(first_x(R"(, "time": 1, "animation": "slide")") == 1.0f);
+  CHECK(first_x(R"(, "time": 1.5, "animation": 0)") == 2.0f);
+  CHECK_THROWS_WITH_AS(first_x(R"(, "time": 1, "animation": "run")"),
+                       doctest::Contains("/objects/0/mesh/file: "), pbr::SceneFileError);
 }
