@@ -219,8 +219,14 @@ int info_gltf(const std::string& path) {
   std::printf("  lights     %zu\n", info.lights.size());
   for (std::size_t i = 0; i < info.lights.size(); ++i)
     std::printf("    %-3zu %-24s %s\n", i, or_unnamed(info.lights[i].name).c_str(), printable_line(info.lights[i].type).c_str());
-  std::printf("  animation  %zu skins, %zu animations (drawn in the bind pose, without morph weights)\n", info.skins,
-              info.animations);
+  std::printf("  animation  %zu skins, %zu animations (without --time: the nodes' own pose, skins and morph weights "
+              "evaluated)\n",
+              info.skins, info.animations);
+  for (std::size_t i = 0; i < scene.animations.size(); ++i) {
+    const pbr::GltfAnimation& a = scene.animations[i];
+    std::printf("    %-3zu %-24s %9.3f s  %zu channel%s\n", i, or_unnamed(a.name).c_str(), a.duration, a.channels,
+                plural(a.channels));
+  }
   std::vector<std::string> problems = scene.warnings;
   if (degenerate) problems.push_back(std::to_string(degenerate) + " zero-area triangles (drawn as nothing)");
   if (drawn == 0) problems.push_back("the scene draws no triangles");

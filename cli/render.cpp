@@ -65,6 +65,12 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--variant", s.variant,
                 "glTF models: show the material variant NAME (KHR_materials_variants; or N, its index from 0; "
                 "`softpbr info` lists them)");
+  c->add_option("--time", s.time,
+                "glTF models: the moment, in seconds, at which the animations are applied (without it none is: "
+                "the nodes' own pose, skins and morph weights evaluated)");
+  c->add_option("--animation", s.animation,
+                "glTF models: apply only animation N (from 0) or NAME (default: every animation; `softpbr info` "
+                "lists them)");
   c->add_option("--env", s.env,
                 "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
                 "glTF models) or \"none\"");

@@ -615,6 +615,27 @@ $(cat out.txt)"
     [ $rc -eq 0 ] && grep -Eq "^  drawn      [0-9]+ primitives?, [1-9][0-9]* triangles" out.txt \
       && pass "info $model (compressed): exit 0, its triangles listed" || fail "info $model: exit $rc, $(cat err.txt) $(cat out.txt)"
   done
+  # Animations (issue 50): listed with their names, durations and channels; rendered at a
+  # moment with the same bits for any threads, another image than without --time.
+  model=${SOFTPBR_SHARED:-$src/../shared}/gltf/InterpolationTest/glTF-Binary/InterpolationTest.glb
+  if [ -f "$model" ]; then
+    "$softpbr" info "$model" >out.txt 2>err.txt || fail "info InterpolationTest failed: $(cat err.txt)"
+    grep -q "^  animation  0 skins, 9 animations" out.txt && grep -Eq "^    8   Linear Translation +1\.667 s  1 channel\$" out.txt \
+      && pass "info lists InterpolationTest's 9 animations" || fail "info InterpolationTest: $(cat out.txt)"
+    a=$("$softpbr" render "$model" -o a.png --width 160 --height 120 --time 0.3)
+    b=$("$softpbr" render "$model" -o b.png --width 160 --height 120 --time 0.3 --threads 1 --tile-size 16)
+    c=$("$softpbr" render "$model" -o c.png --width 160 --height 120)
+    d=$("$softpbr" render "$model" -o d.png --width 160 --height 120 --time 0.3 --animation "Linear Translation")
+    [ -n "${a##*hash }" ] && [ "${a##*hash }" = "${b##*hash }" ] && [ "${a##*hash }" != "${c##*hash }" ] \
+      && [ "${d##*hash }" != "${a##*hash }" ] && [ "${d##*hash }" != "${c##*hash }" ] \
+      && pass "render --time: the same bits at 1 and all threads, not the unanimated image; --animation one only" \
+      || fail "render --time: hashes ${a##*hash } ${b##*hash } ${c##*hash } ${d##*hash }"
+    expect_error 3 "$model: /animations: no animation is named \"Walk\"" render "$model" -o x.png --time 1 --animation Walk
+    [ ! -e x.png ] && pass "no output for an unknown animation" || fail "x.png written for an unknown animation"
+  fi
+  "$softpbr" render two.glb -o x.png --time 1e10 >/dev/null 2>err.txt; rc=$?
+  [ $rc -eq 2 ] && grep -q "^--time: expected a finite number of seconds in \[-1e9, 1e9\]" err.txt \
+    && pass "--time out of range: exit 2" || fail "--time 1e10: exit $rc, $(cat err.txt)"
   ;;
 pipes)
   # A named pipe (FIFO) with no writer wherever a file is read: refused at once with one

@@ -117,6 +117,9 @@ void validate(const Settings& s) {
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
+  if (s.time && !(*s.time >= -1e9 && *s.time <= 1e9))
+    bad_setting("time", "expected a finite number of seconds in [-1e9, 1e9], got " + show_value(*s.time));
+  if (s.animation && s.animation->empty()) bad_setting("animation", "expected an index or a name, got \"\"");
   if (s.camera && *s.camera < 0) bad_setting("camera", "expected an index >= 0, got " + std::to_string(*s.camera));
   if (s.variant && s.variant->empty()) bad_setting("variant", "expected a material variant's name or index, got \"\"");
   if (s.max_memory_mib && !(*s.max_memory_mib > 0 && *s.max_memory_mib <= 1e9))
@@ -144,7 +147,9 @@ pbr::LoadedScene load_model(const std::string& input, const Settings& s, raster:
                                .memory_limit = requested_memory_limit(s),
                                .roots = s.roots,
                                .missing_images = missing_images(s),
-                               .variant = s.variant.value_or("")});
+                               .variant = s.variant.value_or(""),
+                               .time = s.time,
+                               .animation = s.animation.value_or("")});
   } catch (const std::bad_alloc&) {
     throw Error(Error::Kind::Memory, "",
                 input + ": out of memory while loading it (the process's memory or address-space limit)");

@@ -162,7 +162,8 @@ class Scene:
     @staticmethod
     def load_gltf(path: _Path, *, width: int = ..., height: int = ..., yaw: float = ..., pitch: float = ...,
                   camera: Optional[int] = ..., environment: bool = ..., missing_images: str = ...,
-                  variant: Optional[str] = ...) -> Scene: ...
+                  variant: Optional[str] = ..., time: Optional[float] = ...,
+                  animation: Union[int, str, None] = ...) -> Scene: ...
     @staticmethod
     def from_json(text: str, name: str = ..., base_dir: _Path = ...) -> Scene: ...
     @staticmethod

@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -162,9 +164,14 @@ pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
 // view and the job's messages.
 std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
                                     std::optional<int> camera, bool environment, const std::string& missing_images,
-                                    std::optional<std::string> variant) {
+                                    std::optional<std::string> variant, std::optional<double> time,
+                                    std::optional<std::variant<int, std::string>> animation) {
   require_readable(path);
   job::Settings view;
+  view.time = time;
+  if (animation)
+    view.animation = std::holds_alternative<int>(*animation) ? std::to_string(std::get<int>(*animation))
+                                                             : std::get<std::string>(*animation);
   view.missing_images = missing_images;
   view.variant = std::move(variant);
   view.width = width;
@@ -611,13 +618,16 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
           "Reads a scene file. OSError if it cannot be read; ValueError with the file and JSON pointer if it is invalid.")
       .def_static("load_gltf", &gltf_scene, py::arg("path"), py::kw_only(), py::arg("width") = 1280, py::arg("height") = 720,
                   py::arg("yaw") = 0.0, py::arg("pitch") = static_cast<double>(pbr::kDefaultPitch), py::arg("camera") = py::none(), py::arg("environment") = true,
-                  py::arg("missing_images") = "error", py::arg("variant") = py::none(),
+                  py::arg("missing_images") = "error", py::arg("variant") = py::none(), py::arg("time") = py::none(),
+                  py::arg("animation") = py::none(),
                   "A glTF 2.0 model (.gltf, .glb) as `softpbr render model.glb` shows it: framed for a width x height "
                   "image, turned by yaw and raised by pitch (degrees; 15 by default, 0 for a level view), or through camera N of the file; lit by the "
                   "built-in studio environment (blurred background) and the file's lights, or with environment=False "
                   "(`--env none`) by the file's lights or the default light rig when it has none; missing_images=\"warn\" "
                   "leaves out a texture whose image file cannot be read, with a warning (`--missing-images warn`); "
                   "variant: the KHR_materials_variants variant to show, by name or index (`--variant`). "
+                  "time (seconds) applies the model's animations at that moment, every one or only animation (an "
+                  "index or a name) (`--time`, `--animation`). "
                   "OSError if unreadable, "
                   "ValueError naming the JSON pointer if invalid.")
       .def_static(

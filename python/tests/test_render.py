@@ -5,7 +5,9 @@ assert_image_matches, and images returned without a copy."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
+from pathlib import Path
 
 import numpy
 import pytest
@@ -132,3 +134,21 @@ def test_a_gltf_model_renders_as_the_command_frames_it(cli, source_dir, tmp_path
         softpbr.Scene.load_gltf(model, camera=-1)
     with pytest.raises(ValueError, match=r"^Scene\.load_gltf: pitch: expected degrees in \[-89, 89\], got 95$"):
         softpbr.Scene.load_gltf(model, pitch=95)
+
+
+def test_an_animated_gltf_model_at_a_time_renders_as_the_command_renders_it(cli, source_dir, tmp_path):
+    shared = Path(os.environ.get("SOFTPBR_SHARED", source_dir.parent / "shared"))
+    model = shared / "gltf" / "InterpolationTest" / "glTF-Binary" / "InterpolationTest.glb"
+    if not model.is_file():
+        pytest.skip(f"{model} is absent")
+    still = softpbr.render(softpbr.Scene.load_gltf(model, width=80, height=60), width=80, height=60)
+    for args, kwargs in [(("--time", 0.3), {"time": 0.3}),
+                         (("--time", 0.3, "--animation", "Linear Translation"), {"time": 0.3, "animation": "Linear Translation"}),
+                         (("--time", 0.3, "--animation", 8), {"time": 0.3, "animation": 8})]:
+        png = tmp_path / "moment.png"
+        run_cli(cli, model, "-o", png, "--width", 80, "--height", 60, *args)
+        image = softpbr.render(softpbr.Scene.load_gltf(model, width=80, height=60, **kwargs), width=80, height=60)
+        assert numpy.array_equal(image, softpbr.load_image(png)), args
+        assert not numpy.array_equal(image, still), args
+    with pytest.raises(ValueError, match='no animation is named "Walk"'):
+        softpbr.Scene.load_gltf(model, time=1.0, animation="Walk")

@@ -66,6 +66,15 @@ std::shared_ptr<const Mesh> Meshes::primitive(int mesh, std::size_t k, bool mirr
   return it->second;
 }
 
+const Meshes::VertexSources Meshes::no_sources_{};
+
+const Meshes::VertexSources& Meshes::vertex_sources(int mesh, std::size_t k) const {
+  const auto it = meshes_.find(std::make_tuple(mesh, k, false));
+  if (it == meshes_.end()) return no_sources_;
+  const auto s = sources_.find(it->second.get());
+  return s == sources_.end() ? no_sources_ : s->second;
+}
+
 // The triangles of a primitive's index list for its mode (glTF 2.0, §3.7.2.1).
 std::vector<std::uint32_t> Meshes::triangles(int mode, const std::vector<std::uint32_t>& v) const {
   std::vector<std::uint32_t> t;
@@ -159,9 +168,31 @@ std::shared_ptr<const Mesh> Meshes::primitive_mesh(const tg::Primitive& p, const
     for (std::size_t i = 0; i < n; ++i)
       mesh->colors[i] = {color[c * i], color[c * i + 1], color[c * i + 2], c == 4 ? color[c * i + 3] : 1.0f};
   }
-  if (normal.empty()) flat_normals(*mesh);
-  if (normal_mapped && mesh->tangents.empty()) generate_tangents(*mesh);
+  // Where each vertex comes from, when flat normals or split tangents make new ones.
+  VertexSources sources;
+  if (normal.empty()) {
+    sources.sources = mesh->indices;  // flat_normals gives each corner a vertex of its own
+    sources.flat = true;
+    flat_normals(*mesh);
+  }
+  if (normal_mapped && mesh->tangents.empty()) {
+    const std::vector<std::uint32_t> before = mesh->indices;
+    const std::size_t count = mesh->vertices.size();
+    generate_tangents(*mesh);
+    if (mesh->vertices.size() > count) {
+      // A split vertex is a copy appended for some corners: its source is theirs before.
+      if (sources.sources.empty()) {
+        sources.sources.resize(count);
+        std::iota(sources.sources.begin(), sources.sources.end(), 0u);
+      }
+      const std::vector<std::uint32_t> old = sources.sources;
+      sources.sources.resize(mesh->vertices.size());
+      for (std::size_t c = 0; c < before.size(); ++c)
+        if (mesh->indices[c] >= count) sources.sources[mesh->indices[c]] = old[before[c]];
+    }
+  }
   out_.triangles += mesh->triangle_count();
+  if (!sources.sources.empty()) sources_[mesh.get()] = std::move(sources);
   return mesh;
 }
 

@@ -42,16 +42,28 @@ class Meshes : public Context {
   std::shared_ptr<const Mesh> primitive(int mesh, std::size_t k, bool mirrored, const std::string& pointer,
                                         bool normal_mapped);
 
+  // How primitive (mesh, k)'s Mesh, once made, maps to its accessors' vertices (for morph
+  // targets and skins, deform.h): the accessor vertex of each Mesh vertex (empty: the
+  // same index — flat normals and split tangents make others), and whether its normals
+  // are flat ones made here (the primitive has no NORMAL).
+  struct VertexSources {
+    std::vector<std::uint32_t> sources;
+    bool flat = false;
+  };
+  const VertexSources& vertex_sources(int mesh, std::size_t k) const;
+
  private:
   // `draco_indices`: a Draco primitive's indices accessor (-1: none).
   std::shared_ptr<const Mesh> primitive_mesh(const tg::Primitive& p, const std::string& pointer, bool normal_mapped,
                                              int draco_indices);
   std::vector<std::uint32_t> triangles(int mode, const std::vector<std::uint32_t>& v) const;
   static void flat_normals(Mesh& mesh);
+  static const VertexSources no_sources_;
 
   const Resources& resources_;
   std::map<std::pair<std::size_t, std::size_t>, int> draco_indices_;
   std::map<std::tuple<int, std::size_t, bool>, std::shared_ptr<const Mesh>> meshes_;
+  std::map<const Mesh*, VertexSources> sources_;  // by the unmirrored Mesh, when not the identity
 };
 
 }  // namespace softpbr::pbr::gltf

@@ -44,9 +44,16 @@ void SceneGraph::load() {
   }
   const std::string where = scene >= 0 ? "/scenes/" + str(static_cast<std::size_t>(scene)) + "/nodes" : "/nodes";
   check_draw_memory(roots, where);
+  // The animations (animation.h): listed, and sampled at the chosen moment into a pose.
+  for (const AnimationSummary& a : animations_.summaries()) out_.animations.push_back({a.name, a.duration, a.channels});
+  pose_ = animations_.pose();
+  world_.assign(m_.nodes.size(), glm::dmat4(1.0));
+  visited_.assign(m_.nodes.size(), false);
   std::vector<bool> on_path(m_.nodes.size(), false);
   for (std::size_t i = 0; i < roots.size(); ++i)
     visit(roots[i], glm::dmat4(1.0), where + "/" + str(i), 0, on_path);
+  // Skins and morph targets, now that every joint's world transform is known.
+  deform_meshes();
   // The textures (every image decoded once, in parallel), then the objects, now that their
   // materials are complete.
   materials_.make_textures(resources_);
@@ -88,6 +95,26 @@ void SceneGraph::check_draw_memory(const std::vector<int>& roots, const std::str
   std::vector<bool> seen(m_.nodes.size(), false);  // each node once (one parent each: schema.cpp)
   std::vector<int> stack(roots.rbegin(), roots.rend());
   std::uint64_t placed = 0;
+  // A skinned or morphed instance owns a deformed copy of its vertices, and reads its
+  // targets' deltas (deform.h): counted as if every target were read.
+  double deformed = 0.0;
+  auto count = [&](int a) -> double {
+    return a >= 0 && static_cast<std::size_t>(a) < m_.accessors.size()
+               ? static_cast<double>(m_.accessors[static_cast<std::size_t>(a)].count)
+               : 0.0;
+  };
+  auto deform_bytes = [&](int mesh, bool skinned) {
+    double bytes = 0.0;
+    for (const tg::Primitive& p : m_.meshes[static_cast<std::size_t>(mesh)].primitives) {
+      if (!skinned && p.targets.empty()) continue;
+      const auto position = p.attributes.find("POSITION");
+      const double vertices = position != p.attributes.end() ? count(position->second) : 0.0;
+      bytes += vertices * (sizeof(MeshVertex) + sizeof(glm::vec4) + (skinned ? 8.0 * 12.0 : 0.0));
+      for (const auto& target : p.targets)
+        for (const auto& [name, a] : target) bytes += count(a) * 12.0;
+    }
+    return bytes;
+  };
   while (!stack.empty()) {
     const int n = stack.back();
     stack.pop_back();
@@ -97,10 +124,11 @@ void SceneGraph::check_draw_memory(const std::vector<int>& roots, const std::str
     if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < m_.meshes.size()) {
       ++instances[static_cast<std::size_t>(node.mesh)];
       ++placed;
+      deformed += deform_bytes(node.mesh, node.skin >= 0);
     }
     stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
   }
-  double bytes = 0.0;  // (a sum of products: double, which cannot overflow here)
+  double bytes = deformed;  // (a sum of products: double, which cannot overflow here)
   for (std::size_t m = 0; m < instances.size(); ++m)
     if (instances[m] > 0)
       bytes += static_cast<double>(instances[m]) * static_cast<double>(meshes_.draw_bytes_lower_bound(static_cast<int>(m)));
@@ -112,7 +140,9 @@ void SceneGraph::check_draw_memory(const std::vector<int>& roots, const std::str
 
 // ---- Nodes ---------------------------------------------------------------------------
 
-glm::dmat4 SceneGraph::local_matrix(const tg::Node& n, const std::string& pointer) const {
+glm::dmat4 SceneGraph::local_matrix(std::size_t index, const std::string& pointer) const {
+  const tg::Node& n = m_.nodes[index];
+  const NodePose* posed = index < pose_.size() ? &pose_[index] : nullptr;
   auto finite = [&](const std::vector<double>& v, const char* what) {
     for (double x : v)
       if (!std::isfinite(x)) fail(pointer + "/" + what, "is not finite");
@@ -126,19 +156,26 @@ glm::dmat4 SceneGraph::local_matrix(const tg::Node& n, const std::string& pointe
     return m;
   }
   glm::dmat4 t(1.0), r(1.0), s(1.0);
-  if (!n.translation.empty()) {
+  // An animated part replaces the node's own (animation.h).
+  if (posed != nullptr && posed->translation) t[3] = glm::dvec4(*posed->translation, 1.0);
+  else if (!n.translation.empty()) {
     if (n.translation.size() != 3) fail(pointer + "/translation", "must have 3 numbers");
     finite(n.translation, "translation");
     t[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
   }
-  if (!n.rotation.empty()) {
+  if (posed != nullptr && posed->rotation) r = glm::mat4_cast(*posed->rotation);
+  else if (!n.rotation.empty()) {
     if (n.rotation.size() != 4) fail(pointer + "/rotation", "must have 4 numbers");
     finite(n.rotation, "rotation");
     // glTF stores (x, y, z, w); glm's constructor takes w first.
     const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
     r = glm::mat4_cast(q);
   }
-  if (!n.scale.empty()) {
+  if (posed != nullptr && posed->scale) {
+    s[0][0] = posed->scale->x;
+    s[1][1] = posed->scale->y;
+    s[2][2] = posed->scale->z;
+  } else if (!n.scale.empty()) {
     if (n.scale.size() != 3) fail(pointer + "/scale", "must have 3 numbers");
     finite(n.scale, "scale");
     s[0][0] = n.scale[0];
@@ -157,8 +194,10 @@ void SceneGraph::visit(int index, const glm::dmat4& parent, const std::string& r
   if (depth > kMaxDepth) fail(pointer, "the node hierarchy is deeper than " + std::to_string(kMaxDepth));
   on_path[i] = true;
   const tg::Node& n = m_.nodes[i];
-  const glm::dmat4 world = parent * local_matrix(n, pointer);
-  if (n.mesh >= 0) add_mesh(n.mesh, world, pointer + "/mesh");
+  const glm::dmat4 world = parent * local_matrix(i, pointer);
+  world_[i] = world;
+  visited_[i] = true;
+  if (n.mesh >= 0) add_mesh(n.mesh, world, pointer + "/mesh", i);
   if (n.camera >= 0) add_camera(n.camera, world, pointer + "/camera");
   if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light"))
     add_light(it->second.Get("light").GetNumberAsInt(), world, pointer + "/extensions/KHR_lights_punctual/light");
@@ -167,13 +206,26 @@ void SceneGraph::visit(int index, const glm::dmat4& parent, const std::string& r
   on_path[i] = false;
 }
 
-void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string& referrer) {
+void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string& referrer, std::size_t node) {
   if (index < 0 || static_cast<std::size_t>(index) >= m_.meshes.size())
     fail(referrer, "mesh " + std::to_string(index) + " does not exist");
   const tg::Mesh& mesh = m_.meshes[static_cast<std::size_t>(index)];
   const std::string pointer = "/meshes/" + std::to_string(index);
-  const glm::mat4 transform(world);
-  const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+  // A skinned node's own transform is ignored (§3.7.3.1): its joints place the vertices
+  // in world space. Morph weights other than 0, or a skin: the primitive is deformed
+  // (deform_meshes).
+  // A skinned node whose mesh has no JOINTS_0 (which §3.7.3 requires) is drawn without its
+  // skin, with a warning.
+  const bool jointed = !mesh.primitives.empty() && mesh.primitives.front().attributes.count("JOINTS_0") > 0;
+  if (m_.nodes[node].skin >= 0 && !jointed)
+    warn("/nodes/" + str(node) + "/skin: its mesh has no JOINTS_0 and WEIGHTS_0: drawn without the skin");
+  const bool skinned = m_.nodes[node].skin >= 0 && jointed;
+  const NodePose* posed = node < pose_.size() ? &pose_[node] : nullptr;
+  std::vector<double> weights =
+      rigging_.weights(static_cast<int>(node), index, posed != nullptr && posed->weights ? &*posed->weights : nullptr);
+  const bool morphed = std::any_of(weights.begin(), weights.end(), [](double w) { return w != 0.0; });
+  const glm::mat4 transform = skinned ? glm::mat4(1.0f) : glm::mat4(world);
+  const bool mirrored = !skinned && glm::determinant(glm::dmat3(world)) < 0.0;
   for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
     const tg::Primitive& p = mesh.primitives[k];
     const std::string pp = pointer + "/primitives/" + str(k);
@@ -192,6 +244,44 @@ void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string&
     const bool normal_mapped =
         p.material >= 0 && m_.materials[static_cast<std::size_t>(p.material)].normalTexture.index >= 0;
     placed_.push_back({meshes_.primitive(index, k, mirrored, pp, normal_mapped), p.material, transform});
+    if (skinned || morphed) {
+      placed_.back().node = static_cast<int>(node);
+      placed_.back().mesh_index = index;
+      placed_.back().primitive = k;
+      placed_.back().weights = weights;
+      placed_.back().skinned = skinned;
+    }
+  }
+}
+
+// Each skinned or morphed primitive's mesh deformed (deform.h), in the order placed; the
+// joint matrices made once per skin.
+void SceneGraph::deform_meshes() {
+  std::map<int, std::vector<glm::dmat4>> joints;
+  for (Placed& o : placed_) {
+    if (o.node < 0) continue;
+    const tg::Node& n = m_.nodes[static_cast<std::size_t>(o.node)];
+    const tg::Primitive& p = m_.meshes[static_cast<std::size_t>(o.mesh_index)].primitives[o.primitive];
+    const std::string pp = "/meshes/" + std::to_string(o.mesh_index) + "/primitives/" + str(o.primitive);
+    if (p.extensions.count(kDraco))
+      fail(pp + "/extensions/" + kDraco, "skins and morph targets of a Draco-compressed primitive are not supported");
+    const std::size_t vertices = m_.accessors[static_cast<std::size_t>(p.attributes.at("POSITION"))].count;
+    const Meshes::VertexSources& sources = meshes_.vertex_sources(o.mesh_index, o.primitive);
+    Deformation d;
+    d.sources = &sources.sources;
+    d.flat = sources.flat;
+    d.targets = rigging_.targets(p, o.weights, vertices, pp);
+    SkinInfluences influences;
+    if (o.skinned) {
+      auto it = joints.find(n.skin);
+      if (it == joints.end())
+        it = joints.emplace(n.skin, rigging_.joint_matrices(n.skin, world_, visited_,
+                                                             "/nodes/" + std::to_string(o.node) + "/skin")).first;
+      influences = rigging_.influences(p, vertices, it->second.size(), pp);
+      influences.matrices = &it->second;
+      d.skin = &influences;
+    }
+    o.mesh = std::make_shared<const Mesh>(deform(*o.mesh, d, options_.pool));
   }
 }
 

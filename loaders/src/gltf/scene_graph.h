@@ -14,10 +14,12 @@
 
 #include <glm/mat4x4.hpp>
 
+#include "gltf/animation.h"
 #include "gltf/materials.h"
 #include "gltf/meshes.h"
 #include "gltf/reader.h"
 #include "gltf/resources.h"
+#include "gltf/rigging.h"
 
 namespace softpbr::pbr::gltf {
 
@@ -29,7 +31,9 @@ class SceneGraph : public Context {
       : Context(context),
         resources_(context, std::move(base_dir), std::move(fallback)),
         materials_(context),
-        meshes_(context, resources_, std::move(draco_indices)) {}
+        meshes_(context, resources_, std::move(draco_indices)),
+        animations_(context, resources_),
+        rigging_(context, resources_) {}
 
   // Fills the GltfScene: the compressed views decoded, the scene's nodes visited, then
   // the textures made and the objects placed.
@@ -39,19 +43,32 @@ class SceneGraph : public Context {
   void check_extensions() const;
   int pick_scene() const;
   void check_draw_memory(const std::vector<int>& roots, const std::string& where) const;
-  glm::dmat4 local_matrix(const tg::Node& n, const std::string& pointer) const;
+  glm::dmat4 local_matrix(std::size_t index, const std::string& pointer) const;
   void visit(int index, const glm::dmat4& parent, const std::string& referrer, int depth, std::vector<bool>& on_path);
-  void add_mesh(int index, const glm::dmat4& world, const std::string& referrer);
+  void add_mesh(int index, const glm::dmat4& world, const std::string& referrer, std::size_t node);
+  void deform_meshes();
   void add_camera(int index, const glm::dmat4& world, const std::string& referrer);
   void add_light(int index, const glm::dmat4& world, const std::string& referrer);
 
   Resources resources_;
   Materials materials_;
   Meshes meshes_;
+  Animations animations_;
+  Rigging rigging_;
+  std::vector<NodePose> pose_;   // by node, at the chosen moment (empty: no animation applied)
+  std::vector<glm::dmat4> world_;  // by node, once visited
+  std::vector<bool> visited_;      // by node: placed by the scene
   struct Placed {
     std::shared_ptr<const Mesh> mesh;
     int material;
     glm::mat4 transform;
+    // A skinned or morphed primitive, deformed once every node's world is known
+    // (deform_meshes): its node (−1: none), mesh and primitive.
+    int node = -1;
+    int mesh_index = -1;
+    std::size_t primitive = 0;
+    std::vector<double> weights{};
+    bool skinned = false;
   };
   std::vector<Placed> placed_;
 };

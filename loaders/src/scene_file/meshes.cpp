@@ -127,8 +127,13 @@ LoadedMesh MeshLibrary::build(const Node& spec) {
 }
 
 LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
-  r_.object(spec, {"file", "fit", "variant"});
   const std::filesystem::path rel = r_.string(file);
+  std::string lower = rel.extension().string();
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  // A glTF model's animation (its moment and which: pbr::GltfOptions::time, animation) and
+  // material variant (an OBJ model's is refused below, by name).
+  if (lower == ".gltf" || lower == ".glb") r_.object(spec, {"file", "fit", "variant", "time", "animation"});
+  else r_.object(spec, {"file", "fit", "variant"});
   if (rel.empty()) r_.fail(file, "expected a file name, got \"\"");
   const std::filesystem::path path = rel.is_absolute() ? rel : base_dir_ / rel;
   std::shared_ptr<ObjModel> model;
@@ -160,6 +165,11 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
       g.roots = textures_.cache().roots();
       g.memory_limit = budget_.left();
       g.missing_images = missing_images_;
+      if (auto t = r_.member(spec, "time")) g.time = r_.number(*t, -1e9, 1e9);
+      if (auto a = r_.member(spec, "animation")) {
+        if (a->value.is_string()) g.animation = r_.string(*a);
+        else g.animation = std::to_string(r_.integer(*a, 0, 1'000'000'000));
+      }
       if (const std::string problem = detail::outside_roots(path, g.roots); !problem.empty())
         throw LoadError(path.string() + ": " + problem);
       g.image_limits.max_decoded_bytes = std::min<std::uint64_t>(g.image_limits.max_decoded_bytes, budget_.left());

@@ -64,6 +64,10 @@ struct Settings {
   // A glTF model's material variant (KHR_materials_variants): a name, or an index ("1");
   // GltfOptions::variant. Not for a scene file, whose glTF objects say their own.
   std::optional<std::string> variant{};
+  // A glTF model's animations (pbr::GltfOptions): the moment, seconds in [-1e9, 1e9], and
+  // the animation applied, an index or a name (default: every one).
+  std::optional<double> time{};
+  std::optional<std::string> animation{};
   // Image-based lighting: a file, "studio" or "none"; its intensity and rotation (degrees);
   // what is seen behind the scene: environment, blur, transparent or R,G,B (linear).
   std::optional<std::string> env{};

@@ -38,8 +38,16 @@
 //   triangles decoded by libdraco, described by the primitive's accessors (type, count,
 //   componentType; integers normalized as they say); dequantization and octahedral
 //   normals computed in softpbr's floating-point rules with libdraco's formulas.
-// Skins, morph targets and animations are not applied: meshes are drawn in their bind
-// pose with no morph weights.
+// - animations (glTF 2.0 §3.11; docs/design.md, "Animation and deformation"): with `time`
+//   set, the channels targeting node translation, rotation, scale and morph weights are
+//   sampled at that moment (STEP, LINEAR with slerp for rotations, CUBICSPLINE; clamped
+//   before the first and after the last key) — every animation in the file's order, or
+//   only `animation`; without `time` none is applied (the nodes' own values);
+// - skins (§3.7.3): joint matrices world(joint) × inverse bind matrix, JOINTS_n/WEIGHTS_n
+//   (weights normalised), the skinned node's own transform ignored; and morph targets
+//   (§3.7.2.2: POSITION, NORMAL and TANGENT deltas with the node's, mesh's or animated
+//   weights). Both are applied to a copy of the primitive's mesh on the CPU, in double
+//   (a skinned mesh is in world space, its Object's transform the identity).
 //
 // Errors are pbr::LoadError (load_error.h) with one line: the file, the JSON pointer and what is
 // wrong, e.g. `model.gltf: /accessors/3: 1000 elements of 12 bytes run past bufferView 2
@@ -49,6 +57,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -87,6 +96,20 @@ struct GltfOptions {
   // name, by index: "0"); empty: the primitives' own materials (the file's default). A
   // name the file does not have is a LoadError listing the file's variants.
   std::string variant{};
+  // The moment the animations are sampled at, in seconds (unset: no animation is applied;
+  // skins and morph weights are still evaluated in the nodes' own pose).
+  std::optional<double> time{};
+  // The animation applied: "" every one (in the file's order, a later channel overriding
+  // an earlier one on the same target), else an index ("0") or a name. Named without
+  // `time`: sampled at 0.
+  std::string animation{};
+};
+
+// One of the file's animations (glTF 2.0 §3.11).
+struct GltfAnimation {
+  std::string name;
+  double duration = 0.0;  // seconds: its last key time
+  std::size_t channels = 0;
 };
 
 struct GltfCamera {
@@ -102,6 +125,7 @@ struct GltfScene {
   std::vector<std::string> warnings;  // one per line
   std::size_t triangles = 0;
   std::vector<std::string> files;     // the external buffers and images read (not the file itself)
+  std::vector<GltfAnimation> animations;
 };
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
