@@ -863,7 +863,7 @@ thumbnail)
   thumb "$scenes/models/podium.obj" podium.png 128 && png_check podium.png 128 && pass "an OBJ model" || fail "podium.obj: $(cat stderr.txt)"
   if [ -n "${SOFTPBR_SHARED:-}" ] && [ -f "$SOFTPBR_SHARED/gltf/WaterBottle/glTF/WaterBottle.gltf" ]; then
     thumb "$SOFTPBR_SHARED/gltf/WaterBottle/glTF/WaterBottle.gltf" bottle.png 256 && png_check bottle.png 256 \
-      && pass "WaterBottle.glb" || fail "WaterBottle: $(cat stderr.txt)"
+      && pass "WaterBottle.gltf" || fail "WaterBottle: $(cat stderr.txt)"
   fi
   # bad IN LINE: exit 3, that one line, the output not written (an old one kept as it was).
   bad() {
