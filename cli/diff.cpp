@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli_error.h"
+#include "model_diff.h"
 #include "softpbr/golden/compare.h"
 #include "softpbr/golden/image.h"
 #include "softpbr/image/load.h"
@@ -29,10 +30,11 @@ namespace softpbr::cli {
 namespace golden = softpbr::golden;
 
 CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
-  CLI::App* c = app.add_subcommand("diff", "Compare two images (.png, .hdr or .exr): exit 0 if they match within the "
+  CLI::App* c = app.add_subcommand("diff", "Compare two images (.png, .hdr or .exr), or two models (.gltf, .glb, .obj, "
+                                           "scene .json) rendered from the same views: exit 0 if they match within the "
                                            "tolerance, 1 if not, 2 on error");
-  c->add_option("expected", a.expected, "The reference image")->required();
-  c->add_option("actual", a.actual, "The image to check")->required();
+  c->add_option("expected", a.expected, "The reference image or model")->required();
+  c->add_option("actual", a.actual, "The image or model to check")->required();
   c->add_option("--max-diff", a.max_diff,
                 "A pixel differs when one of its channels differs by more than this (8-bit codes for PNG, "
                 "16-bit codes when either PNG is 16-bit, float values for .hdr and .exr)")
@@ -40,9 +42,27 @@ CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
   c->add_option("--max-pixels", a.max_pixels, "How many pixels may differ")
       ->check(CLI::NonNegativeNumber)  // "-1" would wrap to 2^64 - 1
       ->capture_default_str();
-  c->add_option("--out", a.out, "Write a heat map of the difference (.png): black where equal, red to white");
+  c->add_option("--out", a.out,
+                "Write a heat map of the difference (.png): black where equal, red to white. Models: a contact sheet, "
+                "each view as expected | actual | heat map, the worst view first");
   c->add_flag("--side-by-side", a.side_by_side, "With --out: expected | actual | heat map");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing; the exit code says it");
+  // Models only.
+  c->add_option("--views", a.views,
+                "Models: N views, the automatic camera's front, a ring at pitch 15 and one from above (1..64)")
+      ->capture_default_str();
+  c->add_option("--yaw", a.yaws, "Models: the views' yaws in degrees, a list (0,90,180) instead of --views")->delimiter(',');
+  c->add_option("--pitch", a.pitches, "Models: the views' pitches in degrees (-89..89), one for all or one a yaw")
+      ->delimiter(',');
+  c->add_option("--width", a.width, "Models: each view's width in pixels")->capture_default_str();
+  c->add_option("--height", a.height, "Models: each view's height in pixels")->capture_default_str();
+  c->add_option("--json", a.json, "Models: write the numbers as JSON to this file (- for standard output)");
+  c->add_option("--threads", a.threads, "Models: worker threads, 0 = all cores (the images are the same for any)");
+  c->add_option("--env", a.env, "Models: the environment, an .hdr/.exr, \"studio\" (the default) or \"none\"");
+  c->add_option("--background", a.background, "Models: environment, blur (the default), transparent or R,G,B");
+  a.max_memory_mib = 4096;
+  c->add_option("--max-memory", a.max_memory_mib, "Models: refuse a model estimated to need more than this many MiB")
+      ->capture_default_str();
   c->footer(kExitCodesHelp);
   return c;
 }
@@ -131,6 +151,7 @@ int compare_and_report(const DiffArgs& a, const Image& expected, const Image& ac
 int run_diff(const DiffArgs& a) {
   if (!(a.max_diff >= 0) || !std::isfinite(a.max_diff))
     throw Error(kExitUsage, "--max-diff: expected a finite number >= 0, got " + std::to_string(a.max_diff));
+  if (is_model_path(a.expected) || is_model_path(a.actual)) return run_model_diff(a);
   if (!a.out.empty() && lower_extension(a.out) != ".png") throw Error(kExitUsage, a.out + ": --out writes a .png");
   for (const std::string* p : {&a.expected, &a.actual})
     if (const std::string problem = input_problem(*p); !problem.empty()) throw Error(kExitUsage, problem);

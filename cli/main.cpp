@@ -3,6 +3,8 @@
 //   softpbr render SCENE.json -o OUT.png [--width W --height H --threads N --tile-size T
 //                  --tonemap NAME --exposure E --frames A..B --shard i/N]
 //   softpbr diff A.png B.png [--max-diff N --max-pixels P --out diff.png]
+//   softpbr diff A.glb B.glb [--views N | --yaw LIST --pitch LIST] [--out sheet.png --json F]
+//   softpbr thumbnail -s SIZE IN.glb OUT.png [--timeout S --max-memory MIB]
 //   softpbr info MODEL.obj | MODEL.gltf | MODEL.glb | SCENE.json
 //   softpbr version | --version
 //
@@ -18,6 +20,7 @@
 #include "diff.h"
 #include "info.h"
 #include "render.h"
+#include "thumbnail.h"
 #include "version.h"
 
 namespace {
@@ -33,9 +36,11 @@ int main(int argc, char** argv) {
   RenderArgs render;
   InfoArgs info;
   DiffArgs diff;
+  ThumbnailArgs thumbnail;
   CLI::App* render_cmd = add_render_command(app, render);
   CLI::App* info_cmd = add_info_command(app, info);
   CLI::App* diff_cmd = add_diff_command(app, diff);
+  CLI::App* thumbnail_cmd = add_thumbnail_command(app, thumbnail);
   CLI::App* version_cmd = add_version_command(app);
   try {
     app.parse(argc, argv);
@@ -50,6 +55,7 @@ int main(int argc, char** argv) {
     if (render_cmd->parsed()) return run_render(render);
     if (info_cmd->parsed()) return run_info(info);
     if (version_cmd->parsed()) return run_version();
+    if (thumbnail_cmd->parsed()) return run_thumbnail(thumbnail);
     return run_diff(diff);
   } catch (const Error& e) {
     print_error(e.what());

@@ -20,6 +20,7 @@
 
 #include "cli_error.h"
 #include "frames.h"
+#include "scenario.h"
 #include "softpbr/image/write.h"
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/loaders/gltf.h"
@@ -36,8 +37,11 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   CLI::App* c = app.add_subcommand("render", "Render a scene file to .png, .hdr and/or .exr images");
   c->add_option("scene", a.scenes,
                 "Scene file (JSON, see docs/scene-format.md), or a glTF 2.0 model (.gltf, .glb) shown with an automatic "
-                "camera and light rig. Several: one image each, with outputs like thumbs/{name}.png or thumbs/")
-      ->required();
+                "camera and light rig. Several: one image each, with outputs like thumbs/{name}.png or thumbs/");
+  c->add_option("--scenario", a.scenario,
+                "A Khronos glTF Render Fidelity scenario (.json: model, lighting, orbit, target, verticalFoV, "
+                "dimensions, renderSkybox) instead of a scene: its model, environment and orbit camera");
+  c->add_option("--scenario-name", a.scenario_name, "With --scenario: the scenario of that name in a file of several");
   c->add_option("-o,--output", a.outputs,
                 "Output file, format from the extension: .png (tone mapped, 8-bit), .hdr (linear "
                 "Radiance RGBE) or .exr (linear float RGBA). Repeat for several. With --frames, #### is replaced by the frame number; "
@@ -258,6 +262,7 @@ struct Run {
   std::vector<Format> formats;
   std::map<FileId, std::string> inputs;     // grows as inputs are loaded
   bool batch = false;                       // several inputs
+  std::optional<Scenario> scenario;          // --scenario: its camera replaces the model's
   std::optional<raster::Renderer> renderer;  // a batch's (RendererOptions from --threads, --tile-size)
   job::Frame frame;                          // its target, kept for the next input of its size
 };
@@ -265,7 +270,17 @@ struct Run {
 // The scene of `input` with the command's overrides.
 pbr::LoadedScene load_input(const Run& run, const std::string& input, raster::ThreadPool& pool) {
   try {
-    return job::load(input, run.settings, pool);
+    pbr::LoadedScene f = job::load(input, run.settings, pool);
+    if (run.scenario) {
+      f.scene.camera = scenario_camera(*run.scenario, pbr::world_bounds(f.scene.objects));
+      try {
+        pbr::validate(f.scene.camera);
+      } catch (const std::invalid_argument& e) {
+        throw Error(kExitInput, run.args->scenario + ": the orbit camera is invalid in float precision (" + e.what() + ")");
+      }
+      if (!run.args->scenario.empty()) f.inputs.push_back(run.args->scenario);
+    }
+    return f;
   } catch (const job::Error& e) {
     throw command_error(e);
   } catch (const pbr::LoadError& e) {
@@ -432,10 +447,27 @@ bool render_input(Run& run, std::size_t index, Progress* frame_progress) {
 
 }  // namespace
 
-int run_render(const RenderArgs& a) {
+int run_render(const RenderArgs& given) {
+  // A scenario names the model and the settings it does not override (scenario.h).
+  RenderArgs with_scenario;
+  if (!given.scenario.empty()) {
+    if (!given.scenes.empty())
+      throw Error(kExitUsage, "--scenario: names its model; give no scene besides it (got " + given.scenes[0] + ")");
+    if (given.frames) throw Error(kExitUsage, "--frames: a scenario is one image");
+    with_scenario = given;
+    const Scenario scenario = read_scenario(given.scenario, given.scenario_name);
+    with_scenario.scenes = {scenario.model};
+    apply_scenario(scenario, with_scenario.settings);
+  } else if (given.scenes.empty()) {
+    throw Error(kExitUsage, "render: expected a scene file or model (or --scenario FILE)");
+  } else if (!given.scenario_name.empty()) {
+    throw Error(kExitUsage, "--scenario-name: needs --scenario");
+  }
+  const RenderArgs& a = given.scenario.empty() ? given : with_scenario;
   // 1. The command line alone, before any work: values, formats, frame list, outputs.
   Run run;
   run.args = &a;
+  if (!given.scenario.empty()) run.scenario = read_scenario(given.scenario, given.scenario_name);
   run.settings = a.settings;
   run.settings.max_memory_mib = a.max_memory_mib;
   run.settings.roots.assign(a.roots.begin(), a.roots.end());

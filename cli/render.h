@@ -22,6 +22,7 @@ struct RenderArgs {
   std::vector<std::string> roots;  // --root: the folders a scene may read files from
   std::string env_cache;
   std::optional<std::string> frames, shard;
+  std::string scenario, scenario_name;  // --scenario: a Render Fidelity scenario (scenario.h)
   bool force = false;
   bool quiet = false;
 };

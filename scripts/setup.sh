@@ -10,7 +10,8 @@ BUILD_TYPE=${BUILD_TYPE:-Release}
 # Debian 12 package names. Keep in step with the find_package calls in CMakeLists.txt.
 SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev
                   nlohmann-json3-dev libcli11-dev libtinyexr-dev libspng-dev libxxhash-dev libtinygltf-dev libmeshoptimizer-dev libdraco-dev libwebp-dev libavif-dev libzstd-dev libsdl2-dev xvfb xauth
-                  pybind11-dev python3-dev python3-numpy python3-pytest ccache)
+                  pybind11-dev python3-dev python3-numpy python3-pytest ccache
+                  python3-distributed)  # python3-distributed (with python3-dask): the Dask example's test
 # Scripts that source this file may ask for more (.ci/matrix: clang; .ci/fuzz: clang and libclang-rt-14-dev) in SOFTPBR_EXTRA_PACKAGES.
 SOFTPBR_PACKAGES+=(${SOFTPBR_EXTRA_PACKAGES[@]+"${SOFTPBR_EXTRA_PACKAGES[@]}"})
 

@@ -20,6 +20,11 @@
 #           type (SOFTPBR_EXPECT_BUILD_TYPE from ctest) and the SIMD targets of this CPU
 #   batch   several glTF models to thumbnails in one run: {name}, {index} and folder/
 #           outputs, --shard over the inputs, a bad input among good ones
+#   model_diff  softpbr diff of two models: identical, a changed material seen from one view
+#           (the worst), a moved node, --json, --out, errors
+#   scenario    render --scenario: Khronos Render Fidelity scenarios (orbit, skybox, config.json)
+#   thumbnail   the desktop thumbnailer installed into a prefix and run as its .thumbnailer
+#           Exec line says, on good and hostile files (truncated, FIFO, /dev/zero); --timeout
 # SOFTPBR_UPDATE_GOLDENS=1 rewrites cli/tests/scenes.hashes and goldens/*.png (look at them!).
 set -u
 group=$1 softpbr=$2 src=$3 work=$4
@@ -802,6 +807,166 @@ batch)
     && pass "--missing-images warn: textures left out with a warning, exit 0" || fail "--missing-images warn: exit $rc, $(cat stderr.txt)"
   # The same model with its texture there renders as before; a bad value is a usage error.
   expect_error 2 "--missing-images: expected error or warn, got \"maybe\"" render two.gltf -o keep.png --missing-images maybe
+  ;;
+model_diff)
+  # Two models rendered from the same views: a model against itself and an equal copy is
+  # identical (exit 0); a changed back face differs only in the view that sees it (exit 1,
+  # that view worst); a moved node differs everywhere; --json, --out, --max-pixels; errors.
+  python3 "$src/cli/tests/make_diff_models.py" || fail "make_diff_models.py failed"
+  check() { local code=$1; shift; timeout 120 "$softpbr" diff "$@" >out.txt 2>err.txt; local rc=$?
+    [ $rc -eq "$code" ] && pass "diff $* → $rc" || fail "diff $* exited $rc, expected $code: $(cat out.txt err.txt)"; }
+  small="--width 96 --height 96"
+  check 0 cube.gltf cube.gltf $small
+  grep -q "cube.gltf vs cube.gltf: identical (8 views at 96x96)" out.txt || fail "self diff: $(cat out.txt)"
+  [ "$(grep -c '^[0-9]' out.txt)" -eq 8 ] || fail "the default is 8 views: $(cat out.txt)"
+  check 0 cube.gltf cube_copy.gltf $small
+  grep -q "What changed" out.txt && fail "an equal copy reported changes: $(cat out.txt)"
+  # The back face: views 0 (front), 1 (yaw 90) and 3 (yaw 270) see nothing of it at pitch 0.
+  check 1 cube.gltf cube_back.gltf $small --yaw 0,90,180,270 --pitch 0 --json d.json --out sheet.png
+  grep -q "DIFFERENT: 1 of 4 views differ (worst: view 2, yaw 180" out.txt || fail "back face: $(cat out.txt)"
+  grep -q "object 1 material" out.txt && grep -q "base_color (0.9, 0.1, 0.1, 1)" out.txt || fail "the material change is not reported: $(cat out.txt)"
+  python3 - <<'PY' || fail "d.json: $(cat d.json)"
+import json
+d = json.load(open('d.json'))
+assert d['worst_view'] == 2 and not d['identical'] and not d['within_tolerance'], d
+v = d['views']
+assert [x['pixels_differing'] == 0 for x in v] == [True, True, False, True], v
+assert v[0]['psnr'] is None and v[2]['psnr'] < 40 and v[2]['share_differing'] > 0.05, v
+assert any(c['property'] == 'object 1 material' for c in d['changes']), d['changes']
+PY
+  # The sheet: 4 rows of expected | actual | heat map, 288x384, the worst view (red back face) first.
+  # The sheet: 4 rows of expected | actual | heat map, the worst view (the red back face) first.
+  px=$(python3 "$src/cli/tests/png_pixel.py" sheet.png 48,48 144,48 240,48 | tr '\n' ' ')
+  read -r size r1 g1 b1 a1 r2 g2 b2 a2 r3 g3 b3 a3 <<<"$px"
+  [ "$size" = 288x384 ] && [ "$r2" -gt $((g2 + 60)) ] && [ "$r1" -lt $((g1 + 20)) ] && [ "$r3" -gt 0 ] \
+    && pass "sheet.png: 4 rows, the back view first (grey | red | heat)" || fail "sheet.png: $px"
+  check 0 cube.gltf cube_back.gltf $small --yaw 0,90,180,270 --pitch 0 --max-pixels 100000
+  grep -q "within tolerance" out.txt || fail "--max-pixels: $(cat out.txt)"
+  check 1 cube.gltf cube_moved.gltf $small --views 3
+  grep -q "DIFFERENT: 3 of 3 views differ" out.txt || fail "a moved node: $(cat out.txt)"
+  grep -q "bounds" out.txt || fail "moved bounds not reported: $(cat out.txt)"
+  check 0 cube.gltf cube.glb $small --views 2 -q
+  [ -s out.txt ] && fail "-q printed: $(cat out.txt)"
+  # OBJ and scene files: against themselves.
+  check 0 "$scenes/models/podium.obj" "$scenes/models/podium.obj" $small --views 2
+  check 0 "$scenes/materials.json" "$scenes/materials.json" --width 64 --height 48 --views 1
+  # Errors: one line, exit 2, no output.
+  check 2 cube.gltf missing.gltf
+  grep -qx "missing.gltf: no such file" err.txt || fail "missing model: $(cat err.txt)"
+  check 2 cube.gltf sheet.png
+  grep -qx "sheet.png: cannot compare an image with a model (.gltf, .glb, .obj or a scene .json)" err.txt || fail "image vs model: $(cat err.txt)"
+  check 2 cube.gltf cube.gltf --views 0
+  grep -qx -- "--views: expected 1 to 64 views, got 0" err.txt || fail "--views 0: $(cat err.txt)"
+  check 2 cube.gltf cube.gltf --yaw 0,90 --pitch 0,10,20
+  check 2 cube.gltf cube.gltf --pitch 95
+  head -c 300 cube.glb >cut.glb
+  check 2 cube.gltf cut.glb --out never.png
+  [ -e never.png ] && fail "an error left never.png"
+  mkfifo fifo.glb
+  check 2 cube.gltf fifo.glb
+  grep -qx "fifo.glb: is a named pipe (FIFO), not a regular file" err.txt || fail "fifo: $(cat err.txt)"
+  check 2 cube.gltf cube.gltf --out cube.bin.png --json cube.bin
+  grep -q "cube.bin: cannot write: it is an input" err.txt || fail "--json over an input: $(cat err.txt)"
+  ;;
+thumbnail)
+  # The desktop thumbnailer installed into a prefix and run exactly as its .thumbnailer
+  # file's Exec line says (%s %i %o put in), on a good model, a model without an extension,
+  # a truncated one, a FIFO and /dev/zero; then --timeout.
+  build=$(cd "$(dirname "$softpbr")/.." && pwd)
+  cmake --install "$build" --prefix "$work/prefix" >install.log 2>&1 || fail "cmake --install: $(tail -3 install.log)"
+  entry=$work/prefix/share/thumbnailers/softpbr.thumbnailer
+  [ -f "$work/prefix/share/mime/packages/softpbr-models.xml" ] || fail "the MIME types are not installed"
+  grep -qx "MimeType=model/gltf-binary;model/gltf+json;model/obj;" "$entry" || fail "MimeType: $(cat "$entry")"
+  exec_line=$(sed -n 's/^Exec=//p' "$entry")
+  case $exec_line in "$work/prefix/bin/softpbr "*) pass "Exec runs the installed command" ;; *) fail "Exec=$exec_line" ;; esac
+  python3 "$src/cli/tests/make_diff_models.py" || fail "make_diff_models.py failed"
+  # thumb IN OUT SIZE: runs the Exec line as a file manager does (each %-code one argument).
+  thumb() {
+    local words=() w
+    read -r -a words <<<"$exec_line"
+    for w in "${!words[@]}"; do
+      case ${words[$w]} in %i) words[$w]=$1 ;; %o) words[$w]=$2 ;; %s) words[$w]=$3 ;; esac
+    done
+    timeout 60 "${words[@]}" >stdout.txt 2>stderr.txt
+  }
+  # png_check FILE SIZE: an RGBA PNG of SIZE x SIZE, transparent in its corner, opaque in its centre.
+  png_check() {
+    local c=$(($2 / 2))
+    [ "$(python3 "$src/cli/tests/png_pixel.py" "$1" 0,0 $c,$c | tr '\n' ' ' | awk '{ print $1, $5, $9 }')" = "${2}x$2 0 255" ]
+  }
+  thumb cube.glb cube.png 128 && png_check cube.png 128 && pass "cube.glb: a 128x128 transparent thumbnail" || fail "cube.glb: $(cat stderr.txt)"
+  cp cube.glb download
+  thumb download download.png 256 && png_check download.png 256 && pass "a .glb without its extension (by its magic)" || fail "download: $(cat stderr.txt)"
+  thumb cube.gltf cubegltf.png 64 && png_check cubegltf.png 64 && pass "cube.gltf" || fail "cube.gltf: $(cat stderr.txt)"
+  thumb "$scenes/models/podium.obj" podium.png 128 && png_check podium.png 128 && pass "an OBJ model" || fail "podium.obj: $(cat stderr.txt)"
+  if [ -n "${SOFTPBR_SHARED:-}" ] && [ -f "$SOFTPBR_SHARED/gltf/WaterBottle/glTF/WaterBottle.gltf" ]; then
+    thumb "$SOFTPBR_SHARED/gltf/WaterBottle/glTF/WaterBottle.gltf" bottle.png 256 && png_check bottle.png 256 \
+      && pass "WaterBottle.gltf" || fail "WaterBottle: $(cat stderr.txt)"
+  fi
+  # bad IN LINE: exit 3, that one line, the output not written (an old one kept as it was).
+  bad() {
+    echo old >keep.png
+    thumb "$1" keep.png 128; local rc=$?
+    [ $rc -eq 3 ] && [ "$(cat stderr.txt)" = "$2" ] && [ "$(cat keep.png)" = old ] && pass "exit 3: $2" \
+      || fail "thumbnail $1: exit $rc, stderr $(cat stderr.txt), expected 3: $2"
+  }
+  head -c 500 cube.glb >cut.glb
+  rc_line=$(timeout 60 "$softpbr" info cut.glb 2>&1 >/dev/null)
+  bad cut.glb "$rc_line"
+  mkfifo fifo.glb
+  bad fifo.glb "fifo.glb: is a named pipe (FIFO), not a regular file"
+  bad /dev/zero "/dev/zero: is a character device, not a regular file"
+  printf 'garbage' >junk.glb
+  thumb junk.glb junk.png 128; rc=$?
+  [ $rc -eq 3 ] && [ ! -e junk.png ] && [ "$(wc -l <stderr.txt)" -eq 1 ] && pass "junk.glb: exit 3, one line" || fail "junk.glb: exit $rc: $(cat stderr.txt)"
+  # --timeout: a limit that cannot be met gives up with one line, exit 3, no output.
+  timeout 60 "$softpbr" thumbnail --timeout 0.001 -s 1024 cube.glb slow.png 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && [ ! -e slow.png ] && grep -qx "cube.glb: gave up after --timeout 0.001 s (the model takes too long to load or render)" stderr.txt \
+    && pass "--timeout" || fail "--timeout: exit $rc: $(cat stderr.txt)"
+  expect_error 2 "--size: expected 1 to 1024 pixels, got 4096" thumbnail -s 4096 cube.glb big.png
+  # Memory: a limit below what the model needs is refused before rendering.
+  "$softpbr" thumbnail -s 1024 --max-memory 1 cube.glb mem.png 2>stderr.txt; rc=$?
+  [ $rc -eq 3 ] && [ ! -e mem.png ] && pass "--max-memory 1: exit 3: $(cat stderr.txt)" || fail "--max-memory 1: exit $rc: $(cat stderr.txt)"
+  ;;
+scenario)
+  # Khronos Render Fidelity scenarios: the orbit's angles turn the camera as model-viewer's
+  # (θ 180 sees the back face, θ 0 the front), renderSkybox draws the environment or leaves
+  # the background transparent, a config of several picks one by name; errors name the key.
+  python3 "$src/cli/tests/make_diff_models.py" || fail "make_diff_models.py failed"
+  mkdir sub && mv cube_back.gltf cube.bin sub/
+  scenario() {  # NAME THETA PHI SKYBOX: a scenario file sub/NAME.json for the cube with a red back
+    printf '{"name": "%s", "model": "cube_back.gltf", "dimensions": {"width": 80, "height": 60}, "target": {"x": 0, "y": 0, "z": 0},
+ "orbit": {"theta": %s, "phi": %s, "radius": 3}, "verticalFoV": 45, "renderSkybox": %s}\n' "$1" "$2" "$3" "$4" >"sub/$1.json"
+  }
+  pixel() { python3 "$src/cli/tests/png_pixel.py" "$1" "$2" | tail -1; }
+  scenario front 0 90 false
+  scenario back 180 90 true
+  scenario side 90 90 false
+  for name in front back side; do
+    "$softpbr" render --scenario "sub/$name.json" -o "$name.png" -q 2>stderr.txt || fail "$name: $(cat stderr.txt)"
+  done
+  read -r r g b a <<<"$(pixel front.png 40,30)"; read -r _ _ _ ca <<<"$(pixel front.png 0,0)"
+  [ "$a" = 255 ] && [ "$r" -lt $((g + 20)) ] && [ "$ca" = 0 ] && pass "theta 0: the grey front, transparent around" || fail "front: $r $g $b $a, corner alpha $ca"
+  read -r r g b a <<<"$(pixel back.png 40,30)"; read -r _ _ _ ca <<<"$(pixel back.png 0,0)"
+  [ "$r" -gt $((g + 60)) ] && [ "$ca" = 255 ] && pass "theta 180: the red back face, the environment behind" || fail "back: $r $g $b $a, corner alpha $ca"
+  [ "$(python3 "$src/cli/tests/png_pixel.py" side.png | head -1)" = 80x60 ] && pass "dimensions 80x60" || fail "side.png size"
+  cmp -s front.png side.png && fail "theta 90 gives the theta 0 image"
+  # Several scenarios in one file (the project's config.json), one picked by name.
+  printf '{"renderers": [], "scenarios": [%s, %s]}\n' "$(cat sub/front.json)" "$(cat sub/back.json)" >sub/config.json
+  "$softpbr" render --scenario sub/config.json --scenario-name back -o picked.png -q && cmp -s picked.png back.png \
+    && pass "--scenario-name picks a scenario of config.json" || fail "--scenario-name back: another image"
+  # The command's options override the scenario's.
+  "$softpbr" render --scenario sub/front.json -o wide.png --width 40 -q && [ "$(python3 "$src/cli/tests/png_pixel.py" wide.png | head -1)" = 40x60 ] \
+    && pass "--width over the scenario's" || fail "--width with a scenario"
+  expect_error 3 "sub/config.json: /scenarios: 2 scenarios: name one with --scenario-name" render --scenario sub/config.json -o x.png
+  expect_error 3 "sub/config.json: /scenarios: no scenario named \"gone\"" render --scenario sub/config.json --scenario-name gone -o x.png
+  sed 's/"phi": 90/"phi": 200/' sub/front.json >sub/badphi.json
+  expect_error 3 "sub/badphi.json: /orbit/phi: expected a number in [0, 180], got 200" render --scenario sub/badphi.json -o x.png
+  sed 's/"verticalFoV": 45, //' sub/front.json >sub/nofov.json
+  expect_error 3 "sub/nofov.json: /: missing key \"verticalFoV\"" render --scenario sub/nofov.json -o x.png
+  expect_error 2 "--scenario: names its model; give no scene besides it (got cube.gltf)" render cube.gltf --scenario sub/front.json -o x.png
+  expect_error 3 "missing.json: no such file" render --scenario missing.json -o x.png
+  [ -e x.png ] && fail "an error left x.png"
   ;;
 *) echo "unknown group $group" >&2; exit 2 ;;
 esac

@@ -28,6 +28,7 @@ struct PyScene {
 void bind_scene(py::module_& m);
 void bind_render(py::module_& m);
 void bind_golden(py::module_& m);
+void bind_model_views(py::module_& m);
 
 // Raises the Python OSError (a FileNotFoundError, PermissionError, IsADirectoryError…)
 // for `path` unless it is a regular file that can be opened for reading.

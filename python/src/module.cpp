@@ -92,4 +92,5 @@ PYBIND11_MODULE(_softpbr, m) {
   softpbr::python::bind_scene(m);
   softpbr::python::bind_render(m);
   softpbr::python::bind_golden(m);
+  softpbr::python::bind_model_views(m);
 }
