@@ -207,6 +207,14 @@ int info_gltf(const std::string& path) {
   }
   std::printf("  extensions used: %s; required: %s\n", join(info.extensions_used).c_str(),
               join(info.extensions_required).c_str());
+  {
+    // Which of them softpbr renders, and which it ignores (a required one refuses the file).
+    const std::vector<std::string>& known = pbr::gltf_extensions_rendered();
+    std::vector<std::string> rendered, ignored;
+    for (const std::string& e : info.extensions_used)
+      (std::binary_search(known.begin(), known.end(), e) ? rendered : ignored).push_back(e);
+    std::printf("  extensions rendered: %s; ignored: %s\n", join(rendered).c_str(), join(ignored).c_str());
+  }
   std::printf("  cameras    %zu\n", info.cameras.size());
   for (std::size_t i = 0; i < info.cameras.size(); ++i)
     std::printf("    %-3zu %-24s %s\n", i, or_unnamed(info.cameras[i].name).c_str(), printable_line(info.cameras[i].type).c_str());
