@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softpbr/loaders/obj.h"
@@ -222,6 +223,34 @@ std::vector<BenchScene> layered_gallery_variants(int width, int height) {
     m.sheen.color = {0.8f, 0.8f, 1.0f};
     m.sheen.roughness = 0.5f;
   });
+  variant("anisotropy", [](pbr::Material& m) {
+    m.anisotropy.strength = 0.8f;
+    m.anisotropy.rotation = 0.5f;
+  });
+  variant("iridescence", [](pbr::Material& m) {
+    m.iridescence.factor = 1.0f;
+    m.iridescence.thickness_max = 500.0f;
+  });
+  // The same with three punctual lights (the gallery has none: its layers' per-light terms
+  // are measured here), against gallery_ibl_lit_<size>.
+  const auto lit = [&](BenchScene s, const std::string& name) {
+    s.name = name;
+    for (const glm::vec3& d : {glm::vec3(-0.4f, -0.6f, -1.0f), glm::vec3(0.7f, -0.3f, -0.6f), glm::vec3(0.0f, 1.0f, -0.5f)}) {
+      pbr::Light l;
+      l.type = pbr::LightType::Directional;
+      l.direction = glm::normalize(d);
+      l.intensity = 1.5f;
+      s.scene.lights.push_back(l);
+    }
+    return s;
+  };
+  const std::size_t layered = v.size();
+  v.push_back(lit(base, "gallery_ibl_lit_" + size));
+  for (std::size_t i = 0; i < layered; ++i) {
+    std::string name = v[i].name;
+    name.insert(name.size() - size.size() - 1, "_lit");
+    v.push_back(lit(v[i], name));
+  }
   return v;
 }
 

@@ -207,6 +207,14 @@ int info_gltf(const std::string& path) {
   }
   std::printf("  extensions used: %s; required: %s\n", join(info.extensions_used).c_str(),
               join(info.extensions_required).c_str());
+  {
+    // Which of them softpbr renders, and which it ignores (a required one refuses the file).
+    const std::vector<std::string>& known = pbr::gltf_extensions_rendered();
+    std::vector<std::string> rendered, ignored;
+    for (const std::string& e : info.extensions_used)
+      (std::binary_search(known.begin(), known.end(), e) ? rendered : ignored).push_back(e);
+    std::printf("  extensions rendered: %s; ignored: %s\n", join(rendered).c_str(), join(ignored).c_str());
+  }
   if (!info.variants.empty()) {
     // KHR_materials_variants: what `softpbr render --variant NAME` (or N) shows.
     std::printf("  variants   %zu\n", info.variants.size());

@@ -569,6 +569,7 @@ info)
         "^    0   textured *OPAQUE, textures base_color 0\$" "^    1   glass *BLEND, double-sided\$" \
         "^  textures   1 (1 image, 98.2 KiB encoded)\$" "^    0   albedo *png 640x400, image 0 ($where, 98.2 KiB)\$" \
         "^  extensions used: KHR_lights_punctual, EXT_made_up; required: none\$" \
+        "^  extensions rendered: KHR_lights_punctual; ignored: EXT_made_up\$" \
         "^  cameras    1\$" "^    0   front *perspective\$" "^  lights     1\$" "^    0   bulb *point\$" \
         "^  animation  0 skins, 0 animations" "^  problems   2\$" \
         "^    $model: the extension EXT_made_up is not supported and is ignored\$" \

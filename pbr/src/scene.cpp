@@ -303,9 +303,10 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     } else {
       d.kind = streams == TexturedStreams::Layered ? ObjectDraw::Kind::Layered : ObjectDraw::Kind::Textured;
       const bool coat_map = material->layered && material->layers.coat_normal.texture != nullptr;
-      if ((o.material.normal_texture || coat_map) && o.mesh->tangents.empty()) {
-        // A normal map needs tangents: MikkTSpace, as glTF prescribes (per frame here;
-        // loaders generate them once, when they build the mesh).
+      const bool anisotropic = material->layered && material->layers.anisotropy;
+      if ((o.material.normal_texture || coat_map || anisotropic) && o.mesh->tangents.empty()) {
+        // A normal map (and an anisotropic lobe) needs tangents: MikkTSpace, as glTF prescribes
+        // (per frame here; loaders generate them once, when they build the mesh).
         auto copy = std::make_shared<Mesh>(*o.mesh);
         with_context(where, [&] { generate_tangents(*copy); });
         d.generated = copy;

@@ -110,6 +110,14 @@ PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<con
   require(std::isfinite(m.clearcoat.normal_scale), "clearcoat.normal_scale", "must be finite");
   require(color_ok(m.sheen.color), "sheen.color", "must be finite and non-negative");
   require(in01(m.sheen.roughness), "sheen.roughness", "must be a number in [0, 1]");
+  require(in01(m.anisotropy.strength), "anisotropy.strength", "must be a number in [0, 1]");
+  require(std::isfinite(m.anisotropy.rotation), "anisotropy.rotation", "must be finite");
+  require(in01(m.iridescence.factor), "iridescence.factor", "must be a number in [0, 1]");
+  require(m.iridescence.ior >= 1.0f && std::isfinite(m.iridescence.ior), "iridescence.ior", "must be a finite number ≥ 1");
+  require(m.iridescence.thickness_min >= 0.0f && std::isfinite(m.iridescence.thickness_min), "iridescence.thickness_min",
+          "must be a finite number ≥ 0");
+  require(m.iridescence.thickness_max >= 0.0f && std::isfinite(m.iridescence.thickness_max), "iridescence.thickness_max",
+          "must be a finite number ≥ 0");
   PreparedLayers l;
   l.f0_ior = f0_from_ior(m.ior);
   l.specular = m.specular.factor;
@@ -135,6 +143,25 @@ PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<con
     keep_slot(m.clearcoat.texture);
     keep_slot(m.clearcoat.roughness_texture);
     keep_slot(m.clearcoat.normal_texture);
+  }
+  l.anisotropy = m.anisotropy.strength > 0.0f;
+  if (l.anisotropy) {
+    l.anisotropy_strength = m.anisotropy.strength;
+    l.anisotropy_cos = static_cast<float>(dmath::cos(m.anisotropy.rotation));
+    l.anisotropy_sin = static_cast<float>(dmath::sin(m.anisotropy.rotation));
+    l.anisotropy_slot = prepare_slot(m.anisotropy.texture, "anisotropy");
+    keep_slot(m.anisotropy.texture);
+  }
+  l.film = m.iridescence.factor > 0.0f;
+  if (l.film) {
+    l.film_factor = m.iridescence.factor;
+    l.film_ior = m.iridescence.ior;
+    l.film_thickness_min = m.iridescence.thickness_min;
+    l.film_thickness_max = m.iridescence.thickness_max;
+    l.film_slot = prepare_slot(m.iridescence.texture, "iridescence");
+    l.film_thickness_slot = prepare_slot(m.iridescence.thickness_texture, "iridescence_thickness");
+    keep_slot(m.iridescence.texture);
+    keep_slot(m.iridescence.thickness_texture);
   }
   if (l.sheen) {
     l.sheen_color_slot = prepare_slot(m.sheen.color_texture, "sheen_color");

@@ -1,5 +1,6 @@
 // The glTF reader's material extensions (see materials.h): KHR_materials_ior,
-// KHR_materials_specular, KHR_materials_clearcoat and KHR_materials_sheen, each to its
+// KHR_materials_specular, KHR_materials_clearcoat, KHR_materials_sheen,
+// KHR_materials_anisotropy and KHR_materials_iridescence, each to its
 // ratified specification (KhronosGroup/glTF, extensions/2.0/Khronos/), into the layers of
 // pbr::Material. Factors must be finite numbers (else an error at their JSON pointer) and
 // are clamped to their ranges, as the core material's are.
@@ -100,6 +101,19 @@ void Materials::layers(Material& m, const tg::Material& g, const std::string& po
     texture(m.sheen.color_texture, *x, xp, "sheenColorTexture", CS::Srgb);
     m.sheen.roughness = number(*x, xp, "sheenRoughnessFactor", 0.0, 0.0, 1.0);
     texture(m.sheen.roughness_texture, *x, xp, "sheenRoughnessTexture", CS::Linear);
+  }
+  if (const tg::Value* x = extension("KHR_materials_anisotropy", xp)) {
+    m.anisotropy.strength = number(*x, xp, "anisotropyStrength", 0.0, 0.0, 1.0);
+    m.anisotropy.rotation = number(*x, xp, "anisotropyRotation", 0.0, -1e6, 1e6);
+    texture(m.anisotropy.texture, *x, xp, "anisotropyTexture", CS::Linear);
+  }
+  if (const tg::Value* x = extension("KHR_materials_iridescence", xp)) {
+    m.iridescence.factor = number(*x, xp, "iridescenceFactor", 0.0, 0.0, 1.0);
+    texture(m.iridescence.texture, *x, xp, "iridescenceTexture", CS::Linear);
+    m.iridescence.ior = number(*x, xp, "iridescenceIor", 1.3, 1.0, 1e6);
+    m.iridescence.thickness_min = number(*x, xp, "iridescenceThicknessMinimum", 100.0, 0.0, 1e6);
+    m.iridescence.thickness_max = number(*x, xp, "iridescenceThicknessMaximum", 400.0, 0.0, 1e6);
+    texture(m.iridescence.thickness_texture, *x, xp, "iridescenceThicknessTexture", CS::Linear);
   }
 }
 

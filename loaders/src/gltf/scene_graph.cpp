@@ -61,17 +61,13 @@ void SceneGraph::load() {
 }
 
 void SceneGraph::check_extensions() const {
-  static const std::set<std::string> kSupported = {"KHR_texture_transform", "KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif",
-                                                   "KHR_materials_emissive_strength",
-                                                   "KHR_mesh_quantization", "KHR_lights_punctual",
-                                                   "KHR_materials_unlit", "KHR_materials_ior", "KHR_materials_specular",
-                                                   "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_variants",
-                                                   kMeshopt, kDraco};
+  const std::vector<std::string>& rendered = gltf_extensions_rendered();
+  const auto supported = [&](const std::string& e) { return std::binary_search(rendered.begin(), rendered.end(), e); };
   for (std::size_t i = 0; i < m_.extensionsRequired.size(); ++i)
-    if (!kSupported.count(m_.extensionsRequired[i]))
+    if (!supported(m_.extensionsRequired[i]))
       fail("/extensionsRequired/" + str(i), "the required extension " + m_.extensionsRequired[i] + " is not supported");
   for (const std::string& e : m_.extensionsUsed)
-    if (!kSupported.count(e)) warn("the extension " + e + " is not supported and is ignored");
+    if (!supported(e)) warn("the extension " + e + " is not supported and is ignored");
 }
 
 int SceneGraph::pick_scene() const {
@@ -241,8 +237,16 @@ void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string&
     meshes_.check_draco_indices(static_cast<std::size_t>(index), k, pp);
     // The material is validated (and prepared, once) in the order its primitives come.
     materials_.material(p.material, pp + "/material");
-    const bool normal_mapped =
-        p.material >= 0 && m_.materials[static_cast<std::size_t>(p.material)].normalTexture.index >= 0;
+    // Tangents, generated when the file has none, for a normal map, a coat's normal map or
+    // an anisotropic lobe (KHR_materials_anisotropy: "tangents are computed" then).
+    bool normal_mapped = false;
+    if (p.material >= 0) {
+      const tg::Material& gm = m_.materials[static_cast<std::size_t>(p.material)];
+      normal_mapped = gm.normalTexture.index >= 0 || gm.extensions.count("KHR_materials_anisotropy") != 0;
+      const auto coat = gm.extensions.find("KHR_materials_clearcoat");
+      if (coat != gm.extensions.end() && coat->second.IsObject() && coat->second.Has("clearcoatNormalTexture"))
+        normal_mapped = true;
+    }
     placed_.push_back({meshes_.primitive(index, k, mirrored, pp, normal_mapped), p.material, transform});
     if (skinned || morphed) {
       placed_.back().node = static_cast<int>(node);
@@ -372,3 +376,21 @@ void SceneGraph::add_light(int index, const glm::dmat4& world, const std::string
 }
 
 }  // namespace softpbr::pbr::gltf
+
+namespace softpbr::pbr {
+
+const std::vector<std::string>& gltf_extensions_rendered() {
+  static const std::vector<std::string> kRendered = [] {
+    std::vector<std::string> v = {"KHR_texture_transform", "KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif",
+                                  "KHR_materials_emissive_strength", "KHR_materials_variants",
+                                  "KHR_mesh_quantization", "KHR_lights_punctual", "KHR_materials_unlit",
+                                  "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat",
+                                  "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_iridescence",
+                                  gltf::kMeshopt, gltf::kDraco};
+    std::sort(v.begin(), v.end());
+    return v;
+  }();
+  return kRendered;
+}
+
+}  // namespace softpbr::pbr

@@ -17,7 +17,7 @@ Material read_material(const Reader& r, const Node& spec, TextureLibrary& textur
   r.object(spec, {"preset", "base_color", "metallic", "roughness", "ao", "emissive", "alpha", "alpha_mode",
                   "alpha_cutoff", "double_sided", "base_color_texture", "metallic_roughness_texture",
                   "normal_texture", "normal_scale", "occlusion_texture", "occlusion_strength", "emissive_texture",
-                  "ior", "specular", "clearcoat", "sheen"});
+                  "ior", "specular", "clearcoat", "sheen", "anisotropy", "iridescence"});
   Material m;
   if (auto p = r.member(spec, "preset")) {
     if (!p->value.is_string()) r.fail(*p, "expected a preset name, got " + json_reader::show(p->value));
@@ -72,6 +72,22 @@ Material read_material(const Reader& r, const Node& spec, TextureLibrary& textur
     if (auto c = r.member(*s, "roughness")) m.sheen.roughness = r.number_f(*c, 0, 1);
     if (auto t = r.member(*s, "color_texture")) m.sheen.color_texture = textures.slot(*t, ColorSpace::Srgb);
     if (auto t = r.member(*s, "roughness_texture")) m.sheen.roughness_texture = textures.slot(*t, ColorSpace::Linear);
+  }
+  if (auto s = r.member(spec, "anisotropy")) {
+    r.object(*s, {"strength", "rotation", "texture"});
+    if (auto c = r.member(*s, "strength")) m.anisotropy.strength = r.number_f(*c, 0, 1);
+    if (auto c = r.member(*s, "rotation")) m.anisotropy.rotation = r.number_f(*c, -1e6, 1e6);
+    if (auto t = r.member(*s, "texture")) m.anisotropy.texture = textures.slot(*t, ColorSpace::Linear);
+  }
+  if (auto s = r.member(spec, "iridescence")) {
+    r.object(*s, {"factor", "texture", "ior", "thickness_min", "thickness_max", "thickness_texture"});
+    if (auto c = r.member(*s, "factor")) m.iridescence.factor = r.number_f(*c, 0, 1);
+    if (auto c = r.member(*s, "ior")) m.iridescence.ior = r.number_f(*c, 1, 1e6);
+    if (auto c = r.member(*s, "thickness_min")) m.iridescence.thickness_min = r.number_f(*c, 0, 1e6);
+    if (auto c = r.member(*s, "thickness_max")) m.iridescence.thickness_max = r.number_f(*c, 0, 1e6);
+    if (auto t = r.member(*s, "texture")) m.iridescence.texture = textures.slot(*t, ColorSpace::Linear);
+    if (auto t = r.member(*s, "thickness_texture"))
+      m.iridescence.thickness_texture = textures.slot(*t, ColorSpace::Linear);
   }
   return m;
 }

@@ -180,4 +180,8 @@ struct GltfView {
 // the model does not have.
 LoadedScene gltf_scene_file(GltfScene model, const GltfView& view, const std::string& name);
 
+// The glTF extensions load_gltf renders (or decodes), sorted: any other is ignored with a
+// warning when the file lists it as used, and refused when it lists it as required.
+const std::vector<std::string>& gltf_extensions_rendered();
+
 }  // namespace softpbr::pbr

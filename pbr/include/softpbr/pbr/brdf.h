@@ -220,6 +220,135 @@ inline F V_Charlie_times_NoL(F lambda_v, F lambda_l, F NoV, F NoL) {
   return simd::min(F(1.0) / ((F(1.0) + lambda_v + lambda_l) * F(4.0) * NoV), NoL);
 }
 
+// --- Anisotropy (KHR_materials_anisotropy; Burley 2012, Heitz 2014, the extension's
+// formulas): GGX with roughness α_t along the unit direction t of the surface and α_b along
+// b = n × t, α_t = mix(α, 1, strength²), α_b = α. ---
+
+// D(h) = 1 / (π α_t α_b ((t·h / α_t)² + (b·h / α_b)² + (n·h)²)²), written as the extension
+// writes it: a² = α_t α_b, f = (α_b t·h, α_t b·h, a² n·h), w² = a² / f·f, D = a² w⁴ / π.
+// From u = l + v unnormalised (t·u, b·u, n·u and t = |u|²: h = u / √t), w² = a² t / f_u·f_u.
+// w² is capped at 1/a², its largest value for an orthonormal frame, so a frame that is not
+// (a normal map's n against the surface's t and b) keeps D ≤ 1/(π a²) finite. Normalised:
+// ∫ D (n·h) dω_h = 1 (tests/test_layers.cpp). At α_t = α_b = α it is D_GGX.
+template <class F>
+inline F D_GGX_anisotropic_t(F ToU, F BoU, F NoU, F t, F at, F ab) {
+  const F a2 = at * ab;
+  const F fx = ab * ToU, fy = at * BoU, fz = a2 * NoU;
+  const F ff = simd::max(fx * fx + fy * fy + fz * fz, F(1e-30));
+  const F w2 = simd::min(a2 * t / ff, F(1.0) / a2);
+  return a2 * w2 * w2 * F(kInvPiDouble);
+}
+
+// The height-correlated Smith visibility G₂ / (4 (n·l)(n·v)) with the anisotropic Λ
+// (Heitz 2014, eq. 99): 1/2 / (n·l |(α_t t·v, α_b b·v, n·v)| + n·v |(α_t t·l, α_b b·l, n·l)|),
+// at most 1 (as the extension's reference clamps it). At α_t = α_b = α it is the isotropic
+// height-correlated V_SmithGGXCorrelated. NoV ≥ kMinNoV keeps the divisor positive.
+template <class F>
+inline F V_GGX_anisotropic(F NoL, F NoV, F ToV, F BoV, F ToL, F BoL, F at, F ab) {
+  const F tv = at * ToV, bv = ab * BoV, tl = at * ToL, bl = ab * BoL;
+  const F lv = simd::sqrt(tv * tv + bv * bv + NoV * NoV);
+  const F ll = simd::sqrt(tl * tl + bl * bl + NoL * NoL);
+  return simd::min(F(0.5) / simd::max(NoL * lv + NoV * ll, F(1e-30)), F(1.0));
+}
+
+// --- The thin film (KHR_materials_iridescence; Belcour & Barla 2017, "A Practical
+// Extension to Microfacet Theory for the Modeling of Varying Iridescence", as the
+// extension's implementation notes give it): the Fresnel reflectance of a film of index η₂
+// and thickness d (nm) in air over a base of F0, with the interference summed in Fourier
+// space over the CIE XYZ sensitivities (two orders) and converted to linear Rec. 709. As the
+// glTF Sample Viewer: the film's index falls to the outside's 1 as d falls below 0.03 nm
+// (smoothstep), the optical path uses the refracted angle (2 η₂ d cos θ₂), and the phase
+// shifts are 0 or π. The phase shifts being multiples of π, cos(x + shift) = ±cos x, and the
+// second order's cos 2x = 2 cos² x − 1 and e^(−4y) = (e^(−y))⁴: four cosines and four
+// exponentials per pixel (lane_math.h), shared by every base F0. ---
+
+// What the film gives every base: the first interface and the sensitivities.
+template <class F>
+struct ThinFilm {
+  F eta;     // the film's index (η₂, or less below 0.03 nm)
+  F cos2;    // cos θ₂ inside the film
+  F R12;     // Fresnel at the first interface (Schlick), R21 = R12
+  F T121;    // 1 − R12
+  F x1, y1, z1;  // the first order's sensitivities (XYZ, before the phase shift's sign)
+  F x2, y2, z2;  // the second order's (its shift is a multiple of 2π)
+};
+
+template <class F>
+inline ThinFilm<F> thin_film(F cos1, F film_ior, F thickness) {
+  const F one(1.0), zero(0.0);
+  ThinFilm<F> tf;
+  const F s = simd::clamp(thickness * F(1.0 / 0.03), zero, one);
+  tf.eta = one + (film_ior - one) * (s * s * (F(3.0) - s - s));
+  const F inv = one / tf.eta;
+  const F sin2 = inv * inv * (one - cos1 * cos1);
+  tf.cos2 = simd::sqrt(simd::max(one - sin2, zero));
+  const F r = (tf.eta - one) / (tf.eta + one);
+  const F c = one - cos1, c2 = c * c;
+  tf.R12 = r * r + (one - r * r) * (c2 * c2 * c);
+  tf.T121 = one - tf.R12;
+  // The phase 2π · OPD · 10⁻⁹, OPD = 2 η₂ d cos θ₂ (nm).
+  const F phase = F(2.0 * 3.14159265358979323846 * 1e-9) * (F(2.0) * tf.eta * thickness * tf.cos2);
+  const F p2 = phase * phase;
+  // Each sensitivity: amplitude · cos(position · phase) · e^(−variance · phase²), the
+  // amplitudes val √(2π var) / 1.0685·10⁻⁷ of the extension's constants.
+  const F cx = cos_lanes(F(1.6810e+06) * phase), cy = cos_lanes(F(1.7953e+06) * phase);
+  const F cz = cos_lanes(F(2.2084e+06) * phase), cw = cos_lanes(F(2.2399e+06) * phase);
+  const F ex = exp_lanes(F(-4.3278e+09) * p2), ey = exp_lanes(F(-9.3046e+09) * p2);
+  const F ez = exp_lanes(F(-6.6121e+09) * p2), ew = exp_lanes(F(-4.5282e+09) * p2);
+  const F ax(0.8465900023036574), ay(1.0002218935839293), az(1.0011224857215686), aw(0.15386830651283523);
+  tf.x1 = ax * cx * ex + aw * cw * ew;
+  tf.y1 = ay * cy * ey;
+  tf.z1 = az * cz * ez;
+  const auto twice = [](F co) { return co * co * F(2.0) - F(1.0); };
+  const auto fourth = [](F e) { return (e * e) * (e * e); };
+  tf.x2 = ax * twice(cx) * fourth(ex) + aw * twice(cw) * fourth(ew);
+  tf.y2 = ay * twice(cy) * fourth(ey);
+  tf.z2 = az * twice(cz) * fourth(ez);
+  return tf;
+}
+
+// The film's Fresnel reflectance over a base of F0 (each channel in [0, 1]; its index
+// (1 + √F0)/(1 − √F0), F0 at most 0.9999), at least 0 (the XYZ → Rec. 709 conversion can
+// leave the gamut).
+template <class F>
+inline simd::Vec3<F> F_iridescence(const ThinFilm<F>& tf, const simd::Vec3<F>& base_f0) {
+  const F one(1.0), zero(0.0);
+  const F c = one - tf.cos2, c2 = c * c;
+  const F c5 = c2 * c2 * c;
+  // Per channel: the second interface's R23, the compound terms, and the sign of the first
+  // order's phase shift (π + φ23: +1 where the base's index is below the film's, else −1).
+  F R23[3], sign[3];
+  const F f0[3] = {base_f0.x, base_f0.y, base_f0.z};
+  for (int i = 0; i < 3; ++i) {
+    const F sf = simd::sqrt(simd::clamp(f0[i], zero, F(0.9999)));
+    const F n3 = (one + sf) / (one - sf);
+    const F r = (n3 - tf.eta) / (n3 + tf.eta);
+    R23[i] = r * r + (one - r * r) * c5;
+    sign[i] = simd::select(n3 < tf.eta, one, zero - one);
+  }
+  // The sensitivities of each order in Rec. 709 (x, y, z take the shift of channel 0, 1, 2,
+  // as the extension's evalSensitivity does), times 2.
+  const auto rgb = [](F x, F y, F z) {
+    return simd::Vec3<F>(F(2.0 * 3.2404542) * x + F(2.0 * -1.5371385) * y + F(2.0 * -0.4985314) * z,
+                         F(2.0 * -0.9692660) * x + F(2.0 * 1.8760108) * y + F(2.0 * 0.0415560) * z,
+                         F(2.0 * 0.0556434) * x + F(2.0 * -0.2040259) * y + F(2.0 * 1.0572252) * z);
+  };
+  const simd::Vec3<F> s1 = rgb(tf.x1 * sign[0], tf.y1 * sign[1], tf.z1 * sign[2]);
+  const simd::Vec3<F> s2 = rgb(tf.x2, tf.y2, tf.z2);
+  const F s1c[3] = {s1.x, s1.y, s1.z}, s2c[3] = {s2.x, s2.y, s2.z};
+  F out[3];
+  for (int i = 0; i < 3; ++i) {
+    const F R123 = simd::clamp(tf.R12 * R23[i], F(1e-5), F(0.9999));
+    const F r123 = simd::sqrt(R123);
+    const F Rs = tf.T121 * tf.T121 * R23[i] / (one - R123);
+    const F C0 = tf.R12 + Rs;
+    const F C1 = (Rs - tf.T121) * r123;
+    const F C2 = C1 * r123;
+    out[i] = simd::max(C0 + C1 * s1c[i] + C2 * s2c[i], zero);
+  }
+  return {out[0], out[1], out[2]};
+}
+
 // F0 of the metal/roughness model: 4% for dielectrics, the base colour for metals.
 inline glm::vec3 f0_of(const glm::vec3& base_color, float metallic) {
   return glm::vec3(kDielectricF0) + (base_color - glm::vec3(kDielectricF0)) * metallic;

@@ -12,6 +12,8 @@
 // reaches 3000 for the sheen's exponents, dominates).
 #pragma once
 
+#include <cmath>
+
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/simd/simd.h"
 
@@ -20,6 +22,7 @@ namespace softpbr::simd {
 inline double select(bool m, double a, double b) { return m ? a : b; }
 inline double max(double a, double b) { return a < b ? b : a; }
 inline double min(double a, double b) { return b < a ? b : a; }
+inline double sqrt(double x) { return std::sqrt(x); }  // correctly rounded, as IEEE requires
 }  // namespace softpbr::simd
 
 namespace softpbr::pbr {
@@ -97,10 +100,37 @@ inline F pow_lanes(F x, F y) {
   return simd::select(x > F(0.0f), exp2_lanes(y * log2_lanes(x)), F(0.0f));
 }
 
+// cos(x) for |x| ≤ 8192 (clamped there; the thin film's phases stay below 100). x is
+// reduced to r = x − k·π/2, |r| ≤ π/4, k = round(x · 2/π) (by 1.5 · 2²³ as exp2_lanes),
+// with π/2 in three parts (Cody & Waite 1980: k · P1 and k · P2 exact for |k| < 2¹³), then
+// cos r or sin r by Taylor series to r⁸ and r⁹ (errors below 3·10⁻⁸), by the quadrant k
+// mod 4.
+template <class F>
+inline F cos_lanes(F x) {
+  const F one(1.0f), zero(0.0f);
+  x = simd::min(F(8192.0f), simd::max(F(-8192.0f), x));
+  const F magic(12582912.0f);  // 1.5 · 2²³
+  const F k = (x * F(0.636619772367581343076f) + magic) - magic;
+  const F r = ((x - k * F(1.5703125f)) - k * F(4.837512969970703125e-4f)) - k * F(7.549789948768648e-8f);
+  // q = k mod 4 in {0, 1, 2, 3}: k − 4 floor(k / 4), the floor by rounding and a step down.
+  const F quarter = k * F(0.25f);
+  F fl = (quarter + magic) - magic;
+  fl = simd::select(fl > quarter, fl - one, fl);
+  const F q = k - fl * F(4.0f);
+  const F z = r * r;
+  const F c = one - z * (F(0.5f) - z * (F(1.0f / 24.0f) - z * (F(1.0f / 720.0f) - z * F(1.0f / 40320.0f))));
+  const F s = r * (one - z * (F(1.0f / 6.0f) - z * (F(1.0f / 120.0f) - z * (F(1.0f / 5040.0f) - z * F(1.0f / 362880.0f)))));
+  // q = 0: cos r, 1: −sin r, 2: −cos r, 3: sin r.
+  F out = simd::select(q > F(2.5f), s, zero - c);
+  out = simd::select(q > F(1.5f), out, zero - s);
+  return simd::select(q > F(0.5f), out, c);
+}
+
 // The double forms: dmath's, for the tables built in double and the tests' oracles.
 inline double log2_lanes(double x) { return dmath::log(x) / dmath::log(2.0); }
 inline double exp2_lanes(double y) { return dmath::exp2(y); }
 inline double exp_lanes(double y) { return dmath::exp(y); }
 inline double pow_lanes(double x, double y) { return x > 0.0 ? dmath::pow(x, y) : 0.0; }
+inline double cos_lanes(double x) { return dmath::cos(x); }
 
 }  // namespace softpbr::pbr

@@ -60,15 +60,34 @@ struct SheenLanes {
   F roughness;     // perceptual, clamped to [kMinSheenRoughness, 1]
 };
 
-// The layers of a material per lane. `coat` and `sheen` say whether the layer is on for
-// the draw (uniform); their lanes are read only then.
+template <class F>
+struct AnisotropyLanes {
+  F strength;  // in [0, 1]
+  Vec3L<F> t;  // unit: the direction of increased roughness, in the surface's plane
+  Vec3L<F> b;  // unit: across it, n_geometric × t
+};
+
+template <class F>
+struct FilmLanes {
+  F factor;     // in [0, 1]
+  F thickness;  // nanometres
+  float ior;    // the film's index (uniform)
+};
+
+// The layers of a material per lane. `coat`, `sheen`, `anisotropy` and `film` say whether
+// the layer is on for the draw (uniform); their lanes are read only then.
 template <class F>
 struct LayerLanes {
   DielectricLanes<F> dielectric;
   bool coat = false;
   bool sheen = false;
+  bool anisotropy = false;
+  bool film = false;
   CoatLanes<F> coat_lanes;
   SheenLanes<F> sheen_lanes;
+  AnisotropyLanes<F> anisotropy_lanes;
+  FilmLanes<F> film_lanes;
+  Vec3L<F> dielectric_color;  // min(F0(ior) · specular colour, 1), unweighted (the film's base)
 };
 
 // The dielectric's lanes from F0(ior) (f0_from_ior), the specular colour and weight w, and
@@ -96,13 +115,25 @@ inline Vec3L<F> layered_f0(const DielectricLanes<F>& d, const Vec3L<F>& base_col
 template <class F>
 inline Vec3L<F> lobe_radiance(const PreparedEnvironment& e, const Vec3L<F>& n, const Vec3L<F>& v, F n_dot_v, F alpha,
                               F roughness) {
-  const F one(1.0f);
-  const Vec3L<F> r0 = n * (n_dot_v + n_dot_v) - v;
-  const F s = one - alpha;
-  const F f = s * (simd::sqrt(s) + alpha);
-  const Vec3L<F> r = n + (r0 - n) * f;
+  const Vec3L<F> r = dominant_direction(n, n_dot_v, v, alpha);
   const EnvVec3<F> pre = env_radiance(e, to_environment(e, r.x, r.y, r.z), roughness);
   return {pre.x, pre.y, pre.z};
+}
+
+// The normal about which an anisotropic lobe's image-based light is looked up (the glTF
+// Sample Viewer's and Filament's bent normal, after Revie 2012): the normal of the plane
+// through b and v, n_a = (b × v) × b, mixed toward n by (1 − strength (1 − roughness))⁴:
+// n at strength 0, the stretched reflection's plane at strength 1 on a smooth surface.
+template <class F>
+inline Vec3L<F> bent_normal(const AnisotropyLanes<F>& an, const Vec3L<F>& n, const Vec3L<F>& v, F roughness) {
+  const F one(1.0f);
+  const auto cross = [](const Vec3L<F>& a, const Vec3L<F>& b) {
+    return Vec3L<F>(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+  };
+  const Vec3L<F> na = cross(cross(an.b, v), an.b);
+  const F bend = one - an.strength * (one - roughness);
+  const F bend2 = bend * bend;
+  return normalize_or(na + (n - na) * (bend2 * bend2), n);
 }
 
 // The largest of a colour's three channels.
@@ -119,7 +150,7 @@ inline Vec3L<F> shade_layered(const MaterialLanes<F>& m, const LayerLanes<F>& la
                               const Vec3L<F>& n_in, const Vec3L<F>& v, const PreparedEnvironment* env,
                               const std::type_identity_t<F>* occlusion) {
   const F zero(0.0f), one(1.0f);
-  const DielectricLanes<F>& d = layers.dielectric;
+  DielectricLanes<F> d = layers.dielectric;
   const MaterialTerms<F> mt = material_terms(m);
   // F90 − F0 and the diffuse weight's (1 − F90) m⁵ part, c/π (1 − metallic) max(1 − F90, 0).
   const Vec3L<F> f90_minus_f0 = Vec3L<F>(d.f90) - m.f0;
@@ -147,6 +178,35 @@ inline Vec3L<F> shade_layered(const MaterialLanes<F>& m, const LayerLanes<F>& la
     coat_alpha2 = layers.coat_lanes.alpha * layers.coat_lanes.alpha;
   }
 
+  // Anisotropy: α_t, α_b and the view's t·v, b·v; the bent normal of the image-based light.
+  F at = m.alpha, ab = m.alpha, ToV = zero, BoV = zero;
+  if (layers.anisotropy) {
+    const AnisotropyLanes<F>& an = layers.anisotropy_lanes;
+    at = m.alpha + (one - m.alpha) * (an.strength * an.strength);
+    ToV = simd::dot(an.t, v);
+    BoV = simd::dot(an.b, v);
+    d.bent = true;
+    d.specular_normal = bent_normal(an, n, v, m.roughness);
+  }
+  // The thin film: its Fresnel at n·v over the dielectric (times w) and over the metal, mixed
+  // by metallic as F0 is; the diffuse lobe's weight 1 − F_film_d (times c/π (1 − metallic)).
+  Vec3L<F> film_diffuse(zero);
+  if (layers.film) {
+    const FilmLanes<F>& fl = layers.film_lanes;
+    const ThinFilm<F> tf = thin_film(vt.NoV, F(fl.ior), fl.thickness);
+    const Vec3L<F> fd = F_iridescence(tf, layers.dielectric_color) * d.weight;
+    const Vec3L<F> fm = F_iridescence(tf, m.albedo);
+    d.film = true;
+    // A film of thickness 0 is none (as the Sample Viewer and three.js: the formula's
+    // Schlick terms do not vanish there).
+    d.film_factor = simd::select(fl.thickness > zero, fl.factor, zero);
+    d.film_f_d = fd;
+    d.film_f = fd + (fm - fd) * (one - m.one_minus_metallic);
+    const Vec3L<F> left = Vec3L<F>(one) - fd;
+    film_diffuse = m.albedo * Vec3L<F>(simd::max(left.x, zero), simd::max(left.y, zero), simd::max(left.z, zero)) *
+                   (m.one_minus_metallic * Fd_Lambert<F>() * d.film_factor);
+  }
+
   Vec3L<F> lo(zero);
   constexpr std::size_t kBatch = 8;  // as shade(): every light's sample first, then its shading
   LightSampleLanes<F> samples[kBatch];
@@ -163,10 +223,27 @@ inline Vec3L<F> shade_layered(const MaterialLanes<F>& m, const LayerLanes<F>& la
       const F NoL = simd::clamp(n_dot_l, zero, one);
       const HalfTerms<F> h = half_terms(l, v);
       const F w = NoL * s.falloff;
-      const F specular = ggx_DV(h, n, n_dot_l, vt.n_dot_v, NoL, vt.NoV, m.alpha, mt.alpha2, m.k) * w;
+      F specular;
+      if (layers.anisotropy) {
+        const AnisotropyLanes<F>& an = layers.anisotropy_lanes;
+        const F ToL = simd::dot(an.t, l), BoL = simd::dot(an.b, l);
+        const F s_nu = n_dot_l + vt.n_dot_v;  // n·u
+        const F D = simd::select(simd::both(s_nu > zero, h.t_raw >= F(kMinHalfLength2)),
+                                 D_GGX_anisotropic_t(ToL + ToV, BoL + BoV, s_nu, h.t, at, ab), zero);
+        specular = D * V_GGX_anisotropic(NoL, vt.NoV, ToV, BoV, ToL, BoL, at, ab) * w;
+      } else {
+        specular = ggx_DV(h, n, n_dot_l, vt.n_dot_v, NoL, vt.NoV, m.alpha, mt.alpha2, m.k) * w;
+      }
       const F m5w = h.m5 * w;
-      const Vec3L<F> Fr = m.f0 + f90_minus_f0 * h.m5;
-      Vec3L<F> f = mt.diffuse * ((one - h.m5) * w) + diffuse_f90 * m5w + Fr * specular;
+      Vec3L<F> Fr = m.f0 + f90_minus_f0 * h.m5;
+      Vec3L<F> f;
+      if (layers.film) {
+        const F k = d.film_factor;
+        Fr = Fr + (d.film_f - Fr) * k;
+        f = (mt.diffuse * ((one - h.m5) * w) + diffuse_f90 * m5w) * (one - k) + film_diffuse * w + Fr * specular;
+      } else {
+        f = mt.diffuse * ((one - h.m5) * w) + diffuse_f90 * m5w + Fr * specular;
+      }
       if (layers.sheen) {
         const Vec3L<F> u_across = h.u - n * (n_dot_l + vt.n_dot_v);
         const F sin2h = simd::min(simd::dot(u_across, u_across) / h.t, one);

@@ -78,6 +78,26 @@ struct Specular {
   TextureSlot color_texture;            // RGB (sRGB colour) × color
 };
 
+// KHR_materials_anisotropy: the GGX lobe rougher along one direction of the surface,
+// α_t = mix(α, 1, strength²) along it and α_b = α across it (α = roughness²).
+struct Anisotropy {
+  float strength = 0.0f;                // in [0, 1]; 0: isotropic
+  float rotation = 0.0f;                // radians, counter-clockwise from the tangent
+  TextureSlot texture;                  // linear RG: direction (×2 − 1) in the tangent frame,
+                                        // then rotated; B × strength
+};
+
+// KHR_materials_iridescence: a thin film over the material whose interference colours its
+// Fresnel reflectance (Belcour & Barla 2017, as the extension gives it).
+struct Iridescence {
+  float factor = 0.0f;                  // in [0, 1]; 0: no film
+  TextureSlot texture;                  // linear R × factor
+  float ior = 1.3f;                     // the film's index of refraction, ≥ 1
+  float thickness_min = 100.0f;         // nanometres, ≥ 0
+  float thickness_max = 400.0f;         // nanometres, ≥ 0: the thickness without a texture
+  TextureSlot thickness_texture;        // linear G: mix(min, max, G)
+};
+
 // The metal/roughness material of glTF 2.0. Each factor multiplies its texture when the
 // slot has one (the texture's linear value: colour textures are decoded from sRGB).
 struct Material {
@@ -107,12 +127,16 @@ struct Material {
   Clearcoat clearcoat;
   Sheen sheen;
   Specular specular;
+  Anisotropy anisotropy;
+  Iridescence iridescence;
 
   // Whether any layer of the extensions is on: a coat or a sheen, or a dielectric F0 other
-  // than the core material's 0.04 (an IOR other than 1.5, a specular factor or colour).
+  // than the core material's 0.04 (an IOR other than 1.5, a specular factor or colour), an
+  // anisotropy or a thin film.
   bool layered() const {
     return clearcoat.factor != 0.0f || sheen.color != glm::vec3(0.0f) || ior != 1.5f || specular.factor != 1.0f ||
-           specular.texture || specular.color != glm::vec3(1.0f) || specular.color_texture;
+           specular.texture || specular.color != glm::vec3(1.0f) || specular.color_texture ||
+           anisotropy.strength != 0.0f || iridescence.factor != 0.0f;
   }
 
   // Whether any slot holds a texture.

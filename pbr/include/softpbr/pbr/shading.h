@@ -224,12 +224,37 @@ inline Vec3L<F> brdf(const MaterialLanes<F>& m, const Vec3L<F>& n, const Vec3L<F
 // material's (m.f0 and dielectric->f90 = w + (1 − w) metallic) for the specular, the
 // dielectric's (w · F0, w) for the diffuse weight. At w = 1 and F0 = 0.04 every added
 // operation is a multiply by 1: the same bits as the core material's.
+//
+// Two more layers change only inputs here: an anisotropic lobe (KHR_materials_anisotropy)
+// reads the prefiltered map about `specular_normal` (the bent normal, layered_shading.h)
+// instead of n when `bent`; a thin film (KHR_materials_iridescence) mixes the reflected
+// fractions with its Fresnel by its factor k, as the glTF Sample Viewer does:
+// FssEss' = mix(FssEss, F_film, k), the multiple scattering's FmsEms (1 − k), and the
+// diffuse lobe's 1 − mix(Fss_d + Fms_d, F_film_d, k).
 template <class F>
 struct DielectricLanes {
   Vec3L<F> f0;  // the dielectric's F0 times its weight w: w · min(F0(ior) · colour, 1)
   F weight;     // w, the dielectric's F90
   F f90;        // the mixed material's F90, w + (1 − w) metallic
+  bool bent = false;          // uniform: the specular lookup about specular_normal
+  Vec3L<F> specular_normal;   // unit
+  bool film = false;          // uniform: the thin film's terms below are read
+  F film_factor;              // k, in [0, 1]
+  Vec3L<F> film_f;            // the film's Fresnel of the mixed material
+  Vec3L<F> film_f_d;          // … of the dielectric, times w
 };
+
+// The lobe's dominant direction (Lagarde & de Rousiers 2014, Frostbite): the mirror
+// direction of v about n bent toward n as the lobe widens, f = (1 − α)(√(1 − α) + α) of the
+// way from n to r (r at α = 0, n at α = 1); the lookups take any non-zero length.
+template <class F>
+inline Vec3L<F> dominant_direction(const Vec3L<F>& n, F n_dot_v, const Vec3L<F>& v, F alpha) {
+  const F one(1.0f);
+  const Vec3L<F> r0 = n * (n_dot_v + n_dot_v) - v;
+  const F s = one - alpha;
+  const F f = s * (simd::sqrt(s) + alpha);
+  return n + (r0 - n) * f;
+}
 
 template <class F, bool kLayered = false>
 inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, const Vec3L<F>& n, const Vec3L<F>& v,
@@ -237,13 +262,13 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
   const F zero(0.0f), one(1.0f);
   const F n_dot_v = simd::dot(n, v);
   const F NoV = simd::clamp(n_dot_v, F(kMinNoV), one);
-  // The lobe's dominant direction (Lagarde & de Rousiers 2014, Frostbite): the mirror
-  // direction bent toward n as the lobe widens, f = (1 − α)(√(1 − α) + α) of the way from n
-  // to r (r at α = 0, n at α = 1); the lookups take any non-zero length.
-  const Vec3L<F> r0 = n * (n_dot_v + n_dot_v) - v;
-  const F s = one - m.alpha;
-  const F f = s * (simd::sqrt(s) + m.alpha);
-  const Vec3L<F> r = n + (r0 - n) * f;
+  // The lobe's dominant direction about n (or, for an anisotropic lobe, its bent normal).
+  Vec3L<F> ns = n;
+  F ns_dot_v = n_dot_v;
+  if constexpr (kLayered) {
+    if (dielectric->bent) ns = dielectric->specular_normal, ns_dot_v = simd::dot(ns, v);
+  }
+  const Vec3L<F> r = dominant_direction(ns, ns_dot_v, v, m.alpha);
   const EnvVec3<F> irr = env_irradiance(e, to_environment(e, n.x, n.y, n.z));
   const EnvVec3<F> rl = to_environment(e, r.x, r.y, r.z);
   const EnvVec3<F> pre = m.uniform_roughness >= 0.0f ? env_radiance_uniform(e, rl, m.uniform_roughness)
@@ -257,7 +282,7 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
   if constexpr (kLayered) smooth = smooth_unweighted * dielectric->f90, f90B = B * dielectric->f90;
   const Vec3L<F> ks(m.f0.x + (simd::max(smooth, m.f0.x) - m.f0.x) * c5, m.f0.y + (simd::max(smooth, m.f0.y) - m.f0.y) * c5,
                     m.f0.z + (simd::max(smooth, m.f0.z) - m.f0.z) * c5);
-  const Vec3L<F> fss_ess = ks * A + Vec3L<F>(f90B);
+  Vec3L<F> fss_ess = ks * A + Vec3L<F>(f90B);
   // The diffuse lobe is the dielectric layer's (glTF 2.0, Appendix B: material =
   // mix(dielectric_brdf, metal_brdf, metallic), dielectric_brdf = mix(diffuse, specular,
   // F(F0 = 0.04))): what it loses to reflection is the dielectric's F, not the F of the
@@ -271,22 +296,30 @@ inline Vec3L<F> ibl(const MaterialLanes<F>& m, const PreparedEnvironment& e, con
                        f0d.z + (simd::max(smooth_d, f0d.z) - f0d.z) * c5);
     const Vec3L<F> fss_d = ksd * A + Vec3L<F>(wB);
     Vec3L<F> diffuse;
+    // The thin film's mix of what the dielectric reflects, x → x + (F_film_d − x) k.
+    const auto film_d = [&](const Vec3L<F>& x) {
+      return dielectric->film ? x + (dielectric->film_f_d - x) * dielectric->film_factor : x;
+    };
+    const Vec3L<F> fss_ess_single = fss_ess;
+    if (dielectric->film) fss_ess = fss_ess + (dielectric->film_f - fss_ess) * dielectric->film_factor;
     if (e.multiscatter) {
       const F ems = one - (A + B);
       const F f90 = dielectric->f90;
       const Vec3L<F> favg = m.f0 + (Vec3L<F>(f90) - m.f0) * F(1.0f / 21.0f);
       const F floor(1e-3f);
       const Vec3L<F> fe = favg * ems;
-      const Vec3L<F> fms_ems(fss_ess.x * fe.x / simd::max(one - fe.x, floor), fss_ess.y * fe.y / simd::max(one - fe.y, floor),
-                             fss_ess.z * fe.z / simd::max(one - fe.z, floor));
+      const Vec3L<F>& fs = fss_ess_single;
+      Vec3L<F> fms_ems(fs.x * fe.x / simd::max(one - fe.x, floor), fs.y * fe.y / simd::max(one - fe.y, floor),
+                       fs.z * fe.z / simd::max(one - fe.z, floor));
+      if (dielectric->film) fms_ems = fms_ems * (one - dielectric->film_factor);
       const Vec3L<F> fe_d = (f0d + (Vec3L<F>(w) - f0d) * F(1.0f / 21.0f)) * ems;
       const Vec3L<F> fms_d(fss_d.x * fe_d.x / simd::max(one - fe_d.x, floor), fss_d.y * fe_d.y / simd::max(one - fe_d.y, floor),
                            fss_d.z * fe_d.z / simd::max(one - fe_d.z, floor));
-      const Vec3L<F> left = Vec3L<F>(one) - (fss_d + fms_d);
+      const Vec3L<F> left = Vec3L<F>(one) - film_d(fss_d + fms_d);
       diffuse = fms_ems + m.albedo * m.one_minus_metallic *
                               Vec3L<F>(simd::max(left.x, zero), simd::max(left.y, zero), simd::max(left.z, zero));
     } else {
-      const Vec3L<F> left = Vec3L<F>(one) - ksd;
+      const Vec3L<F> left = Vec3L<F>(one) - film_d(ksd);
       diffuse = Vec3L<F>(simd::max(left.x, zero), simd::max(left.y, zero), simd::max(left.z, zero)) *
                 m.one_minus_metallic * m.albedo;
     }

@@ -87,6 +87,13 @@ struct PreparedLayers {
   glm::vec3 sheen_color{0.0f};
   float sheen_roughness = 0.0f;
   PreparedSlot sheen_color_slot, sheen_roughness_slot;
+  bool anisotropy = false;  // strength > 0
+  float anisotropy_strength = 0.0f;
+  float anisotropy_cos = 1.0f, anisotropy_sin = 0.0f;  // of the rotation (dmath)
+  PreparedSlot anisotropy_slot;
+  bool film = false;  // iridescence factor > 0
+  float film_factor = 0.0f, film_ior = 1.3f, film_thickness_min = 100.0f, film_thickness_max = 400.0f;
+  PreparedSlot film_slot, film_thickness_slot;
 };
 
 struct TexturedMaterial {
@@ -130,6 +137,8 @@ enum class TexturedStreams {
 // the same bits where Uv0 applies (the colour and alpha factors times 1, the same UVs and
 // derivatives).
 TexturedStreams textured_streams(const TexturedMaterial& material, bool vertex_colors);
+
+struct NoLayers {};
 
 template <TexturedStreams kStreams>
 struct BasicTexturedPbrShader {
@@ -264,7 +273,8 @@ struct BasicTexturedPbrShader {
     metallic = simd::clamp(metallic, F(0.0f), F(1.0f));
     MaterialLanes<F> ml;
     ml.albedo = base;
-    LayerLanes<F> layers;
+    // The layers' lanes, in the layered shader only (the others carry an empty struct).
+    [[maybe_unused]] std::conditional_t<kLayered, LayerLanes<F>, NoLayers> layers;
     if constexpr (kLayered) {
       layers = layer_lanes(m.layers, lookup, metallic);
       ml.f0 = layered_f0(layers.dielectric, base, metallic);
@@ -301,6 +311,9 @@ struct BasicTexturedPbrShader {
           layers.coat_lanes.normal = normal_mapped(m.layers.coat_normal, m.layers.coat_normal_scale, p, lookup, n, v, facing);
       }
     }
+    if constexpr (kLayered) {
+      if (layers.anisotropy) layers.anisotropy_lanes = anisotropy_frame(m.layers, p, lookup, n, v, facing);
+    }
     if constexpr (kAllStreams) {
       if (m.normal.texture != nullptr) n = normal_mapped(m.normal, m.normal_scale, p, lookup, n, v, facing);
     }
@@ -331,6 +344,7 @@ struct BasicTexturedPbrShader {
     }
     if (L.specular_slot.texture != nullptr) weight = weight * lookup(L.specular_slot, raster::Texture::kAlpha).a;
     out.dielectric = dielectric_lanes(L.f0_ior, specular_color, weight, metallic);
+    out.anisotropy = L.anisotropy;
     out.coat = L.coat;
     if (L.coat) {
       CoatLanes<F>& c = out.coat_lanes;
@@ -354,7 +368,60 @@ struct BasicTexturedPbrShader {
       if (L.sheen_roughness_slot.texture != nullptr) r = r * lookup(L.sheen_roughness_slot, raster::Texture::kAlpha).a;
       sh.roughness = simd::clamp(r, F(kMinSheenRoughness), F(1.0f));
     }
+    out.film = L.film;
+    if (L.film) {
+      FilmLanes<F>& fl = out.film_lanes;
+      fl.factor = F(L.film_factor);
+      if (L.film_slot.texture != nullptr) fl.factor = fl.factor * lookup(L.film_slot, raster::Texture::kRed).r;
+      fl.thickness = F(L.film_thickness_max);
+      if (L.film_thickness_slot.texture != nullptr) {
+        const F g = lookup(L.film_thickness_slot, raster::Texture::kGreen).g;
+        fl.thickness = F(L.film_thickness_min) + F(L.film_thickness_max - L.film_thickness_min) * g;
+      }
+      fl.ior = L.film_ior;
+      const Vec3L<F> f0 = specular_color * F(L.f0_ior);
+      out.dielectric_color = Vec3L<F>(simd::min(f0.x, F(1.0f)), simd::min(f0.y, F(1.0f)), simd::min(f0.z, F(1.0f)));
+    }
     return out;
+  }
+
+  // The anisotropy's frame at this pixel (KHR_materials_anisotropy): the direction
+  // (cos ρ, sin ρ) of its rotation ρ in the tangent frame — or the texture's RG × 2 − 1,
+  // normalised, rotated by ρ, its B times the strength — taken to the surface by the
+  // interpolated tangent made orthogonal to the geometric normal ng and the bitangent
+  // w (ng × t), as the extension's reference does. Where the tangent degenerates (parallel
+  // to ng, or zero) any unit vector across ng stands in for it.
+  template <class F, class Lookup>
+  static AnisotropyLanes<F> anisotropy_frame(const PreparedLayers& L, const raster::FragmentPacket<F, Varyings>& p,
+                                             const Lookup& lookup, const Vec3L<F>& n_in, const Vec3L<F>& v,
+                                             float facing) {
+    constexpr int kTangent = offsetof(AllVaryings, tangent) / sizeof(float);
+    const F zero(0.0f), one(1.0f);
+    AnisotropyLanes<F> a;
+    const Vec3L<F> ng = normalize_or(n_in, v);
+    F dx(L.anisotropy_cos), dy(L.anisotropy_sin);
+    a.strength = F(L.anisotropy_strength);
+    if (L.anisotropy_slot.texture != nullptr) {
+      const raster::Color<F> c = lookup(L.anisotropy_slot, raster::Texture::kRgb);
+      const F x = c.r * F(2.0f) - one, y = c.g * F(2.0f) - one;
+      const F len2 = x * x + y * y;
+      const auto some = len2 > F(1e-12f);
+      const F inv = one / simd::sqrt(simd::select(some, len2, one));
+      const F ux = simd::select(some, x * inv, one), uy = simd::select(some, y * inv, zero);
+      dx = F(L.anisotropy_cos) * ux - F(L.anisotropy_sin) * uy;
+      dy = F(L.anisotropy_sin) * ux + F(L.anisotropy_cos) * uy;
+      a.strength = a.strength * c.b;
+    }
+    const Vec3L<F> t_in = Vec3L<F>(p.v[kTangent], p.v[kTangent + 1], p.v[kTangent + 2]) * F(facing);
+    // Any unit vector across ng: ng × e_z, or ng × e_x where ng is near e_z.
+    const auto near_z = simd::max(ng.z, zero - ng.z) > F(0.9f);
+    const Vec3L<F> across = simd::select(near_z, Vec3L<F>(zero, ng.z, zero - ng.y), Vec3L<F>(ng.y, zero - ng.x, zero));
+    const Vec3L<F> t = normalize_or(t_in - ng * simd::dot(ng, t_in), normalize_or(across, Vec3L<F>(one, zero, zero)));
+    const F w = simd::select(p.v[kTangent + 3] < zero, F(-1.0f), one);
+    const Vec3L<F> b = cross(ng, t) * w;
+    a.t = normalize_or(t * dx + b * dy, t);
+    a.b = normalize_or(cross(ng, a.t), b);
+    return a;
   }
 
   // The normal map of `slot` (scaled by `normal_scale`) applied to the interpolated normal
