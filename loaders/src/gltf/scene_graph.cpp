@@ -59,6 +59,7 @@ void SceneGraph::check_extensions() const {
                                                    "KHR_mesh_quantization", "KHR_lights_punctual",
                                                    "KHR_materials_unlit", "KHR_materials_ior", "KHR_materials_specular",
                                                    "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_variants",
+                                                   "KHR_materials_pbrSpecularGlossiness",
                                                    kMeshopt, kDraco};
   for (std::size_t i = 0; i < m_.extensionsRequired.size(); ++i)
     if (!kSupported.count(m_.extensionsRequired[i]))
