@@ -235,3 +235,65 @@ TEST_CASE("a specular-glossiness grey renders bit-identically to the metal/rough
                                               true);
   CHECK(std::memcmp(shiny.data(), core.data(), shiny.size() * sizeof(glm::vec4)) != 0);
 }
+
+TEST_CASE("a textured specular-glossiness grey renders as the metal/roughness grey with the roughness texture it makes") {
+  // The specular-glossiness texture is white with glossiness A = 128 (F0 = 0.04 · 1, roughness
+  // G = 255 − 128 = 127); the metal/roughness file reads G = 127 from its own texture.
+  const fs::path dir = test_files::scratch_file("test_gltf_specgloss", "render_textured");
+  fs::create_directories(dir);
+  const auto png = [&](const char* name, std::vector<std::uint8_t> texels) {
+    image::Image8 im;
+    im.width = 2;
+    im.height = 2;
+    im.rgba.assign(texels.begin(), texels.end());
+    image::write_png(dir / name, im);
+  };
+  std::vector<std::uint8_t> sg_texels, mr_texels;
+  for (int i = 0; i < 4; ++i) {
+    sg_texels.insert(sg_texels.end(), {255, 255, 255, 128});
+    mr_texels.insert(mr_texels.end(), {0, 127, 0, 255});
+  }
+  png("sg.png", sg_texels);
+  png("mr.png", mr_texels);
+  const auto render = [&](Json material, const char* image) {
+    material["doubleSided"] = true;
+    Json j = Json::parse(with_material(material));
+    j["images"] = Json::array({{{"uri", image}}});
+    j["textures"] = Json::array({{{"source", 0}}});
+    // Texture coordinates: the triangle's corners (0,0), (1,0), (0,1) as UVs 0.25…0.75.
+    j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = 2;
+    j["buffers"].push_back({{"byteLength", 24},
+                            {"uri", "data:application/octet-stream;base64,AACAPgAAgD4AAEA/AACAPgAAgD4AAEA/"}});
+    j["bufferViews"].push_back({{"buffer", 1}, {"byteLength", 24}});
+    j["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}});
+    const std::string s = j.dump();
+    raster::Renderer renderer({.threads = 0});
+    const pbr::GltfScene g = pbr::load_gltf(std::vector<std::uint8_t>(s.begin(), s.end()), "r.gltf", dir);
+    REQUIRE(g.objects.size() == 1);
+    REQUIRE(g.objects[0].material.metallic_roughness_texture);
+    pbr::Scene sc;
+    sc.objects = g.objects;
+    sc.camera = pbr::framing_camera(pbr::world_bounds(sc.objects), 1.0f, 0.3f, 0.2f);
+    sc.lights = pbr::default_light_rig(sc.camera);
+    sc.ambient = glm::vec3(pbr::kDefaultAmbient);
+    sc.environment.map = pbr::Environment::studio();
+    raster::Target target(48, 48);
+    pbr::render(sc, renderer, target);
+    const auto c = target.colors();
+    return std::vector<glm::vec4>(c.begin(), c.end());
+  };
+  const std::vector<glm::vec4> sg = render(spec_gloss({{"diffuseFactor", {0.5, 0.5, 0.5, 1.0}},
+                                                       {"specularFactor", {0.04, 0.04, 0.04}},
+                                                       {"specularGlossinessTexture", {{"index", 0}}}}),
+                                           "sg.png");
+  Json mr = Json::object();
+  mr["pbrMetallicRoughness"] = {{"baseColorFactor", {0.5, 0.5, 0.5, 1.0}},
+                                {"metallicFactor", 0.0},
+                                {"metallicRoughnessTexture", {{"index", 0}}}};
+  const std::vector<glm::vec4> core = render(mr, "mr.png");
+  std::size_t lit = 0;
+  for (const glm::vec4& p : core) lit += p != core.front();
+  CHECK(lit > 100);
+  REQUIRE(sg.size() == core.size());
+  CHECK(std::memcmp(sg.data(), core.data(), sg.size() * sizeof(glm::vec4)) == 0);
+}
