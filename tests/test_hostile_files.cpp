@@ -46,15 +46,23 @@ struct Deadline {
   ~Deadline() { ::alarm(0); }
 };
 
+// Each test case works in an empty folder of its own, named after the case: ctest runs
+// the cases as separate processes in parallel, and a folder shared between them was
+// emptied by one case while another wrote into it ("cannot remove: Directory not empty").
+fs::path g_case_folder;
+
+struct CaseFolder {
+  explicit CaseFolder(const std::string& name) {
+    g_case_folder = fs::path(SOFTPBR_BINARY_DIR) / "test_hostile_files" / name;
+    fs::remove_all(g_case_folder);
+    fs::create_directories(g_case_folder);
+  }
+  ~CaseFolder() { g_case_folder.clear(); }
+};
+
 fs::path folder() {
-  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_hostile_files";
-  static const bool made = [&] {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return true;
-  }();
-  (void)made;
-  return dir;
+  REQUIRE_MESSAGE(!g_case_folder.empty(), "a test case of test_hostile_files made no CaseFolder");
+  return g_case_folder;
 }
 
 fs::path fifo(const std::string& name) {
@@ -100,6 +108,7 @@ const std::string kFifo = ": is a named pipe (FIFO), not a regular file";
 }  // namespace
 
 TEST_CASE("read_whole_file names what a path is when it is not a regular file, without waiting on a pipe") {
+  const CaseFolder here("read_whole_file_kinds");
   const Deadline deadline;
   std::vector<std::uint8_t> bytes;
   const fs::path pipe = fifo("pipe.bin");
@@ -135,6 +144,7 @@ TEST_CASE("read_whole_file names what a path is when it is not a regular file, w
 }
 
 TEST_CASE("every reader refuses a named pipe with no writer at once, naming it and the reason") {
+  const CaseFolder here("readers_refuse_fifo");
   const Deadline deadline;
   const fs::path png = fifo("pipe.png"), hdr = fifo("pipe.hdr"), obj = fifo("pipe.obj"), glb = fifo("pipe.glb");
   const fs::path json = fifo("pipe.json"), bin = fifo("pipe.bin");
@@ -175,6 +185,7 @@ TEST_CASE("every reader refuses a named pipe with no writer at once, naming it a
 }
 
 TEST_CASE("a glTF buffer that cannot be read is one line with its pointer, not tinygltf's \"File read error\"") {
+  const CaseFolder here("unreadable_buffer");
   const Deadline deadline;
   const fs::path gltf = folder() / "folder_buffer.gltf";
   fs::create_directories(folder() / "a_folder.bin");
@@ -197,6 +208,7 @@ TEST_CASE("a glTF buffer that cannot be read is one line with its pointer, not t
 }
 
 TEST_CASE("a long data URI tinygltf cannot use is quoted to 40 bytes with its pointer") {
+  const CaseFolder here("long_data_uri");
   const fs::path gltf = folder() / "data_uri.gltf";
   // Valid base64 of 1500 bytes for a buffer of 36: tinygltf quoted all 2 kB.
   const std::string uri = "data:application/octet-stream;base64," + std::string(2000, 'A');
@@ -224,6 +236,7 @@ TEST_CASE("a long data URI tinygltf cannot use is quoted to 40 bytes with its po
 }
 
 TEST_CASE("MissingImages::Warn leaves out a texture whose file cannot be read, with a warning, and Error refuses the model") {
+  const CaseFolder here("missing_images");
   const Deadline deadline;
   write_triangle_bin(folder() / "triangle.bin");
   const fs::path gltf = folder() / "gone_image.gltf";

@@ -4,9 +4,20 @@
 // ratified specification (KhronosGroup/glTF, extensions/2.0/Khronos/), into the layers of
 // pbr::Material. Factors must be finite numbers (else an error at their JSON pointer) and
 // are clamped to their ranges, as the core material's are.
+//
+// The archived KHR_materials_pbrSpecularGlossiness (extensions/2.0/Archived/) is converted
+// at load time into those layers: a dielectric (metallic 0) of
+// base colour and alpha = diffuse, roughness = 1 − glossiness, and F0 = the specular colour,
+// written as KHR_materials_ior 0 (F0(ior) = 1, brdf.h's f0_from_ior) with KHR_materials_specular's
+// colour = specularFactor × the specular-glossiness texture's RGB (sRGB), so F0 = min(1 · specular, 1).
+// The texture's glossiness (A) becomes a roughness texture made at load time (a roughness
+// slot reads G × factor, not 1 − A): materials.cpp, roughness_from_glossiness.
+// docs/design.md, "glTF", gives the differences from the specification.
 #include <algorithm>
 #include <cmath>
 #include <string>
+
+#include <glm/vec4.hpp>
 
 #include "gltf/materials.h"
 
@@ -74,20 +85,55 @@ void Materials::layers(Material& m, const tg::Material& g, const std::string& po
     return &it->second;
   };
   std::string xp;
-  if (const tg::Value* x = extension("KHR_materials_ior", xp)) {
-    if (x->Has("ior")) {
-      const tg::Value& v = x->Get("ior");
-      const double ior = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
-      if (!(ior == 0.0 || (ior >= 1.0 && std::isfinite(ior)))) fail(xp + "/ior", "must be 0 or a finite number ≥ 1");
-      m.ior = static_cast<float>(ior);
+  if (const tg::Value* x = extension(kSpecularGlossiness, xp)) {
+    // Replaces the metal/roughness values (whose textures material() then does not read),
+    // and KHR_materials_ior and _specular, which are not read beside it.
+    glm::vec4 diffuse(1.0f);
+    if (x->Has("diffuseFactor")) {
+      const tg::Value& v = x->Get("diffuseFactor");
+      if (!v.IsArray() || v.ArrayLen() != 4) fail(xp + "/diffuseFactor", "expected four numbers");
+      for (int i = 0; i < 4; ++i) {
+        const tg::Value& e = v.Get(i);
+        if (!e.IsNumber() || !std::isfinite(e.GetNumberAsDouble()))
+          fail(xp + "/diffuseFactor/" + std::to_string(i), "expected a finite number");
+        diffuse[i] = static_cast<float>(std::clamp(e.GetNumberAsDouble(), 0.0, 1.0));
+      }
     }
-  }
-  if (const tg::Value* x = extension("KHR_materials_specular", xp)) {
-    m.specular.factor = number(*x, xp, "specularFactor", 1.0, 0.0, 1.0);
-    texture(m.specular.texture, *x, xp, "specularTexture", CS::Linear);
-    // The colour may exceed 1 (the specification: F0 = min(F0(ior) · colour, 1)).
-    m.specular.color = color(*x, xp, "specularColorFactor", glm::vec3(1.0f), 1e30);
-    texture(m.specular.color_texture, *x, xp, "specularColorTexture", CS::Srgb);
+    m.base_color = glm::vec3(diffuse);
+    m.alpha = diffuse.a;
+    m.metallic = 0.0f;
+    const float glossiness = number(*x, xp, "glossinessFactor", 1.0, 0.0, 1.0);
+    m.roughness = 1.0f - glossiness;
+    m.ior = 0.0f;
+    m.specular = Specular{};
+    m.specular.color = color(*x, xp, "specularFactor", glm::vec3(1.0f), 1.0);
+    texture(m.base_color_texture, *x, xp, "diffuseTexture", CS::Srgb);
+    texture(m.specular.color_texture, *x, xp, "specularGlossinessTexture", CS::Srgb);
+    // The glossiness in the same texture's alpha: roughness = 1 − glossinessFactor · A, in
+    // the metal/roughness slot (G × roughness) as a texture made from the image at the end
+    // (make_textures), G = 255 − round(glossinessFactor · A), and the roughness factor 1.
+    const std::size_t queued = pending_.size();
+    texture(m.metallic_roughness_texture, *x, xp, "specularGlossinessTexture", CS::Linear);
+    if (pending_.size() != queued) {
+      pending_.back().glossiness = glossiness;
+      m.roughness = 1.0f;
+    }
+  } else {
+    if (const tg::Value* x = extension("KHR_materials_ior", xp)) {
+      if (x->Has("ior")) {
+        const tg::Value& v = x->Get("ior");
+        const double ior = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+        if (!(ior == 0.0 || (ior >= 1.0 && std::isfinite(ior)))) fail(xp + "/ior", "must be 0 or a finite number ≥ 1");
+        m.ior = static_cast<float>(ior);
+      }
+    }
+    if (const tg::Value* x = extension("KHR_materials_specular", xp)) {
+      m.specular.factor = number(*x, xp, "specularFactor", 1.0, 0.0, 1.0);
+      texture(m.specular.texture, *x, xp, "specularTexture", CS::Linear);
+      // The colour may exceed 1 (the specification: F0 = min(F0(ior) · colour, 1)).
+      m.specular.color = color(*x, xp, "specularColorFactor", glm::vec3(1.0f), 1e30);
+      texture(m.specular.color_texture, *x, xp, "specularColorTexture", CS::Srgb);
+    }
   }
   if (const tg::Value* x = extension("KHR_materials_clearcoat", xp)) {
     m.clearcoat.factor = number(*x, xp, "clearcoatFactor", 0.0, 0.0, 1.0);

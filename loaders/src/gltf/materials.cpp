@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <span>
 #include <utility>
 
 #include <glm/vec2.hpp>
@@ -147,10 +149,15 @@ const Material& Materials::material(int index, const std::string& referrer) {
   m->normal_scale = static_cast<float>(g.normalTexture.scale);
   m->occlusion_strength = unit(g.occlusionTexture.strength, pointer + "/occlusionTexture/strength");
   using CS = raster::ColorSpace;
-  texture_slot(m->base_color_texture, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-               pbr.baseColorTexture.extensions, CS::Srgb, pp + "/baseColorTexture");
-  texture_slot(m->metallic_roughness_texture, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-               pbr.metallicRoughnessTexture.extensions, CS::Linear, pp + "/metallicRoughnessTexture");
+  // KHR_materials_pbrSpecularGlossiness replaces the metal/roughness factors and textures
+  // (layers() converts it): their textures are then not read.
+  if (g.extensions.count(kSpecularGlossiness) == 0) {
+    texture_slot(m->base_color_texture, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                 pbr.baseColorTexture.extensions, CS::Srgb, pp + "/baseColorTexture");
+    texture_slot(m->metallic_roughness_texture, pbr.metallicRoughnessTexture.index,
+                 pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions, CS::Linear,
+                 pp + "/metallicRoughnessTexture");
+  }
   texture_slot(m->normal_texture, g.normalTexture.index, g.normalTexture.texCoord, g.normalTexture.extensions,
                CS::Linear, pointer + "/normalTexture");
   texture_slot(m->occlusion_texture, g.occlusionTexture.index, g.occlusionTexture.texCoord,
@@ -169,7 +176,40 @@ void Materials::make_textures(Resources& resources) {
     if (job_of.emplace(key, jobs.size()).second) jobs.push_back(key);
   }
   const std::vector<std::shared_ptr<const raster::Texture>> textures = resources.textures(jobs);
-  for (const Pending& p : pending_) p.slot->texture = textures[job_of.at({p.image, p.space})];
+  std::map<std::pair<int, float>, std::shared_ptr<const raster::Texture>> roughness;
+  for (const Pending& p : pending_) {
+    const std::shared_ptr<const raster::Texture>& t = textures[job_of.at({p.image, p.space})];
+    if (p.glossiness < 0.0f || t == nullptr) {
+      p.slot->texture = t;
+      continue;
+    }
+    std::shared_ptr<const raster::Texture>& r = roughness[{p.image, p.glossiness}];
+    if (r == nullptr) r = roughness_from_glossiness(*t, p.glossiness);
+    p.slot->texture = r;
+  }
+}
+
+// Deterministic: a float product of two exact values rounded once, then integers. The
+// metal/roughness slot reads G × roughness (factor 1) and B × metallic (factor 0).
+std::shared_ptr<const raster::Texture> Materials::roughness_from_glossiness(const raster::Texture& image,
+                                                                           float glossiness) {
+  if (image.is_float()) throw LoadError("a specular-glossiness texture must be 8-bit");
+  const raster::Texture::Level& base = image.level(0);
+  const std::size_t n = static_cast<std::size_t>(base.width) * static_cast<std::size_t>(base.height);
+  const std::span<const std::uint8_t> in = image.texels8().subspan(base.offset * 4, n * 4);
+  image::Image8 out;
+  out.width = base.width;
+  out.height = base.height;
+  out.rgba.resize(n * 4);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float g = glossiness * static_cast<float>(in[i * 4 + 3]);  // in [0, 255]
+    const int rounded = static_cast<int>(g + 0.5f);
+    out.rgba[i * 4 + 0] = 0;
+    out.rgba[i * 4 + 1] = static_cast<std::uint8_t>(255 - rounded);
+    out.rgba[i * 4 + 2] = 0;
+    out.rgba[i * 4 + 3] = 255;
+  }
+  return std::make_shared<const raster::Texture>(std::move(out), raster::ColorSpace::Linear);
 }
 
 }  // namespace softpbr::pbr::gltf

@@ -1,5 +1,6 @@
 // The glTF reader's materials: glTF's materials (with KHR_materials_emissive_strength,
-// KHR_materials_unlit, and the layers of KHR_materials_ior, _specular, _clearcoat, _sheen), their textures (KHR_texture_transform) and samplers, each material
+// KHR_materials_unlit, and the layers of KHR_materials_ior, _specular, _clearcoat, _sheen;
+// the archived KHR_materials_pbrSpecularGlossiness converted to them), their textures (KHR_texture_transform) and samplers, each material
 // read once; the textures are made at the end, all images decoding in parallel. Private to
 // the glTF reader (docs/design.md, "glTF").
 #pragma once
@@ -15,6 +16,8 @@
 #include "softpbr/raster/texture.h"
 
 namespace softpbr::pbr::gltf {
+
+inline constexpr const char* kSpecularGlossiness = "KHR_materials_pbrSpecularGlossiness";
 
 class Materials : public Context {
  public:
@@ -33,7 +36,8 @@ class Materials : public Context {
  private:
   raster::Sampler sampler(int index, const std::string& referrer);
   // The material extensions' layers of `g` into `m` (material_extensions.cpp):
-  // KHR_materials_ior, _specular, _clearcoat and _sheen.
+  // KHR_materials_ior, _specular, _clearcoat and _sheen, or KHR_materials_pbrSpecularGlossiness
+  // converted to the metal/roughness model (docs/design.md, "glTF").
   void layers(Material& m, const tg::Material& g, const std::string& pointer);
   // A textureInfo object inside an extension (`info`, at `pointer`) into `slot`.
   void extension_texture(TextureSlot& slot, const tg::Value& info, raster::ColorSpace space, const std::string& pointer,
@@ -47,7 +51,13 @@ class Materials : public Context {
     TextureSlot* slot;
     int image;
     raster::ColorSpace space;
+    // ≥ 0: the slot takes, instead of the image, a roughness texture made from its linear
+    // decode: G = 255 − round(glossiness · A) (KHR_materials_pbrSpecularGlossiness).
+    float glossiness = -1.0f;
   };
+  // The roughness texture of a specular-glossiness image (see Pending::glossiness).
+  static std::shared_ptr<const raster::Texture> roughness_from_glossiness(const raster::Texture& image,
+                                                                          float glossiness);
 
   std::map<int, std::unique_ptr<Material>> materials_;
   std::vector<Pending> pending_;

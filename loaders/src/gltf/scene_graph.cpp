@@ -383,6 +383,7 @@ const std::vector<std::string>& gltf_extensions_rendered() {
   static const std::vector<std::string> kRendered = [] {
     std::vector<std::string> v = {"KHR_texture_transform", "KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif",
                                   "KHR_materials_emissive_strength", "KHR_materials_variants",
+                                  "KHR_materials_pbrSpecularGlossiness",
                                   "KHR_mesh_quantization", "KHR_lights_punctual", "KHR_materials_unlit",
                                   "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat",
                                   "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_iridescence",
