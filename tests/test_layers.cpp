@@ -322,12 +322,13 @@ TEST_CASE("the layered shader gives the same bits at every lane width") {
   }
 }
 
-TEST_CASE("golden: examples/scenes/layers.json (coat, sheen, specular, IOR rows) at every width and thread count") {
-  // Looked at before committing: the coat's reflections grow left to right over the matte red,
-  // the velvet whitens at its rim as the sheen roughens, the grey spheres' highlight and the
-  // black spheres' reflection grow with the specular factor and with the IOR (1.0: none).
+namespace {
+
+// Renders examples/scenes/<name>.json at 400×320, checks it against goldens/<golden>, and
+// the same bits at every lane width, with 1 or 2 threads and other tile sizes.
+void check_scene_golden(const std::string& name, const std::string& golden) {
   const pbr::SceneFile file =
-      pbr::load_scene_file(std::filesystem::path(SOFTPBR_SOURCE_DIR) / "examples" / "scenes" / "layers.json");
+      pbr::load_scene_file(std::filesystem::path(SOFTPBR_SOURCE_DIR) / "examples" / "scenes" / (name + ".json"));
   const auto render = [&](const raster::RendererOptions& options) {
     raster::Renderer renderer(options);
     raster::Target target(400, 320);
@@ -335,13 +336,22 @@ TEST_CASE("golden: examples/scenes/layers.json (coat, sheen, specular, IOR rows)
     return target;
   };
   const raster::Target t = render({.threads = 0});
-  CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, file.render.output), "goldens/layers");
+  CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, file.render.output), "goldens/" + golden);
   for (int lanes : {1, 4, 8, 16}) {
     CAPTURE(lanes);
     const raster::Target o = render({.threads = lanes == 8 ? 1u : 2u, .tile_size = 16 * (lanes % 3 + 1), .lanes = lanes,
                                      .dispatch = lanes != 16});
     CHECK(raster::hash_colors(o) == raster::hash_colors(t));
   }
+}
+
+}  // namespace
+
+TEST_CASE("golden: examples/scenes/layers.json (coat, sheen, specular, IOR rows) at every width and thread count") {
+  // Looked at before committing: the coat's reflections grow left to right over the matte red,
+  // the velvet whitens at its rim as the sheen roughens, the grey spheres' highlight and the
+  // black spheres' reflection grow with the specular factor and with the IOR (1.0: none).
+  check_scene_golden("layers", "layers");
 }
 
 TEST_CASE("scene files: the layers' keys are checked like every other key") {
@@ -665,22 +675,7 @@ TEST_CASE("golden: examples/scenes/layers_anisotropy_iridescence.json at every w
   // Looked at before committing: the silver row's highlight stretches as the strength grows,
   // the copper row's streak turns with the rotation, the black row's thin-film colours grow
   // with the factor, the chrome row's colours change with the film's thickness.
-  const pbr::SceneFile file = pbr::load_scene_file(std::filesystem::path(SOFTPBR_SOURCE_DIR) / "examples" / "scenes" /
-                                                   "layers_anisotropy_iridescence.json");
-  const auto render = [&](const raster::RendererOptions& options) {
-    raster::Renderer renderer(options);
-    raster::Target target(400, 320);
-    pbr::render(file.scene, renderer, target);
-    return target;
-  };
-  const raster::Target t = render({.threads = 0});
-  CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, file.render.output), "goldens/layers_anisotropy_iridescence");
-  for (int lanes : {1, 4, 8, 16}) {
-    CAPTURE(lanes);
-    const raster::Target o = render({.threads = lanes == 8 ? 1u : 2u, .tile_size = 16 * (lanes % 3 + 1), .lanes = lanes,
-                                     .dispatch = lanes != 16});
-    CHECK(raster::hash_colors(o) == raster::hash_colors(t));
-  }
+  check_scene_golden("layers_anisotropy_iridescence", "layers_anisotropy_iridescence");
 }
 
 TEST_CASE("scene files: the anisotropy's and the film's keys are checked like every other key") {
