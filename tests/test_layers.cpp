@@ -345,6 +345,17 @@ void check_scene_golden(const std::string& name, const std::string& golden) {
   }
 }
 
+// The error of a scene file whose one object has this material (JSON), or "(no error)".
+std::string material_error(const std::string& material) {
+  const std::string text = R"({"objects": [{"mesh": {"type": "cube"}, "material": )" + material + "}]}";
+  try {
+    pbr::parse_scene_file(text, "s.json", ".");
+  } catch (const pbr::SceneFileError& e) {
+    return std::string(e.what());
+  }
+  return std::string("(no error)");
+}
+
 }  // namespace
 
 TEST_CASE("golden: examples/scenes/layers.json (coat, sheen, specular, IOR rows) at every width and thread count") {
@@ -355,15 +366,7 @@ TEST_CASE("golden: examples/scenes/layers.json (coat, sheen, specular, IOR rows)
 }
 
 TEST_CASE("scene files: the layers' keys are checked like every other key") {
-  const auto error = [](const std::string& material) {
-    const std::string text = R"({"objects": [{"mesh": {"type": "cube"}, "material": )" + material + "}]}";
-    try {
-      pbr::parse_scene_file(text, "s.json", ".");
-    } catch (const pbr::SceneFileError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
+  const auto error = material_error;
   CHECK(error(R"({"clearcoat": {"factor": 1, "roughness": 0.2}, "sheen": {"color": [1, 0, 0]}, "ior": 1.4,
                   "specular": {"factor": 0.5, "color": [2, 1, 1]}})") == "(no error)");
   CHECK(error(R"({"ior": 0.5})").find("/objects/0/material/ior") != std::string::npos);
@@ -679,15 +682,7 @@ TEST_CASE("golden: examples/scenes/layers_anisotropy_iridescence.json at every w
 }
 
 TEST_CASE("scene files: the anisotropy's and the film's keys are checked like every other key") {
-  const auto error = [](const std::string& material) {
-    const std::string text = R"({"objects": [{"mesh": {"type": "cube"}, "material": )" + material + "}]}";
-    try {
-      pbr::parse_scene_file(text, "s.json", ".");
-    } catch (const pbr::SceneFileError& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
+  const auto error = material_error;
   CHECK(error(R"({"anisotropy": {"strength": 0.5, "rotation": 1.2},
                   "iridescence": {"factor": 1, "ior": 1.3, "thickness_min": 100, "thickness_max": 400}})") ==
         "(no error)");
