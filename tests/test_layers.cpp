@@ -46,6 +46,15 @@ void check_lanes_match_scalar(const std::vector<float>& xs, Fn fn) {
   }
 }
 
+// A uniform environment of radiance 1 (the Environment copies the pixels).
+pbr::PreparedEnvironment white_furnace() {
+  const int w = 64, h = 32;
+  std::vector<float> white(static_cast<std::size_t>(w) * h * 4, 1.0f);
+  pbr::EnvironmentLighting l;
+  l.map = std::make_shared<const pbr::Environment>(softpbr::image::ImageViewF(w, h, white), "white");
+  return pbr::prepare_environment(l);
+}
+
 pbr::PreparedEnvironment studio_environment() {
   pbr::EnvironmentLighting l;
   l.map = pbr::Environment::studio();
@@ -200,11 +209,7 @@ TEST_CASE("layers at their defaults shade bit for bit as the core material") {
 TEST_CASE("layers in a white furnace stay within the energy that arrives") {
   // A uniform environment of radiance 1 and no lights: what a white, rough dielectric with a
   // full sheen and a full coat reflects toward v stays ≤ 1, and each layer changes it.
-  const int w = 64, h = 32;
-  std::vector<float> white(static_cast<std::size_t>(w) * h * 4, 1.0f);
-  pbr::EnvironmentLighting l;
-  l.map = std::make_shared<const pbr::Environment>(softpbr::image::ImageViewF(w, h, white), "white");
-  const pbr::PreparedEnvironment env = pbr::prepare_environment(l);
+  const pbr::PreparedEnvironment env = white_furnace();
   const Vec3L<float> N(0.0f, 0.0f, 1.0f), P(0.0f);
   for (float NoV : {0.05f, 0.3f, 0.7f, 1.0f}) {
     const Vec3L<float> V(std::sqrt(1.0f - NoV * NoV), 0.0f, NoV);
@@ -555,11 +560,7 @@ TEST_CASE("the thin film: float against double, the extension's formulas, colour
 }
 
 TEST_CASE("anisotropy and the thin film in a white furnace, and at their zero strength") {
-  const int w = 64, h = 32;
-  std::vector<float> white(static_cast<std::size_t>(w) * h * 4, 1.0f);
-  pbr::EnvironmentLighting l;
-  l.map = std::make_shared<const pbr::Environment>(softpbr::image::ImageViewF(w, h, white), "white");
-  const pbr::PreparedEnvironment env = pbr::prepare_environment(l);
+  const pbr::PreparedEnvironment env = white_furnace();
   const Vec3L<float> N(0.0f, 0.0f, 1.0f), P(0.0f);
   for (float NoV : {0.05f, 0.3f, 0.7f, 1.0f}) {
     const Vec3L<float> V(std::sqrt(1.0f - NoV * NoV), 0.0f, NoV);
