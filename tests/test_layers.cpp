@@ -46,12 +46,16 @@ void check_lanes_match_scalar(const std::vector<float>& xs, Fn fn) {
   }
 }
 
-// A uniform environment of radiance 1 (the Environment copies the pixels).
+// A uniform environment of radiance 1. The prepared environment points at the map, which
+// lives on here (as Environment::studio()'s does).
 pbr::PreparedEnvironment white_furnace() {
-  const int w = 64, h = 32;
-  std::vector<float> white(static_cast<std::size_t>(w) * h * 4, 1.0f);
+  static const std::shared_ptr<const pbr::Environment> map = [] {
+    const int w = 64, h = 32;
+    std::vector<float> white(static_cast<std::size_t>(w) * h * 4, 1.0f);
+    return std::make_shared<const pbr::Environment>(softpbr::image::ImageViewF(w, h, white), "white");
+  }();
   pbr::EnvironmentLighting l;
-  l.map = std::make_shared<const pbr::Environment>(softpbr::image::ImageViewF(w, h, white), "white");
+  l.map = map;
   return pbr::prepare_environment(l);
 }
 
