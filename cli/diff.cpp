@@ -61,6 +61,9 @@ CLI::App* add_diff_command(CLI::App& app, DiffArgs& a) {
   c->add_option("--env", a.env, "Models: the environment, an .hdr/.exr, \"studio\" (the default) or \"none\"");
   c->add_option("--background", a.background, "Models: environment, blur (the default), transparent or R,G,B");
   a.max_memory_mib = 4096;
+  c->add_option("--time", a.time, "glTF models: apply the animations at this moment, seconds (as render --time)");
+  c->add_option("--animation", a.animation, "glTF models: only animation N or NAME (as render --animation)");
+  c->add_option("--variant", a.variant, "glTF models: the material variant NAME or N (as render --variant)");
   c->add_option("--max-memory", a.max_memory_mib, "Models: refuse a model estimated to need more than this many MiB")
       ->capture_default_str();
   c->footer(kExitCodesHelp);

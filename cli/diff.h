@@ -28,6 +28,10 @@ struct DiffArgs {
   std::optional<long> threads;
   std::optional<std::string> env, background;
   double max_memory_mib = 0;
+  // glTF models: the moment and animation (as `render --time/--animation`), the material
+  // variant (`render --variant`), the same for both models.
+  std::optional<double> time;
+  std::optional<std::string> animation, variant;
 };
 
 CLI::App* add_diff_command(CLI::App& app, DiffArgs& args);

@@ -126,6 +126,9 @@ int run_model_diff(const DiffArgs& a) {
   s.env = a.env;
   s.background = a.background;
   s.max_memory_mib = a.max_memory_mib;
+  s.time = a.time;
+  s.animation = a.animation;
+  s.variant = a.variant;
   std::vector<job::View> views;
   try {
     job::validate(s);

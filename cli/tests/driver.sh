@@ -868,6 +868,36 @@ PY
   grep -qx "fifo.glb: is a named pipe (FIFO), not a regular file" err.txt || fail "fifo: $(cat err.txt)"
   check 2 cube.gltf cube.gltf --out cube.bin.png --json cube.bin
   grep -q "cube.bin: cannot write: it is an input" err.txt || fail "--json over an input: $(cat err.txt)"
+  # Animated models: --time as `render --time` (the same moment for both); two moments of one
+  # animation differ, the same moment is identical. --variant: an unknown name is an error.
+  model=${SOFTPBR_SHARED:-$src/../shared}/gltf/InterpolationTest/glTF-Binary/InterpolationTest.glb
+  if [ -f "$model" ]; then
+    check 0 "$model" "$model" $small --views 2 --time 0.5
+    # A copy whose LINEAR samplers step instead (the JSON chunk rewritten, the keys kept): the
+    # same rest pose, another pose between keys.
+    python3 - "$model" step.glb <<'PY' || fail "making step.glb failed"
+import json, struct, sys
+data = open(sys.argv[1], "rb").read()
+n = struct.unpack_from("<I", data, 12)[0]
+doc = json.loads(data[20:20 + n])
+for a in doc["animations"]:
+    for s in a["samplers"]:
+        if s.get("interpolation", "LINEAR") == "LINEAR":
+            s["interpolation"] = "STEP"
+text = json.dumps(doc).encode()
+text += b" " * (-len(text) % 4)
+rest = data[20 + n:]
+out = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + len(rest)) + struct.pack("<II", len(text), 0x4E4F534A) + text + rest
+open(sys.argv[2], "wb").write(out)
+PY
+    check 0 "$model" step.glb $small --views 2
+    check 1 "$model" step.glb $small --views 2 --time 0.3
+    check 0 "$model" step.glb $small --views 2 --time 0.3 --animation "Step Translation"
+    check 2 "$model" step.glb $small --views 1 --time 1e10
+    grep -q -- "--time: expected a finite number of seconds" err.txt || fail "diff --time 1e10: $(cat err.txt)"
+  fi
+  check 2 cube.gltf cube.gltf $small --views 1 --variant nosuch
+  grep -q "nosuch" err.txt || fail "diff --variant nosuch: $(cat err.txt)"
   ;;
 thumbnail)
   # The desktop thumbnailer installed into a prefix and run exactly as its .thumbnailer

@@ -173,7 +173,10 @@ ViewedModel load_viewed(const std::string& input, const Settings& s, raster::Thr
       pbr::GltfModelInfo loaded = pbr::load_and_inspect_gltf(input, {.pool = &pool,
                                                                      .memory_limit = requested_memory_limit(s),
                                                                      .roots = s.roots,
-                                                                     .missing_images = missing_images(s)});
+                                                                     .missing_images = missing_images(s),
+                                                                     .variant = s.variant.value_or(""),
+                                                                     .time = s.time,
+                                                                     .animation = s.animation.value_or("")});
       add_gltf_rows(m.summary, loaded.info);
       pbr::GltfView view;
       view.width = static_cast<int>(s.width.value_or(512));
