@@ -505,8 +505,11 @@ TEST_CASE("InterpolationTest: each cube at known times against its sampler's ana
 }
 
 TEST_CASE("animated samples render with the same bits twice and with 1 and 8 threads") {
-  for (const auto& [name, t] : {std::pair{std::string("Fox"), 1.0}, std::pair{std::string("AnimatedMorphCube"), 0.5},
-                                std::pair{std::string("RiggedFigure"), 0.4}}) {
+  // Not structured bindings: clang 14 cannot capture them in CAPTURE's lambda.
+  for (const auto& sample : {std::pair{std::string("Fox"), 1.0}, std::pair{std::string("AnimatedMorphCube"), 0.5},
+                             std::pair{std::string("RiggedFigure"), 0.4}}) {
+    const std::string& name = sample.first;
+    const double t = sample.second;
     const fs::path file = sample_file(name);
     if (file.empty()) {
       MESSAGE("skipped: " << name << " is absent");

@@ -97,7 +97,8 @@ TEST_CASE("yuv: every matrix, range, depth and subsampling is within 1 of H.273 
   for (detail::YuvMatrix m : {detail::YuvMatrix::Bt601, detail::YuvMatrix::Bt709, detail::YuvMatrix::Bt2020})
     for (bool full : {false, true})
       for (int depth : {8, 10, 12})
-        for (auto [sx, sy] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}}) {
+        for (const std::pair<int, int>& sub : {std::pair{0, 0}, std::pair{1, 0}, std::pair{1, 1}}) {
+          const int sx = sub.first, sy = sub.second;  // not bindings: CAPTURE's lambda (clang 14)
           CAPTURE(static_cast<int>(m));
           CAPTURE(full);
           CAPTURE(depth);
@@ -139,7 +140,8 @@ TEST_CASE("yuv: black, white and grey are exact at the ends of each range and de
       CAPTURE(depth);
       const int f = 1 << (depth - 8), mid = 1 << (depth - 1), top = (1 << depth) - 1;
       const int black = full ? 0 : 16 * f, white = full ? top : 235 * f;
-      for (auto [luma, want] : {std::pair{black, 0}, std::pair{white, 255}, std::pair{full ? 0 : 0, 0}, std::pair{top, 255}}) {
+      for (const std::pair<int, int>& code : {std::pair{black, 0}, std::pair{white, 255}, std::pair{full ? 0 : 0, 0}, std::pair{top, 255}}) {
+        const int luma = code.first, want = code.second;  // not bindings: captured by a lambda (clang 14)
         Planes planes = make(1, 1, depth, 0, 0, [&](int k, int, int) { return k == 0 ? luma : k == 3 ? top : mid; });
         planes.p.full_range = full;
         std::uint8_t rgba[4];

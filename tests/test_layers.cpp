@@ -408,7 +408,8 @@ double D_aniso(double th, double bh, double nh, double at, double ab) {
 
 TEST_CASE("anisotropic GGX: normalised, GGX at strength 0, its visibility Smith's height-correlated one") {
   // ∫ D (n·h) dω_h = 1 over the hemisphere, by the midpoint rule in (θ, φ).
-  for (const auto& [at, ab] : std::vector<std::pair<double, double>>{{0.3, 0.3}, {0.6, 0.2}, {1.0, 0.25}, {0.5, 0.45}}) {
+  for (const std::pair<double, double>& alphas : std::vector<std::pair<double, double>>{{0.3, 0.3}, {0.6, 0.2}, {1.0, 0.25}, {0.5, 0.45}}) {
+    const double at = alphas.first, ab = alphas.second;  // not bindings: CAPTURE's lambda (clang 14)
     CAPTURE(at);
     CAPTURE(ab);
     const int nt = 2000, np = 400;
