@@ -74,6 +74,11 @@ BenchScene textured_fill_scene(int width, int height, const std::string& tag, gl
 // gallery_scene() with benchmark_texture() on every sphere (trilinear, isotropic).
 BenchScene textured_gallery_scene(int segments, int width, int height);
 
+// examples/scenes/gallery_shadows.json at width × height — the gallery before a wall, one
+// directional light that casts shadows — and the same with its shadows off:
+// gallery_shadows_<size>, gallery_noshadows_<size> (their ratio is the shadows' cost).
+std::vector<BenchScene> shadow_gallery_scenes(int width, int height);
+
 // examples/scenes/gallery_ibl.json at width × height (see above). Throws SceneFileError.
 BenchScene ibl_gallery_scene(int width, int height);
 

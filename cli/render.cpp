@@ -88,6 +88,9 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                 "downloaded models)");
   c->add_option("--occlusion", s.occlusion,
                 "on (the default with an environment) or off: screen-space ambient occlusion of the environment's light");
+  c->add_option("--shadows", s.shadows,
+                "on (every light casts shadows) or off (none does); default: as the scene says (a glTF model's "
+                "lights cast them, a scene file's where \"shadows\": true)");
   c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");

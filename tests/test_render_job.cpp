@@ -74,6 +74,8 @@ TEST_CASE("render job: every setting is checked with one message, named as Pytho
   CHECK(errors_of({.env_intensity = -1.0f}).second == "--env-intensity: expected a number in [0, 1e6], got -1");
   CHECK(errors_of({.env_rotation = NAN}).second == "--env-rotation: expected a finite number of degrees");
   CHECK(errors_of({.occlusion = "yes"}).second == "--occlusion: expected on or off, got \"yes\"");
+  CHECK(errors_of({.shadows = "yes"}).second == "--shadows: expected on or off, got \"yes\"");
+  CHECK(errors_of({.shadows = "yes"}).first == "shadows: expected on or off, got \"yes\"");
   CHECK(errors_of({.background = "pink"}).second ==
         "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"pink\"");
   CHECK(errors_of({.background = "0.1,0.2,0.3"}).first.empty());
@@ -120,6 +122,17 @@ TEST_CASE("render job: the memory estimate has the image, meshes, textures and e
   CHECK(job::estimate_memory(e, er).image == pbr::image_memory(er.width, er.height, er.msaa) + pbr::occlusion_memory(er.width, er.height));
   CHECK(job::estimate_memory(job::load(env_scene, {.occlusion = "off"}, pool), er).image ==
         pbr::image_memory(er.width, er.height, er.msaa));
+  // The shadow maps: a directional light's 2048² depths with --shadows on (lights.json's
+  // three lights: spot, directional, point — 16 + 16 + 24 MiB), none with off or by default.
+  const std::string lights = (kSource / "examples/scenes/lights.json").string();
+  const pbr::LoadedScene l = job::load(lights, {}, pool);
+  const pbr::RenderSettings& lr = l.render;
+  CHECK(job::estimate_memory(l, lr).image == pbr::image_memory(lr.width, lr.height, lr.msaa));
+  const pbr::LoadedScene lit = job::load(lights, {.shadows = "on"}, pool);
+  CHECK(pbr::shadow_memory(lit.scene) == (std::uint64_t{16 + 16 + 24} << 20));
+  CHECK(job::estimate_memory(lit, lr).image == pbr::image_memory(lr.width, lr.height, lr.msaa) + (std::uint64_t{56} << 20));
+  CHECK(job::estimate_memory(job::load(lights, {.shadows = "off"}, pool), lr).image ==
+        pbr::image_memory(lr.width, lr.height, lr.msaa));
   CHECK(e.mesh_bytes < studio);  // the cube alone
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "none"}, pool), e.render).environment == 0);
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "studio"}, pool), e.render).environment == studio);

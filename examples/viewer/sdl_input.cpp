@@ -15,7 +15,7 @@ constexpr std::array<std::pair<Key, SDL_Keycode>, 31> kKeys{{
     {Key::Num5, SDLK_5},      {Key::Num6, SDLK_6},      {Key::Num7, SDLK_7},    {Key::Num8, SDLK_8},
     {Key::Num9, SDLK_9},      {Key::N, SDLK_n},         {Key::M, SDLK_m},       {Key::C, SDLK_c},       {Key::B, SDLK_b},
     {Key::R, SDLK_r},         {Key::F, SDLK_f},         {Key::T, SDLK_t},       {Key::P, SDLK_p},
-    {Key::V, SDLK_v},         {Key::Escape, SDLK_ESCAPE},
+    {Key::V, SDLK_v},         {Key::H, SDLK_h},         {Key::Escape, SDLK_ESCAPE},
 }};
 // One SDL key per viewer key.
 static_assert(kKeys.size() == kKeyCount);

@@ -121,6 +121,9 @@ pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& m
   scene.camera = state.camera.camera();
   if (state.light_angle != 0.0f)
     for (pbr::Light& l : scene.lights) l.position = turn_about_y(l.position, state.light_angle);
+  softpbr::job::Settings shadows;
+  shadows.shadows = state.shadows ? "on" : "off";
+  softpbr::job::apply_shadows(scene, shadows);
   if (state.environment != 0) {
     scene.environment.map = environments.at(state.environment);
     scene.background_mode = pbr::BackgroundMode::Environment;

@@ -114,6 +114,8 @@ void validate(const Settings& s) {
     bad_setting("missing-images", "expected error or warn, got \"" + *s.missing_images + "\"");
   if (s.occlusion && *s.occlusion != "on" && *s.occlusion != "off")
     bad_setting("occlusion", "expected on or off, got \"" + *s.occlusion + "\"");
+  if (s.shadows && *s.shadows != "on" && *s.shadows != "off")
+    bad_setting("shadows", "expected on or off, got \"" + *s.shadows + "\"");
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
@@ -226,6 +228,11 @@ void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPoo
   }
 }
 
+void apply_shadows(pbr::Scene& scene, const Settings& a) {
+  if (!a.shadows) return;
+  for (pbr::Light& l : scene.lights) l.shadows = *a.shadows == "on";
+}
+
 pbr::LoadedScene load(const std::string& input, const Settings& s, raster::ThreadPool& pool) {
   pbr::LoadedScene file;
   if (lower_extension_is(input, {".gltf", ".glb"})) {
@@ -240,6 +247,7 @@ pbr::LoadedScene load(const std::string& input, const Settings& s, raster::Threa
                                         .missing_images = missing_images(s)});
   }
   apply_environment(file, s, pool);
+  apply_shadows(file.scene, s);
   return file;
 }
 
@@ -270,6 +278,7 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& s)
 MemoryEstimate estimate_memory(const pbr::LoadedScene& f, const pbr::RenderSettings& s) {
   std::uint64_t image = pbr::image_memory(s.width, s.height, s.msaa);
   if (f.scene.environment.map && f.scene.environment.occlusion) image += pbr::occlusion_memory(s.width, s.height);
+  image += pbr::shadow_memory(f.scene);
   return {image, f.mesh_bytes, f.texture_bytes, f.environment_bytes};
 }
 

@@ -3,8 +3,12 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
+#include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -31,6 +35,12 @@ namespace {
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const raster::Renderer::TileCallback& after_tile);
 }  // namespace
+
+std::uint64_t shadow_memory(const Scene& scene) {
+  std::uint64_t bytes = 0;
+  for (const Light& l : scene.lights) bytes += detail::shadow_map_bytes(l);
+  return bytes;
+}
 
 std::uint64_t occlusion_memory(int width, int height) {
   return raster::Target::bytes(width, height, 1) +
@@ -224,6 +234,114 @@ void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, i
   detail::compute_occlusion(gbuffer, settings, renderer.pool(), out);
 }
 
+// A frame's shadow maps: each light's map and the depth-only targets its faces point into.
+struct ShadowFrame {
+  std::vector<std::unique_ptr<ShadowMap>> maps;
+  std::vector<std::unique_ptr<raster::Target>> faces;
+};
+
+// The bounds of every object in world space (the corners of each mesh's bounds, transformed).
+Bounds scene_bounds(const Scene& scene) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  Bounds world{glm::vec3(inf), glm::vec3(-inf)};
+  for (const Object& o : scene.objects) {
+    const Bounds b = bounds(*o.mesh);
+    if (b.empty()) continue;
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec3 corner((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+      const glm::vec3 w(o.transform * glm::vec4(corner, 1.0f));
+      world = merge(world, Bounds{w, w});
+    }
+  }
+  return world;
+}
+
+// The shadow maps (docs/design.md, "Shadows"): for each light with shadows, its faces fitted
+// to the scene's bounds (shadow_setup), each drawn into a depth-only target with the casters
+// — the objects with cast_shadows in `opaque` and `blended` (their draws' culling; masked and
+// blended ones cut out where their alpha is below ½, by their own textured shader made
+// unlit) — then the light's PreparedLight::shadow set to it.
+void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, const std::vector<ObjectDraw>& opaque,
+                      const std::vector<ObjectDraw>& blended, std::vector<PreparedLight>& lights, ShadowFrame& frame) {
+  const Bounds world = scene_bounds(scene);
+  // The casters' textured shaders for their alpha, made once: unlit, no lights, no environment.
+  struct Caster {
+    const ObjectDraw* draw;
+    bool cut_out;
+    TexturedPbrShader textured;
+    TexturedUv0PbrShader textured_uv0;
+  };
+  std::vector<Caster> casters;
+  const auto no_lights = std::make_shared<const std::vector<PreparedLight>>();
+  for (const auto* list : {&opaque, &blended})
+    for (const ObjectDraw& d : *list) {
+      const Object& o = scene.objects[d.object];
+      if (!o.cast_shadows) continue;
+      Caster c{&d, o.material.alpha_mode != AlphaMode::Opaque, {}, {}};
+      if (c.cut_out) {
+        const auto cut = [&](auto& shader, const auto& from) {
+          shader = from;
+          auto material = std::make_shared<TexturedMaterial>(*from.material);
+          material->unlit = true;
+          shader.material = material;
+          shader.lights = no_lights;
+          shader.environment = nullptr;
+          shader.alpha_to_coverage = false;
+        };
+        if (d.kind == ObjectDraw::Kind::TexturedUv0) cut(c.textured_uv0, d.textured_uv0);
+        else cut(c.textured, d.textured);
+      }
+      casters.push_back(std::move(c));
+    }
+  for (PreparedLight& light : lights) {
+    if (!light.light.shadows) continue;
+    detail::ShadowSetup setup;
+    if (!detail::shadow_setup(light, world, setup)) continue;
+    auto map = std::make_unique<ShadowMap>(setup.map);
+    for (std::size_t f = 0; f < setup.view_projection.size(); ++f) {
+      const glm::mat4& view_projection = setup.view_projection[f];
+      frame.faces.push_back(std::make_unique<raster::Target>(
+          raster::Target::depth_only(setup.map.size, setup.map.size, &renderer.pool())));
+      raster::Target& face = *frame.faces.back();
+      renderer.begin_frame(face, raster::ClearValues{glm::vec4(0.0f), 1.0f});
+      try {
+        for (Caster& c : casters) {
+          const ObjectDraw& d = *c.draw;
+          raster::DrawState state;
+          state.cull = d.state.cull;
+          if (!c.cut_out) {
+            detail::ShadowDepthShader s;
+            s.model = scene.objects[d.object].transform;
+            s.view_projection = view_projection;
+            renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
+            continue;
+          }
+          state.alpha_test = true;
+          state.alpha_ref = 0.5f;
+          if (d.kind == ObjectDraw::Kind::TexturedUv0) {
+            detail::MaskedShadowDepthShader<TexturedUv0PbrShader> s;
+            s.inner = c.textured_uv0;
+            s.inner.view_projection = view_projection;
+            renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
+          } else {
+            detail::MaskedShadowDepthShader<TexturedPbrShader> s;
+            s.inner = c.textured;
+            s.inner.view_projection = view_projection;
+            renderer.draw(s, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, state);
+          }
+        }
+      } catch (...) {
+        renderer.end_frame();
+        throw;
+      }
+      renderer.end_frame();
+      map->faces[f] = std::as_const(face).depths().data();
+    }
+    light.shadow = map.get();
+    frame.maps.push_back(std::move(map));
+  }
+}
+
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const raster::Renderer::TileCallback& after_tile) {
   validate(scene.camera);
@@ -248,6 +366,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   lights->reserve(scene.lights.size());
   for (std::size_t i = 0; i < scene.lights.size(); ++i)
     lights->push_back(with_context("lights[" + std::to_string(i) + "]", [&] { return prepare_light(scene.lights[i]); }));
+  // Objects that receive no shadows read the lights without their maps (the list as it is
+  // before draw_shadow_maps sets them).
+  const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.shadows; });
+  std::shared_ptr<const std::vector<PreparedLight>> unshadowed_lights = lights;
+  if (shadowed) unshadowed_lights = std::make_shared<const std::vector<PreparedLight>>(*lights);
   const glm::mat4 view_projection =
       scene.camera.projection(static_cast<float>(target.width()) / static_cast<float>(target.height())) *
       scene.camera.view();
@@ -271,7 +394,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.orthographic = scene.camera.orthographic;
       s.view_direction = view_direction;
       s.ambient = scene.ambient;
-      s.lights = lights;
+      s.lights = o.receive_shadows ? std::shared_ptr<const std::vector<PreparedLight>>(lights) : unshadowed_lights;
       s.environment = occluding && o.material.alpha_mode != AlphaMode::Blend ? &occluded : env;
     };
     if (!needs_textured_shader(o)) {
@@ -337,6 +460,8 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   for (const auto* list : {&opaque, &blended})
     for (const ObjectDraw& d : *list)
       geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3, d.varying_count());
+  ShadowFrame shadow_frame;  // the maps live until the frame is drawn
+  if (shadowed) draw_shadow_maps(scene, renderer, opaque, blended, *lights, shadow_frame);
   if (occluding) {
     draw_occlusion(scene, renderer, target.width(), target.height(), view_projection, opaque, occlusion);
     occluded.occlusion = occlusion.data();

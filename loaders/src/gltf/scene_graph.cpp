@@ -57,7 +57,19 @@ void SceneGraph::load() {
   // The textures (every image decoded once, in parallel), then the objects, now that their
   // materials are complete.
   materials_.make_textures(resources_);
-  for (const Placed& o : placed_) out_.objects.push_back({o.mesh, materials_.at(o.material), o.transform});
+  // A material that transmits light (KHR_materials_transmission, factor > 0: a lamp's paper
+  // shade, glass), which softpbr draws opaque, casts no shadow: the light passes through it
+  // (docs/design.md, "Shadows").
+  const auto transmits = [&](int index) {
+    if (index < 0 || static_cast<std::size_t>(index) >= m_.materials.size()) return false;
+    const tg::ExtensionMap& e = m_.materials[static_cast<std::size_t>(index)].extensions;
+    const auto it = e.find("KHR_materials_transmission");
+    if (it == e.end() || !it->second.IsObject() || !it->second.Has("transmissionFactor")) return false;
+    const tg::Value& f = it->second.Get("transmissionFactor");
+    return f.IsNumber() && f.GetNumberAsDouble() > 0.0;
+  };
+  for (const Placed& o : placed_)
+    out_.objects.push_back({o.mesh, materials_.at(o.material), o.transform, !transmits(o.material)});
 }
 
 void SceneGraph::check_extensions() const {
@@ -372,6 +384,7 @@ void SceneGraph::add_light(int index, const glm::dmat4& world, const std::string
     out.inner_cone = static_cast<float>(l.spot.innerConeAngle);
     out.outer_cone = static_cast<float>(l.spot.outerConeAngle);
   }
+  out.shadows = true;  // glTF's lights cast shadows (docs/scene-format.md; --shadows off turns them off)
   out_.lights.push_back(out);
 }
 

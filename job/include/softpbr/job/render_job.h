@@ -76,6 +76,10 @@ struct Settings {
   // Screen-space ambient occlusion of the environment's light: "on" (the default of a
   // scene with an environment) or "off" (EnvironmentLighting::occlusion).
   std::optional<std::string> occlusion{};
+  // Shadows of the punctual lights (pbr::Light::shadows): "on" (every light casts them),
+  // "off" (none does); unset: as the scene says (a glTF model's lights cast them, a scene
+  // file's lights where they say "shadows": true). apply_shadows() puts it over a scene.
+  std::optional<std::string> shadows{};
   std::filesystem::path env_cache{};  // prefiltered environments kept in this folder
   // Loading: the memory limit in MiB (default pbr::kDefaultMemoryLimit) and the folders a
   // scene may read files from (empty: anywhere).
@@ -111,6 +115,11 @@ pbr::LoadedScene load_model(const std::string& input, const Settings& settings, 
 // The settings' environment and background over a scene already loaded (load() does it).
 void apply_environment(pbr::LoadedScene& scene, const Settings& settings, raster::ThreadPool& pool);
 
+// The settings' shadows over the scene's lights: with "on" every light casts shadows, with
+// "off" none does; unset, the scene's own. load() does it; Python does it to the scene it
+// renders.
+void apply_shadows(pbr::Scene& scene, const Settings& settings);
+
 // The scene's render settings with the settings given over them, every value checked (the
 // scene's own too, which Python may have set to anything): Error (Kind::Setting).
 pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& settings);
@@ -118,7 +127,8 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& se
 // The memory a render is estimated to need, by what needs it.
 struct MemoryEstimate {
   std::uint64_t image = 0;        // the target (pbr::image_memory: every sample, and the resolve),
-                                  // and with an environment's occlusion its buffers (pbr::occlusion_memory)
+                                  // with an environment's occlusion its buffers (pbr::occlusion_memory),
+                                  // and the lights' shadow maps (pbr::shadow_memory)
   std::uint64_t mesh = 0;         // meshes and their draws (LoadedScene::mesh_bytes)
   std::uint64_t texture = 0;      // textures' texels (LoadedScene::texture_bytes)
   std::uint64_t environment = 0;  // the environment's maps (LoadedScene::environment_bytes)

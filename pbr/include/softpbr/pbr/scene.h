@@ -23,6 +23,10 @@ struct Object {
   std::shared_ptr<const Mesh> mesh;
   Material material;
   glm::mat4 transform{1.0f};  // model → world
+  // Shadows (docs/design.md, "Shadows"): whether the object blocks the lights that cast
+  // shadows (Light::shadows), and whether it is darkened where they are blocked.
+  bool cast_shadows = true;
+  bool receive_shadows = true;
 };
 
 // What is seen where no object is: the colour `background` (alpha 0 for a transparent
@@ -47,6 +51,11 @@ struct Scene {
 // Bytes a frame of width × height pixels holds besides its target when the scene's
 // environment has occlusion on: the 1-sample depth and normal target and two floats a pixel.
 std::uint64_t occlusion_memory(int width, int height);
+
+// Bytes a frame of the scene holds besides its target for its shadow maps: a depth-only
+// target a face for each light with shadows (16 MiB a directional or spot light, 24 MiB a
+// point light's six faces).
+std::uint64_t shadow_memory(const Scene& scene);
 
 // Clears the target to the background (depth to 1), draws the environment as the
 // background when background_mode asks for it, then every object with PbrShader (or
