@@ -7,7 +7,7 @@
 namespace viewer {
 
 namespace {
-constexpr std::array<std::pair<Key, std::string_view>, 31> kNames{{
+constexpr std::array<std::pair<Key, std::string_view>, 32> kNames{{
     {Key::W, "w"},        {Key::A, "a"},         {Key::S, "s"},       {Key::D, "d"},
     {Key::Q, "q"},        {Key::E, "e"},         {Key::Up, "up"},     {Key::Down, "down"},
     {Key::Left, "left"},  {Key::Right, "right"}, {Key::Tab, "tab"},   {Key::Num0, "0"},

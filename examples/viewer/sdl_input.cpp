@@ -7,7 +7,7 @@
 namespace viewer {
 
 namespace {
-constexpr std::array<std::pair<Key, SDL_Keycode>, 31> kKeys{{
+constexpr std::array<std::pair<Key, SDL_Keycode>, 32> kKeys{{
     {Key::W, SDLK_w},         {Key::A, SDLK_a},         {Key::S, SDLK_s},       {Key::D, SDLK_d},
     {Key::Q, SDLK_q},         {Key::E, SDLK_e},         {Key::Up, SDLK_UP},     {Key::Down, SDLK_DOWN},
     {Key::Left, SDLK_LEFT},   {Key::Right, SDLK_RIGHT}, {Key::Tab, SDLK_TAB},   {Key::Num0, SDLK_0},
