@@ -20,6 +20,7 @@
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
+#include "shared_assets.h"
 
 namespace pbr = softpbr::pbr;
 namespace raster = softpbr::raster;
@@ -27,7 +28,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path shared_gltf() { return fs::path(SOFTPBR_SOURCE_DIR) / ".." / "shared" / "gltf"; }
+fs::path shared_gltf() { return shared_assets::folder() / "gltf"; }
 
 // The model file of a sample folder: its glTF-Binary .glb, else its glTF .gltf.
 fs::path model_file(const fs::path& folder) {
