@@ -42,6 +42,7 @@ Effect press(ViewerState& s, Key key) {
       break;
     case Key::V: s.msaa = s.msaa == 1 ? 4 : 1; break;
     case Key::P: return Effect::Screenshot;
+    case Key::G: return Effect::NextVariant;
     case Key::Escape: s.quit = true; return Effect::Quit;
     default: break;  // movement keys act in advance()
   }

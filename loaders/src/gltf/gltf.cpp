@@ -166,6 +166,7 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     start = end + 1;
   }
   gltf::use_texture_extension_sources(model);
+  out.variants = gltf::variant_names(model);
   if (!options.variant.empty()) gltf::select_variant(model, options.variant, file);
   gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, doc.placeholders, doc.draco_indices).load();
   if (info != nullptr) {

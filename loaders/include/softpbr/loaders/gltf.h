@@ -126,6 +126,9 @@ struct GltfScene {
   std::size_t triangles = 0;
   std::vector<std::string> files;     // the external buffers and images read (not the file itself)
   std::vector<GltfAnimation> animations;
+  // KHR_materials_variants: the file's variant names, in their order (empty: none); the
+  // one shown is GltfOptions::variant's.
+  std::vector<std::string> variants;
 };
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
