@@ -3,15 +3,22 @@
 // chain, ETC1S with alpha slices at odd sizes, UASTC with Zstandard. Each level decodes to
 // the FNV-1a 64 hash of the RGBA that Binomial's transcoder (npm three 0.187.0) gives it,
 // written below by tests/ktx2/encode_samples.mjs (docs/testing.md says how): the comparison
-// runs everywhere, without Node.
+// runs everywhere, without Node. Also: the bytes do not depend on the threads a decode is
+// given (image::ParallelFor), nor does the error a bad block gives.
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ktx2_checks.h"
+#include "ktx2_etc1s_sample.h"
+#include "ktx2_writer.h"
 #include "softpbr/image/ktx2.h"
 #include "softpbr/image/load.h"
 
@@ -76,6 +83,37 @@ constexpr FileInfo kFiles[] = {{"etc1s_pattern_256x192.ktx2", "ETC1S", "BasisLZ"
                                {"etc1s_alpha_pattern_150x100.ktx2", "ETC1S", "BasisLZ", 8},
                                {"uastc_zstd_pattern_128x128.ktx2", "UASTC", "Zstandard", 8}};
 
+// `threads` std::threads taking the tasks from a shared counter (the order they run in is
+// the scheduler's), or, with `reversed`, every task on the caller, last first.
+image::ParallelFor on_threads(int threads, bool reversed = false) {
+  return [threads, reversed](std::size_t count, const std::function<void(std::size_t)>& task) {
+    if (reversed) {
+      for (std::size_t k = count; k-- > 0;) task(k);
+      return;
+    }
+    std::atomic<std::size_t> next{0};
+    std::vector<std::thread> pool;
+    for (int i = 0; i < threads; ++i)
+      pool.emplace_back([&] {
+        for (std::size_t k = next++; k < count; k = next++) task(k);
+      });
+    for (std::thread& t : pool) t.join();
+  };
+}
+
+std::vector<image::ParallelFor> ways_to_run() {
+  return {on_threads(1), on_threads(2), on_threads(3), on_threads(8), on_threads(1, true)};
+}
+
+std::string error_of(const std::vector<std::uint8_t>& bytes, const image::ParallelFor& parallel) {
+  try {
+    image::load_ktx2(bytes, "t.ktx2", {}, nullptr, parallel);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST_CASE("ktx2 files: Basis Universal's ETC1S and UASTC files decode to its transcoder's RGBA, every level, without Node") {
@@ -111,6 +149,43 @@ TEST_CASE("ktx2 files: the alpha file's alpha is the pattern's (clear hole, opaq
   CHECK(alpha(12, 94) > 240);           // opaque
   const image::Ktx2Image c = image::load_ktx2(file("etc1s_pattern_256x192.ktx2"));
   for (std::size_t i = 3; i < c.levels[0].rgba.size(); i += 4) REQUIRE(c.levels[0].rgba[i] == 255);
+}
+
+TEST_CASE("ktx2 files: a decode's bytes are the same on 1, 2, 3 and 8 threads and in reverse task order") {
+  std::vector<std::vector<std::uint8_t>> files;
+  for (const FileInfo& f : kFiles) files.push_back(image::read_file(file(f.file)));
+  files.push_back(ktx2_test::etc1s_sample(true).file());
+  for (std::size_t n = 0; n < files.size(); ++n) {
+    CAPTURE(n);
+    const image::Ktx2Image alone = image::load_ktx2(files[n], "t.ktx2");
+    for (const image::ParallelFor& run : ways_to_run()) {
+      const image::Ktx2Image k = image::load_ktx2(files[n], "t.ktx2", {}, nullptr, run);
+      REQUIRE(k.levels.size() == alone.levels.size());
+      for (std::size_t l = 0; l < k.levels.size(); ++l) CHECK(k.levels[l].rgba == alone.levels[l].rgba);
+    }
+  }
+}
+
+TEST_CASE("ktx2 files: the first bad UASTC block in row order is the one reported, whatever the threads") {
+  // 64×64: 16 block rows, two ranges of eight. Mode code 0x45 is reserved.
+  ktx2_test::Ktx2Spec s;
+  s.vk_format = 0;
+  s.color_model = 166;
+  s.width = s.height = 64;
+  std::vector<std::uint8_t> level(16 * 16 * 16, 0);
+  for (std::size_t b = 0; b < 256; ++b) level[b * 16] = 0x17;  // solid black blocks
+  auto bad = [](std::vector<std::uint8_t> l, int bx, int by) {
+    l[static_cast<std::size_t>(by * 16 + bx) * 16] = 0x45;
+    return l;
+  };
+  s.levels = {bad(bad(level, 3, 12), 5, 2)};
+  const std::vector<std::uint8_t> both = ktx2_test::write_ktx2(s);
+  s.levels = {bad(level, 3, 12)};
+  const std::vector<std::uint8_t> second_range = ktx2_test::write_ktx2(s);
+  for (const image::ParallelFor& run : ways_to_run()) {
+    CHECK(error_of(both, run) == "t.ktx2: level 0: block (5, 2) is not a valid UASTC block");
+    CHECK(error_of(second_range, run) == "t.ktx2: level 0: block (3, 12) is not a valid UASTC block");
+  }
 }
 
 TEST_CASE("ktx2 files: every truncation of the real ETC1S file with alpha is a one-line error naming it") {
