@@ -38,6 +38,14 @@ using nlohmann::json;
 
 namespace {
 
+// Whether two vectors hold the same bytes (memcmp of an empty vector's null data is
+// undefined: UBSan stops there).
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+
 // ---- A .glb made in memory ---------------------------------------------------------
 
 struct Glb {
@@ -293,7 +301,7 @@ TEST_CASE("skins: joints at rest give the unskinned mesh bit for bit, the skinne
   const pbr::Mesh& ma = *a.objects[0].mesh;
   const pbr::Mesh& mb = *b.objects[0].mesh;
   REQUIRE(ma.vertices.size() == mb.vertices.size());
-  CHECK(std::memcmp(ma.vertices.data(), mb.vertices.data(), ma.vertices.size() * sizeof(pbr::MeshVertex)) == 0);
+  CHECK(same_bytes(ma.vertices, mb.vertices));
   CHECK(ma.indices == mb.indices);
   // And so the same image.
   auto render = [](const pbr::GltfScene& g) {
@@ -471,11 +479,11 @@ TEST_CASE("deformation: the same bits at 1, 2 and 8 threads, and each vertex the
       raster::ThreadPool pool(threads);
       pbr::Mesh out = rig->base;
       gltf::deform(rig->base, rig->deformation, out, &pool);
-      CHECK(std::memcmp(out.vertices.data(), one.vertices.data(), one.vertices.size() * sizeof(pbr::MeshVertex)) == 0);
-      CHECK(std::memcmp(out.tangents.data(), one.tangents.data(), one.tangents.size() * sizeof(glm::vec4)) == 0);
+      CHECK(same_bytes(out.vertices, one.vertices));
+      CHECK(same_bytes(out.tangents, one.tangents));
       // Deforming again into the deformed mesh gives the same (only base is read).
       gltf::deform(rig->base, rig->deformation, out, &pool);
-      CHECK(std::memcmp(out.vertices.data(), one.vertices.data(), one.vertices.size() * sizeof(pbr::MeshVertex)) == 0);
+      CHECK(same_bytes(out.vertices, one.vertices));
     }
     // The oracle: morphed and skinned in double from the same palette, Σ wⱼ·(Pⱼ·p).
     const gltf::SkinInfluences& k = rig->skin;
@@ -629,10 +637,8 @@ std::string difference(const pbr::GltfScene& a, const pbr::GltfScene& b) {
     if (std::memcmp(&x.transform, &y.transform, sizeof(glm::mat4)) != 0) return at + "transform";
     if (x.mesh->vertices.size() != y.mesh->vertices.size() || x.mesh->tangents.size() != y.mesh->tangents.size())
       return at + "vertex counts";
-    if (std::memcmp(x.mesh->vertices.data(), y.mesh->vertices.data(), x.mesh->vertices.size() * sizeof(pbr::MeshVertex)) != 0)
-      return at + "vertices";
-    if (std::memcmp(x.mesh->tangents.data(), y.mesh->tangents.data(), x.mesh->tangents.size() * sizeof(glm::vec4)) != 0)
-      return at + "tangents";
+    if (!same_bytes(x.mesh->vertices, y.mesh->vertices)) return at + "vertices";
+    if (!same_bytes(x.mesh->tangents, y.mesh->tangents)) return at + "tangents";
     if (x.mesh->indices != y.mesh->indices) return at + "indices";
     if (x.material.base_color != y.material.base_color) return at + "material";
   }
