@@ -4,6 +4,8 @@
 // describes the KTX2 image. The KTX2 decoder itself: test_ktx2*.cpp.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
@@ -46,8 +48,10 @@ std::vector<std::uint8_t> ktx2_texture() {
   return ktx2_test::write_ktx2(s);
 }
 
+// One folder a process: ctest runs the cases as parallel processes, each writing the
+// same file names.
 fs::path folder() {
-  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_gltf_basisu";
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / ("test_gltf_basisu." + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }
