@@ -196,6 +196,7 @@ std::vector<BenchScene> ibl_gallery_variants(int width, int height) {
     o.material.roughness = level / 5.0f;
   }
   variant("nobg").scene.background_mode = pbr::BackgroundMode::Color;
+  variant("noocclusion").scene.environment.occlusion = false;
   BenchScene& ambient = variant("ambient");
   ambient.scene.environment = {};
   ambient.scene.background_mode = pbr::BackgroundMode::Color;

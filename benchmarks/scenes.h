@@ -86,6 +86,8 @@ BenchScene ibl_gallery_scene(int width, int height);
 //   gallery_ibl_onelevel   every roughness rounded to the nearest prefiltered level (i / 5):
 //                          one level lookup a sphere pixel instead of two
 //   gallery_ibl_nobg       the background a colour: no background pass
+//   gallery_ibl_noocclusion  without the screen-space occlusion (its cost; compare_llvmpipe's
+//                          gallery_ibl is this one: the GLSL has no occlusion)
 //   gallery_ibl_ambient    no environment, the constant ambient (PbrShader without lights)
 //                          and a colour background: the raster work and tone map alone
 //   gallery_ibl_bgonly     the background pass alone (no objects)

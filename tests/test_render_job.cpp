@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -12,6 +13,8 @@
 
 #include <doctest/doctest.h>
 
+#include "shared_assets.h"
+#include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
 #include "softpbr/job/render_job.h"
 #include "softpbr/loaders/format_bytes.h"
@@ -20,6 +23,7 @@
 #include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/raster/pool.h"
 #include "softpbr/raster/raster.h"
 
 namespace job = softpbr::job;
@@ -230,4 +234,66 @@ TEST_CASE("render job: a frame with MSAA is pbr::render_outputs' image and resol
   frame.render(scene, s, renderer, {.linear = true});
   const raster::Target taken = frame.take_linear();
   CHECK(raster::hash_colors(taken) == raster::hash_colors(resolve));
+}
+
+// ---- Animated models (issue 50) ---------------------------------------------------------
+
+TEST_CASE("animated frames (fps): frame i is the model at i/F, the camera framing the union of every frame's bounds") {
+  const fs::path file = shared_assets::folder() / "gltf" / "Fox" / "glTF-Binary" / "Fox.glb";
+  if (!fs::is_regular_file(file)) {
+    MESSAGE("skipped: Fox is absent");
+    return;
+  }
+  job::Settings s;
+  s.fps = 10.0;
+  s.animation = "Walk";
+  s.width = 64;
+  s.height = 48;
+  s.env = "none";
+  raster::ThreadPool pool(2);
+  const pbr::LoadedScene f = job::load(file.string(), s, pool);
+  REQUIRE(f.poser != nullptr);
+  // The camera: framing_camera of the union of the bounds at 0, 0.1, … up to the first
+  // moment at or after the animation's end, each loaded from the file alone.
+  double duration = 0.0;
+  for (const pbr::GltfAnimation& a : pbr::load_gltf(file).animations)
+    if (a.name == "Walk") duration = a.duration;
+  REQUIRE(duration > 0.3);
+  pbr::Bounds all = pbr::world_bounds(pbr::load_gltf(file, {.time = 0.0, .animation = "Walk"}).objects);
+  const pbr::Bounds first = all;
+  for (long k = 1; k <= static_cast<long>(std::ceil(duration * 10.0)); ++k)
+    all = pbr::merge(all, pbr::world_bounds(pbr::load_gltf(file, {.time = static_cast<double>(k) / 10.0, .animation = "Walk"}).objects));
+  CHECK(!(all.min == first.min && all.max == first.max));  // the walk reaches beyond frame 0's bounds
+  const pbr::Camera expected = pbr::framing_camera(all, 64.0f / 48.0f, 0.0f, static_cast<float>(softpbr::dmath::radians(15.0)));
+  CHECK(f.scene.camera.position == expected.position);
+  CHECK(f.scene.camera.target == expected.target);
+  CHECK(f.scene.camera.far == expected.far);
+  // Frame 3: the model loaded at 0.3 s, bit for bit; the camera does not move.
+  for (const long frame : {3L, 0L, 3L}) {
+    CAPTURE(frame);
+    pbr::Scene scene = f.scene;
+    job::pose_frame(f, s, frame, scene, pool);
+    const pbr::GltfScene loaded = pbr::load_gltf(file, {.time = static_cast<double>(frame) / 10.0, .animation = "Walk"});
+    REQUIRE(scene.objects.size() == loaded.objects.size());
+    for (std::size_t i = 0; i < loaded.objects.size(); ++i) {
+      CAPTURE(i);
+      const pbr::Mesh& a = *scene.objects[i].mesh;
+      const pbr::Mesh& b = *loaded.objects[i].mesh;
+      REQUIRE(a.vertices.size() == b.vertices.size());
+      CHECK(std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(pbr::MeshVertex)) == 0);
+      CHECK(std::memcmp(&scene.objects[i].transform, &loaded.objects[i].transform, sizeof(glm::mat4)) == 0);
+    }
+    CHECK(scene.camera.position == f.scene.camera.position);
+  }
+  // Settings: fps in (0, 1000], and not with a time.
+  for (const double bad : {0.0, -1.0, 1001.0, std::nan("")}) {
+    job::Settings b;
+    b.fps = bad;
+    CHECK_THROWS_AS(job::validate(b), job::Error);
+  }
+  job::Settings both;
+  both.fps = 24.0;
+  both.time = 1.0;
+  CHECK_THROWS_WITH_AS(job::validate(both),
+                       "fps: frame f is the moment f / fps: give the frames' fps or one time, not both", job::Error);
 }

@@ -193,6 +193,7 @@ class Viewer {
         // Scripts capture in the state only: a real grab would add real mouse motion.
         if (options_.script.empty()) SDL_SetRelativeMouseMode(state_.captured ? SDL_TRUE : SDL_FALSE);
         if (effect == viewer::Effect::Screenshot) screenshot_requested_ = true;
+        if (effect == viewer::Effect::NextVariant) show_next_variant();
         return true;
       }
       case SDL_MOUSEMOTION:
@@ -216,7 +217,27 @@ class Viewer {
 
   // The title's material: a glTF model is drawn with its own.
   std::string material_text() const {
-    return meshes_[state_.mesh].model.empty() ? viewer::material_label(state_) : std::string("own materials");
+    const viewer::NamedMesh& entry = meshes_[state_.mesh];
+    if (entry.model.empty()) return viewer::material_label(state_);
+    const std::string variant = viewer::variant_label(entry);
+    return variant.empty() ? std::string("own materials") : "own materials, " + variant;
+  }
+
+  // G: the shown glTF model's next material variant. One that does not load again is one
+  // line on stderr, and the view stays as it was.
+  void show_next_variant() {
+    viewer::NamedMesh& entry = meshes_[state_.mesh];
+    try {
+      std::vector<std::string> warnings;
+      if (!viewer::next_variant(entry, warnings, &renderer_.pool())) return;
+      const std::string label = viewer::variant_label(entry);
+      std::printf("viewer: %s: %s\n", entry.name.c_str(), label.empty() ? "default materials" : label.c_str());
+      std::fflush(stdout);
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "viewer: %s: out of memory\n", entry.file.string().c_str());
+    } catch (const std::exception& ex) {
+      std::fprintf(stderr, "viewer: %s\n", ex.what());
+    }
   }
 
   // A dropped file joins the mesh list and is shown; one that does not load is one line on

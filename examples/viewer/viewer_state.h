@@ -62,7 +62,9 @@ struct ViewerState {
 };
 
 // What an event asks of the shell besides the state change.
-enum class Effect { None, Screenshot, Quit };
+// NextVariant: show the current glTF model's next material variant (the shell reloads it:
+// viewer_scene.h's next_variant).
+enum class Effect { None, Screenshot, Quit, NextVariant };
 
 // Applies one input event. Key repeats are not events: the shell drops them.
 Effect apply(ViewerState& state, const Event& event);

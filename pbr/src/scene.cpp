@@ -231,6 +231,8 @@ void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, i
                                 : glm::length(scene.camera.target - scene.camera.position) / projection[1][1];
   settings.radius = kOcclusionRadius * half_height;
   settings.strength = kOcclusionStrength;
+  settings.lanes = renderer.lanes();
+  settings.isa = renderer.isa();
   detail::compute_occlusion(gbuffer, settings, renderer.pool(), out);
 }
 

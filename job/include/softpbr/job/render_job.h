@@ -64,10 +64,18 @@ struct Settings {
   // A glTF model's material variant (KHR_materials_variants): a name, or an index ("1");
   // GltfOptions::variant. Not for a scene file, whose glTF objects say their own.
   std::optional<std::string> variant{};
+  // A glTF model's scene (glTF's "scenes"): a name, or an index ("1"); default the
+  // file's "scene", else 0 (GltfOptions::scene_name).
+  std::optional<std::string> scene{};
   // A glTF model's animations (pbr::GltfOptions): the moment, seconds in [-1e9, 1e9], and
   // the animation applied, an index or a name (default: every one).
   std::optional<double> time{};
   std::optional<std::string> animation{};
+  // A glTF model's animation over frames: frame f is the model at f / fps seconds (in
+  // (0, 1000]; not with `time`). The model is kept posable (pbr::GltfOptions::poseable)
+  // and pose_frame poses each frame; the automatic camera frames the union of the model's
+  // bounds at every frame's moment in the animation (docs/cli.md, "Animated models").
+  std::optional<double> fps{};
   // Image-based lighting: a file, "studio" or "none"; its intensity and rotation (degrees);
   // what is seen behind the scene: environment, blur, transparent or R,G,B (linear).
   std::optional<std::string> env{};
@@ -111,6 +119,13 @@ pbr::LoadedScene load(const std::string& input, const Settings& settings, raster
 // "none": the light rig): pbr::gltf_scene_file with the settings' size, yaw, pitch and
 // camera (Python's Scene.load_gltf). Throws as load().
 pbr::LoadedScene load_model(const std::string& input, const Settings& settings, raster::ThreadPool& pool);
+
+// Frame `frame` of a model loaded with settings.fps: `scene`'s objects replaced by the
+// model's at frame / fps seconds, and its lights (when the model has its own) and camera
+// (when viewed through one of its cameras) by theirs; deformed on `pool`. Does nothing
+// for a scene loaded without fps. Throws pbr::LoadError as loading at that time would.
+void pose_frame(const pbr::LoadedScene& loaded, const Settings& settings, long frame, pbr::Scene& scene,
+                raster::ThreadPool& pool);
 
 // The settings' environment and background over a scene already loaded (load() does it).
 void apply_environment(pbr::LoadedScene& scene, const Settings& settings, raster::ThreadPool& pool);
