@@ -99,6 +99,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--shadows", s.shadows,
                 "on (every light casts shadows) or off (none does); default: as the scene says (a glTF model's "
                 "lights cast them, a scene file's where \"shadows\": true)");
+  c->add_option("--ground", s.ground,
+                "shadow (a shadow catcher under the model: its soft contact shadow and the lights' shadows, "
+                "black with the shadow as alpha: over --background transparent it composites onto any page) or none; "
+                "default: as the scene says (none for a glTF model)");
   c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");

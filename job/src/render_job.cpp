@@ -116,6 +116,8 @@ void validate(const Settings& s) {
     bad_setting("occlusion", "expected on or off, got \"" + *s.occlusion + "\"");
   if (s.shadows && *s.shadows != "on" && *s.shadows != "off")
     bad_setting("shadows", "expected on or off, got \"" + *s.shadows + "\"");
+  if (s.ground && *s.ground != "shadow" && *s.ground != "none")
+    bad_setting("ground", "expected shadow or none, got \"" + *s.ground + "\"");
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
@@ -283,6 +285,7 @@ void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPoo
 }
 
 void apply_shadows(pbr::Scene& scene, const Settings& a) {
+  if (a.ground) scene.ground.shadow = *a.ground == "shadow";
   if (!a.shadows) return;
   for (pbr::Light& l : scene.lights) l.shadows = *a.shadows == "on";
 }

@@ -16,6 +16,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/pbr/textured_shading.h"
+#include "ground.h"
 #include "scene_kernels.h"
 
 namespace softpbr::pbr {
@@ -39,6 +40,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
 std::uint64_t shadow_memory(const Scene& scene) {
   std::uint64_t bytes = 0;
   for (const Light& l : scene.lights) bytes += detail::shadow_map_bytes(l);
+  if (scene.ground.shadow) bytes += detail::ground_bytes();
   return bytes;
 }
 
@@ -258,21 +260,20 @@ Bounds scene_bounds(const Scene& scene) {
   return world;
 }
 
-// The shadow maps (docs/design.md, "Shadows"): for each light with shadows, its faces fitted
-// to the scene's bounds (shadow_setup), each drawn into a depth-only target with the casters
-// — the objects with cast_shadows in `opaque` and `blended` (their draws' culling; masked and
-// blended ones cut out where their alpha is below ½, by their own textured shader made
-// unlit) — then the light's PreparedLight::shadow set to it.
-void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, const std::vector<ObjectDraw>& opaque,
-                      const std::vector<ObjectDraw>& blended, std::vector<PreparedLight>& lights, ShadowFrame& frame) {
-  const Bounds world = scene_bounds(scene);
-  // The casters' textured shaders for their alpha, made once: unlit, no lights, no environment.
-  struct Caster {
-    const ObjectDraw* draw;
-    bool cut_out;
-    TexturedPbrShader textured;
-    TexturedUv0PbrShader textured_uv0;
-  };
+// What blocks the lights and lies above the ground: an object with cast_shadows, drawn
+// depth-only. Masked and blended ones are cut out where their alpha is below ½, by their
+// own textured shader made unlit.
+struct Caster {
+  const ObjectDraw* draw;
+  bool cut_out;
+  TexturedPbrShader textured;
+  TexturedUv0PbrShader textured_uv0;
+};
+
+// The casters of `opaque` and `blended`, their textured shaders for the alpha made once
+// (unlit, no lights, no environment).
+std::vector<Caster> shadow_casters(const Scene& scene, const std::vector<ObjectDraw>& opaque,
+                                   const std::vector<ObjectDraw>& blended) {
   std::vector<Caster> casters;
   const auto no_lights = std::make_shared<const std::vector<PreparedLight>>();
   for (const auto* list : {&opaque, &blended})
@@ -295,53 +296,82 @@ void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, const std:
       }
       casters.push_back(std::move(c));
     }
+  return casters;
+}
+
+// The casters' depth seen through `view_projection`, drawn into the depth-only target
+// `face` (cleared to 1) with their draws' culling, or with none when `cull_none` (the
+// ground's view from below sees the undersides of open surfaces too).
+void draw_caster_depths(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+                        const glm::mat4& view_projection, raster::Target& face, bool cull_none) {
+  renderer.begin_frame(face, raster::ClearValues{glm::vec4(0.0f), 1.0f});
+  try {
+    for (Caster& c : casters) {
+      const ObjectDraw& d = *c.draw;
+      raster::DrawState state;
+      state.cull = cull_none ? raster::Cull::None : d.state.cull;
+      if (!c.cut_out) {
+        detail::ShadowDepthShader s;
+        s.model = scene.objects[d.object].transform;
+        s.view_projection = view_projection;
+        renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
+        continue;
+      }
+      state.alpha_test = true;
+      state.alpha_ref = 0.5f;
+      if (d.kind == ObjectDraw::Kind::TexturedUv0) {
+        detail::MaskedShadowDepthShader<TexturedUv0PbrShader> s;
+        s.inner = c.textured_uv0;
+        s.inner.view_projection = view_projection;
+        renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
+      } else {
+        detail::MaskedShadowDepthShader<TexturedPbrShader> s;
+        s.inner = c.textured;
+        s.inner.view_projection = view_projection;
+        renderer.draw(s, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, state);
+      }
+    }
+  } catch (...) {
+    renderer.end_frame();
+    throw;
+  }
+  renderer.end_frame();
+}
+
+// The shadow maps (docs/design.md, "Shadows"): for each light with shadows, its faces fitted
+// to the scene's bounds (shadow_setup), each drawn into a depth-only target with the
+// casters, then the light's PreparedLight::shadow set to it.
+void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+                      std::vector<PreparedLight>& lights, ShadowFrame& frame) {
+  const Bounds world = scene_bounds(scene);
   for (PreparedLight& light : lights) {
     if (!light.light.shadows) continue;
     detail::ShadowSetup setup;
     if (!detail::shadow_setup(light, world, setup)) continue;
     auto map = std::make_unique<ShadowMap>(setup.map);
     for (std::size_t f = 0; f < setup.view_projection.size(); ++f) {
-      const glm::mat4& view_projection = setup.view_projection[f];
       frame.faces.push_back(std::make_unique<raster::Target>(
           raster::Target::depth_only(setup.map.size, setup.map.size, &renderer.pool())));
       raster::Target& face = *frame.faces.back();
-      renderer.begin_frame(face, raster::ClearValues{glm::vec4(0.0f), 1.0f});
-      try {
-        for (Caster& c : casters) {
-          const ObjectDraw& d = *c.draw;
-          raster::DrawState state;
-          state.cull = d.state.cull;
-          if (!c.cut_out) {
-            detail::ShadowDepthShader s;
-            s.model = scene.objects[d.object].transform;
-            s.view_projection = view_projection;
-            renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
-            continue;
-          }
-          state.alpha_test = true;
-          state.alpha_ref = 0.5f;
-          if (d.kind == ObjectDraw::Kind::TexturedUv0) {
-            detail::MaskedShadowDepthShader<TexturedUv0PbrShader> s;
-            s.inner = c.textured_uv0;
-            s.inner.view_projection = view_projection;
-            renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
-          } else {
-            detail::MaskedShadowDepthShader<TexturedPbrShader> s;
-            s.inner = c.textured;
-            s.inner.view_projection = view_projection;
-            renderer.draw(s, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, state);
-          }
-        }
-      } catch (...) {
-        renderer.end_frame();
-        throw;
-      }
-      renderer.end_frame();
+      draw_caster_depths(scene, renderer, casters, setup.view_projection[f], face, false);
       map->faces[f] = std::as_const(face).depths().data();
     }
     light.shadow = map.get();
     frame.maps.push_back(std::move(map));
   }
+}
+
+// The ground's shadow catcher (ground.h), or false when the scene has nothing to stand on
+// it: the casters seen from below, their depths and the lights' maps made its texture.
+bool make_ground(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+                 const std::vector<PreparedLight>& lights, Object& out) {
+  detail::GroundSetup setup;
+  if (!detail::ground_setup(scene_bounds(scene), scene.ground, setup)) return false;
+  raster::Target below = raster::Target::depth_only(detail::kGroundSize, detail::kGroundSize, &renderer.pool());
+  draw_caster_depths(scene, renderer, casters, setup.view_projection, below, true);
+  out = detail::ground_object(
+      setup, detail::ground_texture(setup, scene.ground, std::as_const(below).depths(), lights, renderer.pool()));
+  return true;
 }
 
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
@@ -379,8 +409,8 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   // An orthographic camera's one direction towards the camera (validate(): not zero).
   const glm::vec3 view_direction = glm::normalize(scene.camera.position - scene.camera.target);
   std::vector<ObjectDraw> opaque, blended;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& o = scene.objects[i];
+  // Object `o` (scene.objects[i], or the ground) as a draw in `opaque` or `blended`.
+  const auto add_draw = [&](const Object& o, std::size_t i) {
     const std::string where = "objects[" + std::to_string(i) + "]";
     if (!o.mesh) throw std::invalid_argument(where + ": has no mesh");
     ObjectDraw d;
@@ -403,7 +433,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       d.plain.material = with_context(where, [&] { return prepare_material(o.material); });
       set_up_frame(d.plain);
       opaque.push_back(std::move(d));
-      continue;
+      return;
     }
     auto material = std::make_shared<const TexturedMaterial>(
         with_context(where, [&] { return prepare_textured_material(o.material); }));
@@ -452,18 +482,28 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       d.distance2 = scene.camera.orthographic ? -glm::dot(to_eye, view_direction) : glm::dot(to_eye, to_eye);
     }
     (o.material.alpha_mode == AlphaMode::Blend ? blended : opaque).push_back(std::move(d));
-  }
+  };
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) add_draw(scene.objects[i], i);
   // Blended objects after every opaque one, farthest first (ties: scene order).
   std::stable_sort(blended.begin(), blended.end(),
                    [](const ObjectDraw& a, const ObjectDraw& b) { return a.distance2 > b.distance2; });
 
+  ShadowFrame shadow_frame;  // the maps live until the frame is drawn
+  Object ground;             // the ground's draw points into it
+  if (shadowed || scene.ground.shadow) {
+    std::vector<Caster> casters = shadow_casters(scene, opaque, blended);
+    if (shadowed) draw_shadow_maps(scene, renderer, casters, *lights, shadow_frame);
+    // The ground first of the blended draws: it lies under everything.
+    if (scene.ground.shadow && make_ground(scene, renderer, casters, *lights, ground)) {
+      add_draw(ground, scene.objects.size());
+      std::rotate(blended.begin(), blended.end() - 1, blended.end());
+    }
+  }
   // What the draws will bin, so that a transient target's frame that fits is one pass.
   std::size_t geometry = raster::draw_geometry_bytes(3, 1, raster::kVaryingCount<BackgroundShader::Varyings>);
   for (const auto* list : {&opaque, &blended})
     for (const ObjectDraw& d : *list)
       geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3, d.varying_count());
-  ShadowFrame shadow_frame;  // the maps live until the frame is drawn
-  if (shadowed) draw_shadow_maps(scene, renderer, opaque, blended, *lights, shadow_frame);
   if (occluding) {
     draw_occlusion(scene, renderer, target.width(), target.height(), view_projection, opaque, occlusion);
     occluded.occlusion = occlusion.data();

@@ -88,6 +88,11 @@ struct Settings {
   // "off" (none does); unset: as the scene says (a glTF model's lights cast them, a scene
   // file's lights where they say "shadows": true). apply_shadows() puts it over a scene.
   std::optional<std::string> shadows{};
+  // A ground under the objects (pbr::Ground): "shadow" (a shadow catcher: the objects'
+  // soft contact shadow and the lights' shadows on the plane under them, black with the
+  // shadow as alpha) or "none"; unset: as the scene says (a scene file's "ground"; none
+  // for a glTF model). apply_shadows() puts it over a scene.
+  std::optional<std::string> ground{};
   std::filesystem::path env_cache{};  // prefiltered environments kept in this folder
   // Loading: the memory limit in MiB (default pbr::kDefaultMemoryLimit) and the folders a
   // scene may read files from (empty: anywhere).
@@ -131,8 +136,8 @@ void pose_frame(const pbr::LoadedScene& loaded, const Settings& settings, long f
 void apply_environment(pbr::LoadedScene& scene, const Settings& settings, raster::ThreadPool& pool);
 
 // The settings' shadows over the scene's lights: with "on" every light casts shadows, with
-// "off" none does; unset, the scene's own. load() does it; Python does it to the scene it
-// renders.
+// "off" none does; unset, the scene's own; and their ground ("shadow" or "none") over the
+// scene's. load() does it; Python does it to the scene it renders.
 void apply_shadows(pbr::Scene& scene, const Settings& settings);
 
 // The scene's render settings with the settings given over them, every value checked (the
