@@ -5,6 +5,7 @@
 #include <array>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -362,15 +363,33 @@ void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, std::vecto
 }
 
 // The ground's shadow catcher (ground.h), or false when the scene has nothing to stand on
-// it: the casters seen from below, their depths and the lights' maps made its texture.
+// it: the casters seen from below, their depths, the lights' maps and a map along the
+// environment's dominant light (when `env` has one) made its texture.
 bool make_ground(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
-                 const std::vector<PreparedLight>& lights, Object& out) {
+                 const std::vector<PreparedLight>& lights, const PreparedEnvironment* env, Object& out) {
+  const Bounds world = scene_bounds(scene);
   detail::GroundSetup setup;
-  if (!detail::ground_setup(scene_bounds(scene), scene.ground, setup)) return false;
+  if (!detail::ground_setup(world, scene.ground, setup)) return false;
   raster::Target below = raster::Target::depth_only(detail::kGroundSize, detail::kGroundSize, &renderer.pool());
   draw_caster_depths(scene, renderer, casters, setup.view_projection, below, true);
-  out = detail::ground_object(
-      setup, detail::ground_texture(setup, scene.ground, std::as_const(below).depths(), lights, renderer.pool()));
+  detail::DominantLight dominant;
+  std::optional<raster::Target> sky_face;
+  ShadowMap sky;
+  if (env != nullptr && detail::dominant_light(*env, dominant)) {
+    Light l;
+    l.type = LightType::Directional;
+    l.direction = -dominant.to_light;
+    l.shadows = true;
+    detail::ShadowSetup sky_setup;
+    if (detail::shadow_setup(prepare_light(l), world, sky_setup)) {
+      sky_face.emplace(raster::Target::depth_only(sky_setup.map.size, sky_setup.map.size, &renderer.pool()));
+      draw_caster_depths(scene, renderer, casters, sky_setup.view_projection[0], *sky_face, false);
+      sky = sky_setup.map;
+      sky.faces[0] = std::as_const(*sky_face).depths().data();
+    }
+  }
+  out = detail::ground_object(setup, detail::ground_texture(setup, scene.ground, std::as_const(below).depths(), lights,
+                                                            sky_face ? &sky : nullptr, dominant, renderer.pool()));
   return true;
 }
 
@@ -494,7 +513,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     std::vector<Caster> casters = shadow_casters(scene, opaque, blended);
     if (shadowed) draw_shadow_maps(scene, renderer, casters, *lights, shadow_frame);
     // The ground first of the blended draws: it lies under everything.
-    if (scene.ground.shadow && make_ground(scene, renderer, casters, *lights, ground)) {
+    if (scene.ground.shadow && make_ground(scene, renderer, casters, *lights, env, ground)) {
       add_draw(ground, scene.objects.size());
       std::rotate(blended.begin(), blended.end() - 1, blended.end());
     }
