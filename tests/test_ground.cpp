@@ -85,7 +85,7 @@ TEST_CASE("ground: a resting sphere stands on a contact shadow, darkest at its f
   CHECK(alpha_at(t, 0.0f, 0.0f) == 1.0f);
   // Around it the shadow: dark near the sphere, fading outwards, then nothing at all.
   const float a1 = alpha_at(t, 0.53f, 0.0f), a2 = alpha_at(t, 0.65f, 0.0f), a3 = alpha_at(t, 0.72f, 0.0f);
-  CHECK(a1 > 0.1f);
+  CHECK(a1 > 0.03f);
   CHECK(a1 > a2);
   CHECK(a2 > a3);
   CHECK(a1 < 0.7f);  // the ground is never more than darkness (0.7) opaque
@@ -173,11 +173,13 @@ TEST_CASE("ground: an environment's dominant light throws its shadow on the grou
   // The sphere's centre seen from the sun falls on (1, 0, 0): shadowed with the sun only.
   CHECK(alpha_at(with, 1.0f, 0.0f) > 0.5f);
   CHECK(alpha_at(without, 1.0f, 0.0f) < 0.15f);
-  // On the sun's side of the sphere both are the same contact shadow.
-  CHECK(alpha_at(with, -0.7f, 0.0f) == alpha_at(without, -0.7f, 0.0f));
+  // On the sun's side of the sphere no shadow of it: both the faint edge of its contact
+  // shadow (the squares differ: the sun's shadow widens the ground, so their texels too).
+  CHECK(alpha_at(with, -0.7f, 0.0f) < 0.02f);
+  CHECK(std::abs(alpha_at(with, -0.7f, 0.0f) - alpha_at(without, -0.7f, 0.0f)) < 0.01f);
 }
 
-TEST_CASE("ground: a scene without objects renders as without a ground; a ground off changes nothing") {
+TEST_CASE("ground: a scene without objects renders as without a ground, and a ground that is off changes nothing") {
   pbr::Scene s = from_above();
   const raster::Target a = render(s);
   s.ground.shadow = false;

@@ -64,11 +64,33 @@ int texels(double world, double texel) {
 
 }  // namespace
 
-bool ground_setup(const Bounds& world, const Ground& ground, GroundSetup& out) {
+bool ground_setup(const Bounds& world, const Ground& ground, const std::vector<GroundLight>& lights, GroundSetup& out) {
   if (world.empty()) return false;
   const glm::dvec3 lo(world.min), hi(world.max);
   const double width = std::max(hi.x - lo.x, hi.z - lo.z), height = hi.y - lo.y;
   if (!(width > 0.0) || !std::isfinite(width) || !std::isfinite(height)) return false;
+  // The footprint, grown by the corners' shadows on the plane y = lo.y (within two widths
+  // of its centre).
+  const double cx = 0.5 * (lo.x + hi.x), cz = 0.5 * (lo.z + hi.z), cap = 2.0 * width;
+  double x0 = lo.x, x1 = hi.x, z0 = lo.z, z1 = hi.z;
+  for (const GroundLight& l : lights)
+    for (int i = 0; i < 8; ++i) {
+      const glm::dvec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+      glm::dvec3 p;
+      if (l.directional) {
+        const glm::dvec3 d(l.to_light);
+        if (!(d.y > 0.0)) continue;
+        p = c - d * ((c.y - lo.y) / d.y);
+      } else {
+        const glm::dvec3 q(l.position);
+        if (!(q.y > c.y)) continue;  // the light is not above the corner: no shadow of it below
+        p = q + (c - q) * ((q.y - lo.y) / (q.y - c.y));
+      }
+      if (!std::isfinite(p.x) || !std::isfinite(p.z)) continue;
+      x0 = std::min(x0, std::max(p.x, cx - cap)), x1 = std::max(x1, std::min(p.x, cx + cap));
+      z0 = std::min(z0, std::max(p.z, cz - cap)), z1 = std::max(z1, std::min(p.z, cz + cap));
+    }
+  const double footprint = std::max(x1 - x0, z1 - z0);
   // The contact shadow fades over the objects' height, at most their width (a tall thin
   // object's shadow is that of its foot), at least a twentieth of the width (a flat one).
   const double reach = std::clamp(height, 0.05 * width, width);
@@ -76,24 +98,24 @@ bool ground_setup(const Bounds& world, const Ground& ground, GroundSetup& out) {
   // the square holds the footprint and that spread on each side, and a few texels.
   const double softness = std::clamp(static_cast<double>(ground.softness), 0.0, 1.0);
   const double spread = 0.5 * width * softness;
-  const double side = (width + 2.0 * spread) * static_cast<double>(kGroundSize) / static_cast<double>(kGroundSize - 8);
+  const double side = (footprint + 2.0 * spread) * static_cast<double>(kGroundSize) / static_cast<double>(kGroundSize - 8);
   const double texel = side / static_cast<double>(kGroundSize);
   out.y = static_cast<float>(lo.y);
-  out.x0 = static_cast<float>(0.5 * (lo.x + hi.x) - 0.5 * side);
-  out.z0 = static_cast<float>(0.5 * (lo.z + hi.z) - 0.5 * side);
+  out.x0 = static_cast<float>(0.5 * (x0 + x1) - 0.5 * side);
+  out.z0 = static_cast<float>(0.5 * (z0 + z1) - 0.5 * side);
   out.side = static_cast<float>(side);
   out.reach = static_cast<float>(reach);
   out.blur_far = texels(spread / 3.0, texel);
   out.blur_near = texels(0.01 * width, texel);
   // Clip x = 2 (x − x0) / side − 1, clip y = 1 − 2 (z − z0) / side (row 0 at z0), clip z =
   // 2 (y' − y) / reach − 1, w = 1.
-  const auto x0 = static_cast<double>(out.x0), z0 = static_cast<double>(out.z0), y0 = static_cast<double>(out.y);
+  const auto sx = static_cast<double>(out.x0), sz = static_cast<double>(out.z0), y0 = static_cast<double>(out.y);
   const auto s = static_cast<double>(out.side), h = static_cast<double>(out.reach);
   glm::mat4 m(0.0f);
   m[0][0] = static_cast<float>(2.0 / s);
-  m[3][0] = static_cast<float>(-2.0 * x0 / s - 1.0);
+  m[3][0] = static_cast<float>(-2.0 * sx / s - 1.0);
   m[2][1] = static_cast<float>(-2.0 / s);
-  m[3][1] = static_cast<float>(1.0 + 2.0 * z0 / s);
+  m[3][1] = static_cast<float>(1.0 + 2.0 * sz / s);
   m[1][2] = static_cast<float>(2.0 / h);
   m[3][2] = static_cast<float>(-2.0 * y0 / h - 1.0);
   m[3][3] = 1.0f;

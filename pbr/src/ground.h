@@ -43,9 +43,20 @@ struct GroundSetup {
   glm::mat4 view_projection{1.0f};
 };
 
-// Fits the ground under `world` (the objects' bounds): false when there is nothing to put
-// it under (empty or degenerate bounds, no width on the ground).
-bool ground_setup(const Bounds& world, const Ground& ground, GroundSetup& out);
+// Where a light that casts shadows on the ground is: a direction towards it (directional
+// lights, the environment's dominant light) or a position (point and spot lights).
+struct GroundLight {
+  bool directional = true;
+  glm::vec3 to_light{0.0f, 1.0f, 0.0f};  // unit, directional
+  glm::vec3 position{0.0f};               // point and spot
+};
+
+// Fits the ground under `world` (the objects' bounds): its square holds their footprint,
+// the shadows that `lights` throw of the bounds' corners on the plane (each at most two
+// widths from the footprint's centre: a grazing light's shadow is cut there), and the far
+// blur's spread around them. False when there is nothing to put it under (empty or
+// degenerate bounds, no width on the ground).
+bool ground_setup(const Bounds& world, const Ground& ground, const std::vector<GroundLight>& lights, GroundSetup& out);
 
 // The environment's dominant light, if it has one above the horizon: the direction
 // (world, towards it) of the brightest texel of its irradiance map, and its strength

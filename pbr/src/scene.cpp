@@ -368,14 +368,23 @@ void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, std::vecto
 bool make_ground(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
                  const std::vector<PreparedLight>& lights, const PreparedEnvironment* env, Object& out) {
   const Bounds world = scene_bounds(scene);
+  // The lights whose shadows fall on the ground: the square holds them.
+  std::vector<detail::GroundLight> shadow_lights;
+  for (const PreparedLight& l : lights) {
+    if (l.shadow == nullptr) continue;
+    if (l.light.type == LightType::Directional) shadow_lights.push_back({true, -l.unit_direction, glm::vec3(0.0f)});
+    else shadow_lights.push_back({false, glm::vec3(0.0f), l.light.position});
+  }
+  detail::DominantLight dominant;
+  const bool sky_light = env != nullptr && detail::dominant_light(*env, dominant);
+  if (sky_light) shadow_lights.push_back({true, dominant.to_light, glm::vec3(0.0f)});
   detail::GroundSetup setup;
-  if (!detail::ground_setup(world, scene.ground, setup)) return false;
+  if (!detail::ground_setup(world, scene.ground, shadow_lights, setup)) return false;
   raster::Target below = raster::Target::depth_only(detail::kGroundSize, detail::kGroundSize, &renderer.pool());
   draw_caster_depths(scene, renderer, casters, setup.view_projection, below, true);
-  detail::DominantLight dominant;
   std::optional<raster::Target> sky_face;
   ShadowMap sky;
-  if (env != nullptr && detail::dominant_light(*env, dominant)) {
+  if (sky_light) {
     Light l;
     l.type = LightType::Directional;
     l.direction = -dominant.to_light;
