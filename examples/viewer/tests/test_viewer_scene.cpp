@@ -151,6 +151,7 @@ TEST_CASE("every part of the state changes the image") {
       {"mesh", [](ViewerState& s) { s.mesh = 1; }},
       {"camera", [](ViewerState& s) { s.camera.move(1.0f, 0.0f, 0.0f); }},
       {"lights", [](ViewerState& s) { s.light_angle = 1.0f; }},
+      {"ground", [](ViewerState& s) { s.shadows = s.ground = true; }},
   };
   for (const Change& c : changes) {
     CAPTURE(c.what);
