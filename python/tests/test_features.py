@@ -441,3 +441,19 @@ def test_the_shadows_keyword_is_the_shadows_option(cli, tmp_path):
     assert_same(softpbr.render_hdr(shadowed, shadows=False), softpbr.render_hdr(scene_with()))
     off, _ = cli_render(cli, shadowed, tmp_path, "--shadows", "off", name="off", png_only=True)
     assert_same(off, softpbr.render(scene_with()))
+
+
+def test_the_ground_keyword_is_the_ground_option(cli, tmp_path):
+    # BASE without its floor plane: the ground goes under the sphere and the cube.
+    floating = scene_with(objects=BASE["objects"][:2], render={"background": [0, 0, 0, 0]})
+    grounded = dict(floating, ground={"shadow": True})
+    png, _ = cli_render(cli, floating, tmp_path, "--ground", "shadow", png_only=True)
+    assert_same(softpbr.render(floating, ground="shadow"), png)
+    assert_same(softpbr.render(grounded), png)
+    # The shadow shows, as alpha over the transparent background.
+    plain = softpbr.render(floating)
+    assert numpy.count_nonzero(png[..., 3]) > numpy.count_nonzero(plain[..., 3])
+    # "none" removes a file's ground; None keeps it.
+    assert_same(softpbr.render(grounded, ground="none"), plain)
+    with pytest.raises(ValueError, match="ground: expected shadow or none"):
+        softpbr.render(floating, ground="soft")
