@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -251,7 +252,7 @@ TEST_CASE("transmission pass: the same bits at every lane width, thread count, t
       raster::Target target(160, 120, samples, &renderer.pool(), storage);
       raster::Image8 image;
       pbr::render_outputs(s, renderer, target, pbr::OutputSettings{}, &image, nullptr);
-      return image.rgba;
+      return std::vector<std::uint8_t>(image.rgba.begin(), image.rgba.end());
     };
     const std::vector<std::uint8_t> reference = render({.threads = 1, .lanes = 1}, raster::SampleStorage::Kept);
     // The glass shows the spheres behind it, tinted: not the clear colour, not all one value.
