@@ -322,7 +322,7 @@ TEST_CASE("glTF material extensions: transmission and volume are read, required 
        "bad.gltf: /materials/0/extensions/KHR_materials_volume/attenuationDistance: must be a finite number > 0"},
       {{{"KHR_materials_volume", {{"attenuationDistance", 1e-300}}}},
        "bad.gltf: /materials/0/extensions/KHR_materials_volume/attenuationDistance: must be a finite number > 0"},
-      {{{"KHR_materials_volume", {{"thicknessFactor", Json::array()}}}},
+      {{{"KHR_materials_volume", {{"thicknessFactor", "thick"}}}},
        "bad.gltf: /materials/0/extensions/KHR_materials_volume/thicknessFactor: expected a finite number"},
       {{{"KHR_materials_volume", {{"attenuationColor", {1, 1}}}}},
        "bad.gltf: /materials/0/extensions/KHR_materials_volume/attenuationColor: expected three numbers"},
