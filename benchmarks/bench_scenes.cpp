@@ -4,7 +4,8 @@
 //
 // Every scene of scenes.h (the paper's gallery at 64, 16 and 256 segments at 1920×1080
 // and at 512×512, the fill-rate scene, the textured scenes, the IBL gallery, and the IBL
-// gallery and fill scene again in variants that split their time, the shared meshes when
+// gallery and fill scene again in variants that split their time, the gallery before a wall
+// with one directional light's shadows on and off, the shared meshes when
 // ../shared/models exists),
 // each at 1 and 2 renderer threads. One iteration is one frame of pbr::render(): clear,
 // 21 (or 8) draws with the PBR shader, end_frame() with each tile tone mapped to RGBA8
@@ -128,6 +129,7 @@ int main(int argc, char** argv) {
     for (bench::BenchScene& s : bench::ibl_gallery_variants(1920, 1080)) all.push_back(std::move(s));
     for (bench::BenchScene& s : bench::fill_variants(1920, 1080)) all.push_back(std::move(s));
     for (bench::BenchScene& s : bench::layered_gallery_variants(1920, 1080)) all.push_back(std::move(s));
+    for (bench::BenchScene& s : bench::shadow_gallery_scenes(1920, 1080)) all.push_back(std::move(s));
     return all;
   }();
   for (const bench::BenchScene& s : scenes)

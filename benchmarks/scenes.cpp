@@ -166,6 +166,22 @@ BenchScene ibl_gallery_scene(int width, int height) {
   return b;
 }
 
+std::vector<BenchScene> shadow_gallery_scenes(int width, int height) {
+  pbr::SceneFile file =
+      pbr::load_scene_file(std::filesystem::path(SOFTPBR_SOURCE_DIR) / "examples" / "scenes" / "gallery_shadows.json");
+  BenchScene b;
+  b.name = "gallery_shadows_" + size_suffix(width, height);
+  b.width = width;
+  b.height = height;
+  b.scene = std::move(file.scene);
+  b.output = file.render.output;
+  b.triangles = count_triangles(b.scene);
+  BenchScene off = b;
+  off.name = "gallery_noshadows_" + size_suffix(width, height);
+  for (pbr::Light& l : off.scene.lights) l.shadows = false;
+  return {std::move(b), std::move(off)};
+}
+
 std::vector<BenchScene> ibl_gallery_variants(int width, int height) {
   const BenchScene base = ibl_gallery_scene(width, height);
   const std::string size = size_suffix(width, height);
@@ -180,6 +196,7 @@ std::vector<BenchScene> ibl_gallery_variants(int width, int height) {
     o.material.roughness = level / 5.0f;
   }
   variant("nobg").scene.background_mode = pbr::BackgroundMode::Color;
+  variant("noocclusion").scene.environment.occlusion = false;
   BenchScene& ambient = variant("ambient");
   ambient.scene.environment = {};
   ambient.scene.background_mode = pbr::BackgroundMode::Color;

@@ -74,6 +74,11 @@ BenchScene textured_fill_scene(int width, int height, const std::string& tag, gl
 // gallery_scene() with benchmark_texture() on every sphere (trilinear, isotropic).
 BenchScene textured_gallery_scene(int segments, int width, int height);
 
+// examples/scenes/gallery_shadows.json at width × height — the gallery before a wall, one
+// directional light that casts shadows — and the same with its shadows off:
+// gallery_shadows_<size>, gallery_noshadows_<size> (their ratio is the shadows' cost).
+std::vector<BenchScene> shadow_gallery_scenes(int width, int height);
+
 // examples/scenes/gallery_ibl.json at width × height (see above). Throws SceneFileError.
 BenchScene ibl_gallery_scene(int width, int height);
 
@@ -81,6 +86,8 @@ BenchScene ibl_gallery_scene(int width, int height);
 //   gallery_ibl_onelevel   every roughness rounded to the nearest prefiltered level (i / 5):
 //                          one level lookup a sphere pixel instead of two
 //   gallery_ibl_nobg       the background a colour: no background pass
+//   gallery_ibl_noocclusion  without the screen-space occlusion (its cost; compare_llvmpipe's
+//                          gallery_ibl is this one: the GLSL has no occlusion)
 //   gallery_ibl_ambient    no environment, the constant ambient (PbrShader without lights)
 //                          and a colour background: the raster work and tone map alone
 //   gallery_ibl_bgonly     the background pass alone (no objects)

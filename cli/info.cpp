@@ -148,7 +148,12 @@ int info_gltf(const std::string& path) {
               info.generator.empty() ? "" : (", generator \"" + printable_line(info.generator) + "\"").c_str());
   std::printf("  scenes     %zu", info.scenes);
   if (info.default_scene >= 0) std::printf(" (default %d)", info.default_scene);
-  std::printf("\n  nodes      %zu\n", info.nodes);
+  std::printf("\n");
+  // Several scenes: what `softpbr render --scene N|NAME` shows.
+  if (info.scene_names.size() > 1)
+    for (std::size_t i = 0; i < info.scene_names.size(); ++i)
+      std::printf("    %-3zu %s\n", i, or_unnamed(info.scene_names[i]).c_str());
+  std::printf("  nodes      %zu\n", info.nodes);
   auto plural = [](std::size_t n) { return n == 1 ? "" : "s"; };
   std::printf("  meshes     %zu (%zu primitive%s, %zu triangles, each mesh counted once)\n", info.meshes.size(),
               info.primitives(), plural(info.primitives()), info.triangles());

@@ -60,7 +60,7 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--gamma", s.gamma, "PNG encoding: 0 for the sRGB curve, or a power in [0.1, 10] (overrides render.gamma)");
   c->add_option("--frames", a.frames,
                 "Frame range A..B (inclusive): the turntable animation of the scene's camera and "
-                "lights; frames whose outputs exist are skipped");
+                "lights (a glTF model with --fps: its animation); frames whose outputs exist are skipped");
   c->add_option("--shard", a.shard, "i/N: render only the frames k of the range with k mod N = i (i from 0)");
   c->add_option("--yaw", s.yaw, "glTF models: turn the automatic camera this many degrees around the vertical axis");
   c->add_option("--pitch", s.pitch, "glTF models: raise the automatic camera this many degrees (-89..89; default 15, "
@@ -69,12 +69,20 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
   c->add_option("--variant", s.variant,
                 "glTF models: show the material variant NAME (KHR_materials_variants; or N, its index from 0; "
                 "`softpbr info` lists them)");
+  c->add_option("--scene", s.scene,
+                "glTF models: show scene N (from 0) or NAME of the file (default: its \"scene\", else 0; `softpbr info` "
+                "lists them)");
   c->add_option("--time", s.time,
                 "glTF models: the moment, in seconds, at which the animations are applied (without it none is: "
                 "the nodes' own pose, skins and morph weights evaluated)");
   c->add_option("--animation", s.animation,
                 "glTF models: apply only animation N (from 0) or NAME (default: every animation; `softpbr info` "
                 "lists them)");
+  c->add_option("--fps", s.fps,
+                "glTF models: with --frames, frame i is the model at i/F seconds (its animations, or --animation's); "
+                "the automatic camera frames the model over the whole animation");
+  c->add_flag("--turntable", a.turntable,
+              "With --fps: the camera and lights also turn as --frames turns them without --fps");
   c->add_option("--env", s.env,
                 "Environment lighting: an equirectangular .hdr/.exr, \"studio\" (built in; the default for "
                 "glTF models) or \"none\"");
@@ -88,6 +96,13 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
                 "downloaded models)");
   c->add_option("--occlusion", s.occlusion,
                 "on (the default with an environment) or off: screen-space ambient occlusion of the environment's light");
+  c->add_option("--shadows", s.shadows,
+                "on (every light casts shadows) or off (none does); default: as the scene says (a glTF model's "
+                "lights cast them, a scene file's where \"shadows\": true)");
+  c->add_option("--ground", s.ground,
+                "shadow (a shadow catcher under the model: its soft contact shadow and the lights' shadows, "
+                "black with the shadow as alpha: over --background transparent it composites onto any page) or none; "
+                "default: as the scene says (none for a glTF model)");
   c->add_option("--env-cache", a.env_cache, "Keep prefiltered environments in this folder, for batch jobs");
   c->add_flag("--force", a.force, "Render frames even when their outputs exist");
   c->add_flag("-q,--quiet", a.quiet, "Print nothing but errors");
@@ -383,7 +398,18 @@ bool render_input(Run& run, std::size_t index, Progress* frame_progress) {
     // resolve, made per tile: the samples are not kept).
     const auto png_at = std::find(run.formats.begin(), run.formats.end(), Format::Png);
     const bool png = png_at != run.formats.end();
-    run.frame.render(pbr::animate(file, frame), s, renderer, {.rgba8 = png, .linear = true});
+    // The frame's scene: with --fps the model at frame / fps (turning only with
+    // --turntable), else the turntable's frame.
+    pbr::Scene scene = file.scene;
+    if (settings.fps) {
+      try {
+        job::pose_frame(file, settings, frame, scene, renderer.pool());
+      } catch (const pbr::LoadError& e) {
+        throw Error(kExitInput, e.what());
+      }
+    }
+    if (!settings.fps || a.turntable) scene = pbr::animate(scene, file.animation, frame);
+    run.frame.render(scene, s, renderer, {.rgba8 = png, .linear = true});
     const raster::Target& linear = run.frame.linear();
     // Then three independent jobs on the renderer's threads: the hash (XXH3 of the linear
     // colour, one a pixel: the resolve with MSAA), the count of non-finite pixels, the PNG

@@ -25,6 +25,7 @@ struct RenderArgs {
   std::string scenario, scenario_name;  // --scenario: a Render Fidelity scenario (scenario.h)
   bool force = false;
   bool quiet = false;
+  bool turntable = false;  // --turntable: with --fps, the camera and lights turn too
 };
 
 CLI::App* add_render_command(CLI::App& app, RenderArgs& args);

@@ -8,10 +8,18 @@ BUILD_DIR=${BUILD_DIR:-$SOFTPBR_ROOT/build}
 BUILD_TYPE=${BUILD_TYPE:-Release}
 
 # Debian 12 package names. Keep in step with the find_package calls in CMakeLists.txt.
-SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev doctest-dev libbenchmark-dev
-                  nlohmann-json3-dev libcli11-dev libtinyexr-dev libspng-dev libxxhash-dev libtinygltf-dev libmeshoptimizer-dev libdraco-dev libwebp-dev libavif-dev libzstd-dev libsdl2-dev xvfb xauth
-                  pybind11-dev python3-dev python3-numpy python3-pytest ccache
-                  python3-distributed)  # python3-distributed (with python3-dask): the Dask example's test
+# The libraries and the examples (what ./scripts/demo builds: SOFTPBR_CORE_ONLY=1) ...
+SOFTPBR_PACKAGES=(g++ make cmake pkg-config libglm-dev libtinyobjloader-dev libstb-dev nlohmann-json3-dev
+                  libtinyexr-dev libspng-dev libxxhash-dev libtinygltf-dev libmeshoptimizer-dev libdraco-dev
+                  libwebp-dev libavif-dev libzstd-dev ccache)
+# ... and the tests, the command, the benchmarks, the viewer and the Python module (everything
+# else: ./scripts/test). Measured on a bare Debian 12 (minbase + git): the core list is about
+# 90 packages and 100 MB, the whole one about 295 packages and 195 MB (xvfb, SDL2, Python).
+if [ -z "${SOFTPBR_CORE_ONLY:-}" ]; then
+  SOFTPBR_PACKAGES+=(doctest-dev libbenchmark-dev libcli11-dev libsdl2-dev xvfb xauth
+                     pybind11-dev python3-dev python3-numpy python3-pytest
+                     python3-distributed)  # python3-distributed (with python3-dask): the Dask example's test
+fi
 # Scripts that source this file may ask for more (.ci/matrix: clang; .ci/fuzz: clang and libclang-rt-14-dev) in SOFTPBR_EXTRA_PACKAGES.
 SOFTPBR_PACKAGES+=(${SOFTPBR_EXTRA_PACKAGES[@]+"${SOFTPBR_EXTRA_PACKAGES[@]}"})
 
@@ -56,8 +64,15 @@ softpbr_use_ccache() {
 softpbr_build() {
   # Configure once (again if a configure failed); the build then reruns CMake itself when a
   # CMakeLists.txt changes and rebuilds only what is stale.
-  if [ ! -f "$BUILD_DIR/Makefile" ]; then
-    cmake -S "$SOFTPBR_ROOT" -B "$BUILD_DIR" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" >&2
+  # SOFTPBR_CORE_ONLY (./scripts/demo) configures without the parts whose packages it did
+  # not install; a later full build (./scripts/test) turns them on again.
+  local parts=ON
+  [ -n "${SOFTPBR_CORE_ONLY:-}" ] && parts=OFF
+  local options=(-DSOFTPBR_BUILD_TESTS=$parts -DSOFTPBR_BUILD_CLI=$parts -DSOFTPBR_BUILD_BENCHMARKS=$parts
+                 -DSOFTPBR_BUILD_PYTHON=$parts)
+  if [ ! -f "$BUILD_DIR/Makefile" ] ||
+     { [ "$parts" = ON ] && grep -q '^SOFTPBR_BUILD_TESTS:BOOL=OFF' "$BUILD_DIR/CMakeCache.txt" 2>/dev/null; }; then
+    cmake -S "$SOFTPBR_ROOT" -B "$BUILD_DIR" -G "Unix Makefiles" -DCMAKE_BUILD_TYPE="$BUILD_TYPE" "${options[@]}" >&2
   fi
   local targets=() t
   for t in "$@"; do targets+=(--target "$t"); done

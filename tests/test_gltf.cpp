@@ -21,6 +21,7 @@
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
 #include "softpbr/raster/raster.h"
+#include "shared_assets.h"
 
 namespace pbr = softpbr::pbr;
 namespace raster = softpbr::raster;
@@ -122,6 +123,34 @@ TEST_CASE("golden glTF renders: normal maps with generated and with supplied (mi
       CHECK(raster::hash_colors(o) == raster::hash_colors(t));
     }
   }
+}
+
+TEST_CASE("golden glTF renders: LightsPunctualLamp's lights cast shadows (the lamp's shade on the wall and floor)") {
+  // Compared with the Khronos screenshot before committing: the lamp's own lights (a spot
+  // inside the shade, aimed down, and a point bulb) throw the shade's and the stand's
+  // shadows; glTF lights cast shadows by default (docs/design.md, "Shadows").
+  if (!fs::is_directory(shared_gltf())) {
+    MESSAGE("skipped: " << shared_gltf() << " is absent");
+    return;
+  }
+  const raster::Target t = render_sample("LightsPunctualLamp", {.threads = 0}, 320, 320);
+  CHECK_RENDER_MATCHES(t, pbr::tone_map_to_rgba8(t, pbr::OutputSettings{}), "goldens/gltf_LightsPunctualLamp");
+  for (int lanes : {1, 4, 16}) {
+    CAPTURE(lanes);
+    const raster::Target o =
+        render_sample("LightsPunctualLamp", {.threads = 2, .tile_size = 16, .lanes = lanes, .dispatch = lanes != 16}, 320, 320);
+    CHECK(raster::hash_colors(o) == raster::hash_colors(t));
+  }
+  // The lights' shadows change the image (they are on by default).
+  const pbr::GltfScene g = pbr::load_gltf(model_file(shared_gltf() / "LightsPunctualLamp"));
+  REQUIRE(!g.lights.empty());
+  for (const pbr::Light& l : g.lights) CHECK(l.shadows);
+  pbr::Scene off = scene_of(g, 320, 320);
+  for (pbr::Light& l : off.lights) l.shadows = false;
+  raster::Renderer renderer({.threads = 0});
+  raster::Target u(320, 320);
+  pbr::render(off, renderer, u);
+  CHECK(raster::hash_colors(u) != raster::hash_colors(t));
 }
 
 namespace {

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -18,12 +20,15 @@
 #include <nlohmann/json.hpp>
 
 #include "gltf/animation.h"
+#include "gltf/deform.h"
 #include "shared_assets.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/scene_file.h"
 #include "softpbr/pbr/scene.h"
 #include "softpbr/pbr/tonemap.h"
+#include "softpbr/raster/pool.h"
 #include "softpbr/raster/raster.h"
+#include "synthetic_rig.h"
 
 namespace pbr = softpbr::pbr;
 namespace gltf = softpbr::pbr::gltf;
@@ -32,6 +37,14 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
+
+// Whether two vectors hold the same bytes (memcmp of an empty vector's null data is
+// undefined: UBSan stops there).
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
 
 // ---- A .glb made in memory ---------------------------------------------------------
 
@@ -288,7 +301,7 @@ TEST_CASE("skins: joints at rest give the unskinned mesh bit for bit, the skinne
   const pbr::Mesh& ma = *a.objects[0].mesh;
   const pbr::Mesh& mb = *b.objects[0].mesh;
   REQUIRE(ma.vertices.size() == mb.vertices.size());
-  CHECK(std::memcmp(ma.vertices.data(), mb.vertices.data(), ma.vertices.size() * sizeof(pbr::MeshVertex)) == 0);
+  CHECK(same_bytes(ma.vertices, mb.vertices));
   CHECK(ma.indices == mb.indices);
   // And so the same image.
   auto render = [](const pbr::GltfScene& g) {
@@ -368,6 +381,62 @@ Glb morphed_quad() {
 
 }  // namespace
 
+TEST_CASE("hostile skins: joints and inverse bind matrices that point nowhere, 100 000 joints, a chain deeper than the limit") {
+  Glb nowhere = skinned_quad(kOneJoint);
+  nowhere.j["skins"][0]["joints"] = {1, 99};
+  CHECK(load_error(nowhere) == "test.glb: /skins/0/joints/1: node 99 does not exist (3 nodes)");
+  Glb no_matrices = skinned_quad(kOneJoint);
+  no_matrices.j["skins"][0]["inverseBindMatrices"] = 99;
+  CHECK(load_error(no_matrices).find("test.glb: /skins/0/inverseBindMatrices") == 0);
+  // 100 000 joints, children of one root: loaded, the vertices on joint 65 535 moved by it.
+  {
+    Glb g;
+    json attributes;
+    attributes["JOINTS_0"] = g.u16({0, 0, 0, 0, 65535, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}, "VEC4", 4);
+    attributes["WEIGHTS_0"] = g.floats(kOneJoint, "VEC4", 4);
+    add_quad(g, attributes);
+    constexpr int kJoints = 100000;
+    json nodes = json::array({{{"mesh", 0}, {"skin", 0}}, {{"children", json::array()}}});
+    json joints = json::array();
+    for (int j = 0; j < kJoints; ++j) {
+      nodes[1]["children"].push_back(j + 2);
+      joints.push_back(j + 2);
+      nodes.push_back(j == 65535 ? json{{"translation", {0, 0, 4}}} : json::object());
+    }
+    g.j["nodes"] = nodes;
+    g.j["skins"] = json::array({{{"joints", joints}}});
+    g.j["scenes"] = json::array({{{"nodes", {0, 1}}}});
+    const pbr::GltfScene s = load(g);
+    REQUIRE(s.objects.size() == 1);
+    CHECK(s.objects[0].mesh->vertices[0].position == glm::vec3(-1, -1, 0.25f));
+    CHECK(s.objects[0].mesh->vertices[1].position == glm::vec3(1, -1, 4.5f));
+    // The same joints as a chain: refused at the depth limit, not walked 100 000 deep.
+    for (int j = 0; j < kJoints; ++j) g.j["nodes"][j + 1]["children"] = json::array({j + 2});
+    g.j["nodes"][kJoints + 1].erase("children");
+    CHECK(load_error(g) == "test.glb: /nodes/1026: the node hierarchy is deeper than 1024");
+  }
+}
+
+TEST_CASE("hostile animations: 10^6 keys sampled quickly and within the memory limit, refused above it") {
+  Glb g;
+  add_quad(g);
+  g.j["nodes"] = json::array({{{"mesh", 0}}});
+  constexpr std::size_t kKeys = 1000000;
+  std::vector<float> times(kKeys), values(3 * kKeys);
+  for (std::size_t k = 0; k < kKeys; ++k) {
+    times[k] = static_cast<float>(k) * 0.25f;
+    values[3 * k] = static_cast<float>(k % 7);
+  }
+  animate(g, "translation", "LINEAR", times, values, "VEC3", 3);
+  // Halfway between key 400 000 (100 000 s, x = 400 000 mod 7 = 6) and key 400 001 (x = 0).
+  const pbr::GltfScene s = load(g, {.time = 100000.125});
+  REQUIRE(s.objects.size() == 1);
+  CHECK(translation_of(s.objects[0]).x == 3.0f);
+  const std::string refused = load_error(g, {.memory_limit = std::uint64_t{8} << 20, .time = 1.0});
+  CHECK(refused.find("test.glb: /animations: its samplers' keys need an estimated ") == 0);
+  CHECK(refused.find("over the memory limit of 8.0 MiB") != std::string::npos);
+}
+
 TEST_CASE("morph targets: weights 0 give the base mesh bit for bit, weight 1 that target's positions") {
   Glb plain;
   add_quad(plain);
@@ -394,6 +463,57 @@ TEST_CASE("morph targets: weights 0 give the base mesh bit for bit, weight 1 tha
             static_cast<float>(double(kQuad[3 * v + c]) + 0.5 * kDelta0[3 * v + c] + 0.25 * kDelta1[3 * v + c]));
   // Without a time the default weights (none: zeros) give the base mesh back.
   CHECK(std::memcmp(load(anim).objects[0].mesh->vertices.data(), base.vertices.data(), 4 * sizeof(pbr::MeshVertex)) == 0);
+}
+
+// ---- Deformation on the pool ---------------------------------------------------------
+
+TEST_CASE("deformation: the same bits at 1, 2 and 8 threads, and each vertex the double-precision blend within float rounding") {
+  for (const bool flat : {false, true}) {
+    CAPTURE(flat);
+    // 40 blocks of 4096 vertices, tangents, a vertex → accessor map that reverses.
+    const std::unique_ptr<softpbr::testing::SyntheticRig> rig = softpbr::testing::synthetic_rig(40 * 4096 + 7, 37, true, true);
+    rig->deformation.flat = flat;
+    const pbr::Mesh one = gltf::deform(rig->base, rig->deformation, nullptr);
+    for (unsigned threads : {2u, 8u}) {
+      CAPTURE(threads);
+      raster::ThreadPool pool(threads);
+      pbr::Mesh out = rig->base;
+      gltf::deform(rig->base, rig->deformation, out, &pool);
+      CHECK(same_bytes(out.vertices, one.vertices));
+      CHECK(same_bytes(out.tangents, one.tangents));
+      // Deforming again into the deformed mesh gives the same (only base is read).
+      gltf::deform(rig->base, rig->deformation, out, &pool);
+      CHECK(same_bytes(out.vertices, one.vertices));
+    }
+    // The oracle: morphed and skinned in double from the same palette, Σ wⱼ·(Pⱼ·p).
+    const gltf::SkinInfluences& k = rig->skin;
+    const gltf::MorphTarget& target = rig->deformation.targets[0];
+    int worst = 0;
+    for (std::size_t i = 0; i < one.vertices.size(); i += 997) {
+      const std::size_t s = rig->sources[i];
+      glm::dvec3 p(rig->base.vertices[i].position), n(rig->base.vertices[i].normal);
+      for (int c = 0; c < 3; ++c) p[c] += 0.5 * target.position[3 * s + static_cast<std::size_t>(c)];
+      if (!flat)
+        for (int c = 0; c < 3; ++c) n[c] += 0.5 * target.normal[3 * s + static_cast<std::size_t>(c)];
+      else
+        n = glm::dvec3(0.0);  // flat: made from the morphed triangle, not checked here
+      glm::dvec3 q(0.0), m(0.0);
+      for (std::size_t j = 0; j < 4; ++j) {
+        const double w = k.weights[4 * s + j];
+        const gltf::JointMatrix& P = rig->palette[k.joints[4 * s + j]];
+        for (std::size_t r = 0; r < 3; ++r) {
+          q[static_cast<int>(r)] += w * (P[4 * r] * p.x + P[4 * r + 1] * p.y + P[4 * r + 2] * p.z + P[4 * r + 3]);
+          m[static_cast<int>(r)] += w * (P[12 + 3 * r] * n.x + P[12 + 3 * r + 1] * n.y + P[12 + 3 * r + 2] * n.z);
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        const bool near_p = std::abs(one.vertices[i].position[c] - q[c]) <= 1e-5 * (1.0 + std::abs(q[c]));
+        const bool near_n = flat || std::abs(one.vertices[i].normal[c] - m[c]) <= 1e-5 * (1.0 + std::abs(m[c]));
+        if (!near_p || !near_n) ++worst;
+      }
+    }
+    CHECK(worst == 0);
+  }
 }
 
 TEST_CASE("hostile animations: NaN keys, decreasing times, wrong counts, missing samplers, each one line with its pointer") {
@@ -502,6 +622,175 @@ TEST_CASE("InterpolationTest: each cube at known times against its sampler's ana
   }
   const pbr::GltfScene all = pbr::load_gltf(file);
   CHECK(all.animations.size() == 9);
+}
+
+namespace {
+
+// "" when a and b place the same things with the same bits (objects' transforms, meshes'
+// vertices and tangents, materials' base colours; cameras; lights), else the first difference.
+std::string difference(const pbr::GltfScene& a, const pbr::GltfScene& b) {
+  if (a.objects.size() != b.objects.size()) return "object counts";
+  for (std::size_t i = 0; i < a.objects.size(); ++i) {
+    const pbr::Object& x = a.objects[i];
+    const pbr::Object& y = b.objects[i];
+    const std::string at = "object " + std::to_string(i) + ": ";
+    if (std::memcmp(&x.transform, &y.transform, sizeof(glm::mat4)) != 0) return at + "transform";
+    if (x.mesh->vertices.size() != y.mesh->vertices.size() || x.mesh->tangents.size() != y.mesh->tangents.size())
+      return at + "vertex counts";
+    if (!same_bytes(x.mesh->vertices, y.mesh->vertices)) return at + "vertices";
+    if (!same_bytes(x.mesh->tangents, y.mesh->tangents)) return at + "tangents";
+    if (x.mesh->indices != y.mesh->indices) return at + "indices";
+    if (x.material.base_color != y.material.base_color) return at + "material";
+  }
+  if (a.cameras.size() != b.cameras.size() || a.lights.size() != b.lights.size()) return "camera or light counts";
+  for (std::size_t i = 0; i < a.cameras.size(); ++i)
+    if (a.cameras[i].camera.position != b.cameras[i].camera.position || a.cameras[i].camera.target != b.cameras[i].camera.target ||
+        a.cameras[i].camera.up != b.cameras[i].camera.up)
+      return "camera " + std::to_string(i);
+  for (std::size_t i = 0; i < a.lights.size(); ++i)
+    if (a.lights[i].position != b.lights[i].position || a.lights[i].direction != b.lights[i].direction)
+      return "light " + std::to_string(i);
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a poseable scene posed at another moment equals the model loaded at that moment, bit for bit") {
+  struct Case {
+    std::string sample;
+    std::optional<double> time;
+    std::string animation;
+  };
+  const std::vector<Case> cases = {{"Fox", 1.3, ""},          {"Fox", 0.45, "Run"},      {"Fox", std::nullopt, ""},
+                                   {"AnimatedMorphCube", 0.7, ""}, {"InterpolationTest", 1.25, ""},
+                                   {"RiggedFigure", 0.9, "0"},   {"SimpleSkin", 2.5, ""}};
+  std::map<std::string, pbr::GltfScene> posed;
+  raster::ThreadPool pool(2);
+  for (const Case& c : cases) {
+    const fs::path file = sample_file(c.sample);
+    if (file.empty()) {
+      MESSAGE("skipped: " << c.sample << " is absent");
+      continue;
+    }
+    CAPTURE(c.sample);
+    CAPTURE(c.animation);
+    CAPTURE(c.time.value_or(-1.0));
+    // Loaded once (at 0.2 s), then posed again for each case.
+    auto it = posed.find(c.sample);
+    if (it == posed.end()) it = posed.emplace(c.sample, pbr::load_gltf(file, {.time = 0.2, .poseable = true})).first;
+    pbr::GltfScene& scene = it->second;
+    REQUIRE(scene.poser != nullptr);
+    scene.pose(c.time, c.animation, &pool);
+    const pbr::GltfScene loaded = pbr::load_gltf(file, {.time = c.time, .animation = c.animation});
+    CHECK(difference(scene, loaded) == "");
+    // The moment matters (a check that can fail): the loaded pose at 0.2 s differs.
+    if (c.time && c.sample != "SimpleSkin")
+      CHECK(difference(scene, pbr::load_gltf(file, {.time = 0.2, .animation = c.animation})) != "");
+  }
+  // A morphed quad made here (no shared files needed): weights animated, posed back and forth.
+  Glb anim = morphed_quad();
+  animate(anim, "weights", "LINEAR", {0, 2}, {0, 0, 1, 0.5f}, "SCALAR", 1);
+  pbr::GltfScene scene = load(anim, {.poseable = true});
+  for (const double t : {1.0, 0.0, 1.5, 1.0}) {
+    CAPTURE(t);
+    scene.pose(t);
+    CHECK(difference(scene, load(anim, {.time = t})) == "");
+  }
+  // What the pose reads is checked as loading checks it; a scene not loaded poseable says so.
+  std::string error;
+  try {
+    scene.pose(1.0, "nope");
+  } catch (const pbr::LoadError& e) {
+    error = e.what();
+  }
+  CHECK(error == "test.glb: /animations: no animation is named \"nope\"");
+  pbr::GltfScene fixed = load(anim);
+  CHECK(fixed.poser == nullptr);
+  CHECK_THROWS_AS(fixed.pose(1.0), std::logic_error);
+}
+
+TEST_CASE("scenes: the file's default scene, another by index or by name, an unknown one an error listing them") {
+  Glb g;
+  add_quad(g);
+  g.j["nodes"] = json::array({{{"mesh", 0}}, {{"mesh", 0}, {"translation", {5, 0, 0}}}});
+  g.j["scenes"] = json::array({{{"name", "left"}, {"nodes", {0}}}, {{"name", "right"}, {"nodes", {1}}}});
+  g.j["scene"] = 1;
+  auto x_of = [&g](const std::string& name) {
+    const pbr::GltfScene s = load(g, {.scene_name = name});
+    return s.objects.size() == 1 ? translation_of(s.objects[0]).x : -1.0f;
+  };
+  CHECK(x_of("") == 5.0f);  // the file's "scene"
+  CHECK(x_of("left") == 0.0f);
+  CHECK(x_of("0") == 0.0f);
+  CHECK(x_of("right") == 5.0f);
+  CHECK(load_error(g, {.scene_name = "nope"}) == "test.glb: /scenes: no scene \"nope\" (the scenes: 0 \"left\", 1 \"right\")");
+  CHECK(load_error(g, {.scene_name = "7"}) == "test.glb: /scenes: no scene 7 (the scenes: 0 \"left\", 1 \"right\")");
+  // A scene named like an index is found by its name first.
+  g.j["scenes"][1]["name"] = "0";
+  CHECK(x_of("0") == 5.0f);
+  // The Khronos sample: scene 1 (the default) a square, scene 0 a triangle.
+  const fs::path file = sample_file("MultipleScenes");
+  if (file.empty()) {
+    MESSAGE("skipped: MultipleScenes is absent");
+    return;
+  }
+  CHECK(pbr::load_gltf(file).triangles == 2);
+  CHECK(pbr::load_gltf(file, {.scene_name = "0"}).triangles == 1);
+  CHECK(pbr::load_gltf(file, {.scene_name = "1"}).triangles == 2);
+}
+
+TEST_CASE("EXT_mesh_gpu_instancing: one object a instance at world × T·R·S, counted before it is built, bad attributes refused") {
+  auto instanced = [](std::size_t count, bool with_scale) {
+    Glb g;
+    add_quad(g);
+    std::vector<float> t, s;
+    for (std::size_t i = 0; i < count; ++i) {
+      t.insert(t.end(), {static_cast<float>(i), 0.0f, 0.0f});
+      s.insert(s.end(), {1.0f, 2.0f, 1.0f});
+    }
+    json attributes = {{"TRANSLATION", g.floats(t, "VEC3", 3)}};
+    if (with_scale) attributes["SCALE"] = g.floats(s, "VEC3", 3);
+    g.j["nodes"] = json::array({{{"mesh", 0}, {"translation", {0, 0, 10}},
+                                 {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attributes}}}}}}});
+    g.j["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+    g.j["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+    return g;
+  };
+  Glb three = instanced(3, true);
+  const pbr::GltfScene s = load(three);
+  REQUIRE(s.objects.size() == 3);
+  for (std::size_t i = 0; i < 3; ++i) {
+    CAPTURE(i);
+    CHECK(translation_of(s.objects[i]) == glm::vec3(static_cast<float>(i), 0.0f, 10.0f));
+    CHECK(s.objects[i].transform[1][1] == 2.0f);
+    CHECK(s.objects[i].mesh == s.objects[0].mesh);  // one mesh, shared
+  }
+  CHECK(s.warnings.empty());
+  // Counted before anything is built: 100 000 instances against a 16 MiB limit.
+  const std::string big = load_error(instanced(100000, false), {.memory_limit = std::uint64_t{16} << 20});
+  CHECK(big.find("test.glb: /nodes: its nodes place 100000 mesh instances") == 0);
+  CHECK(big.find("(counted before any mesh is built)") != std::string::npos);
+  // Attributes of different counts; a NaN; no attribute at all.
+  Glb uneven = instanced(3, true);
+  uneven.j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["SCALE"] = uneven.floats({1, 1, 1}, "VEC3", 3);
+  CHECK(load_error(uneven) == "test.glb: /nodes/0/extensions/EXT_mesh_gpu_instancing/attributes/SCALE: has 1 instances; the other attributes have 3");
+  Glb nan = instanced(3, false);
+  nan.j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] =
+      nan.floats({0, 0, 0, std::nanf(""), 0, 0}, "VEC3", 3);
+  CHECK(load_error(nan) == "test.glb: /accessors/4: holds a value that is not finite");
+  Glb none = instanced(3, false);
+  none.j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"] = json::object();
+  CHECK(load_error(none) ==
+        "test.glb: /nodes/0/extensions/EXT_mesh_gpu_instancing/attributes: must be an object naming TRANSLATION, ROTATION or SCALE accessors");
+  // The Khronos sample: 125 instances of one cube, each turned and scaled.
+  const fs::path file = sample_file("SimpleInstancing");
+  if (file.empty()) {
+    MESSAGE("skipped: SimpleInstancing is absent");
+    return;
+  }
+  const pbr::GltfScene cubes = pbr::load_gltf(file);
+  CHECK(cubes.objects.size() == 125);
+  CHECK(cubes.warnings.empty());
 }
 
 TEST_CASE("animated samples render with the same bits twice and with 1 and 8 threads") {

@@ -4,6 +4,8 @@
 // describes the KTX2 image. The KTX2 decoder itself: test_ktx2*.cpp.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
@@ -20,6 +22,7 @@
 #include "softpbr/image/ktx2.h"
 #include "softpbr/loaders/gltf.h"
 #include "softpbr/loaders/gltf_info.h"
+#include "softpbr/raster/pool.h"
 
 namespace pbr = softpbr::pbr;
 namespace fs = std::filesystem;
@@ -45,8 +48,10 @@ std::vector<std::uint8_t> ktx2_texture() {
   return ktx2_test::write_ktx2(s);
 }
 
+// One folder a process: ctest runs the cases as parallel processes, each writing the
+// same file names.
 fs::path folder() {
-  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_gltf_basisu";
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / ("test_gltf_basisu." + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }
@@ -141,6 +146,31 @@ TEST_CASE("gltf KHR_texture_basisu: a source that is not an image, or a KTX2 fil
   CHECK(message.rfind("m.gltf: /images/1", 0) == 0);
   CHECK(message.find("level 0: its data") != std::string::npos);
   CHECK(message.find('\n') == std::string::npos);
+}
+
+TEST_CASE("gltf KHR_texture_basisu: a model's only texture, a real ETC1S file, decodes on the pool's threads to the bytes it has without one") {
+  // One texture: the loader lends it the pool's threads (image::ParallelFor).
+  fs::copy_file(fs::path(SOFTPBR_SOURCE_DIR) / "tests/ktx2/etc1s_pattern_256x192.ktx2", folder() / "etc1s.ktx2",
+                fs::copy_options::overwrite_existing);
+  const std::string text = model("etc1s.ktx2").dump();
+  const std::vector<std::uint8_t> bytes(text.begin(), text.end());
+  softpbr::raster::ThreadPool pool(2);
+  pbr::GltfOptions with_pool;
+  with_pool.pool = &pool;
+  const pbr::GltfScene alone = pbr::load_gltf(bytes, "m.gltf", folder());
+  const pbr::GltfScene pooled = pbr::load_gltf(bytes, "m.gltf", folder(), with_pool);
+  REQUIRE(alone.objects.size() == 1);
+  REQUIRE(pooled.objects.size() == 1);
+  const auto& a = alone.objects[0].material.base_color_texture.texture;
+  const auto& p = pooled.objects[0].material.base_color_texture.texture;
+  REQUIRE(a != nullptr);
+  REQUIRE(p != nullptr);
+  CHECK(p->width() == 256);
+  CHECK(p->height() == 192);
+  const std::span<const std::uint8_t> ta = a->texels8(), tp = p->texels8();
+  CHECK(std::equal(ta.begin(), ta.end(), tp.begin(), tp.end()));
+  const softpbr::image::Ktx2Image k = softpbr::image::load_ktx2(folder() / "etc1s.ktx2");
+  CHECK(std::equal(k.levels[0].rgba.begin(), k.levels[0].rgba.end(), tp.begin()));
 }
 
 TEST_CASE("gltf KHR_texture_basisu: info lists the texture's KTX2 image with its format, supercompression and levels") {

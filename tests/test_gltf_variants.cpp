@@ -7,6 +7,8 @@
 // Khronos screenshot before it was committed) in the determinism matrix.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -32,8 +34,10 @@ using Json = nlohmann::json;
 
 namespace {
 
+// One folder a process: ctest runs the cases as parallel processes, each writing the
+// same file names.
 fs::path folder() {
-  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_gltf_variants";
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / ("test_gltf_variants." + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }

@@ -6,6 +6,8 @@
 // themselves: test_image_webp_avif.cpp.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -31,8 +33,10 @@ namespace {
 
 const fs::path kImages = fs::path(SOFTPBR_SOURCE_DIR) / "tests" / "webp_avif";
 
+// One folder a process: ctest runs the cases as parallel processes, and each writes
+// quad.bin (two sharing a folder read each other's half-written file).
 fs::path folder() {
-  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / "test_gltf_webp_avif";
+  const fs::path dir = fs::path(SOFTPBR_BINARY_DIR) / ("test_gltf_webp_avif." + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir;
 }

@@ -8,7 +8,8 @@
 // The files: AnisotropyBarnLamp's four UASTC textures (../shared, or SOFTPBR_SHARED),
 // textures of random valid UASTC blocks made here, every mode and partition pattern many
 // times over, with full mip chains of odd sizes, stored plain and with Zstandard, the
-// ETC1S sample of ktx2_etc1s_sample.h with and without an alpha slice, and the
+// ETC1S sample of ktx2_etc1s_sample.h with and without an alpha slice, the real ETC1S and
+// UASTC files of tests/ktx2 (made with Basis Universal's encoder), and the
 // KTX2 files SOFTPBR_KTX2_REFERENCE_FILES lists (colon-separated; e.g. Basis Universal's
 // own ETC1S and UASTC samples: test_files/kodim23.ktx2, webgl/ktx2_studio/assets/*.ktx2).
 #include <doctest/doctest.h>
@@ -143,6 +144,14 @@ TEST_CASE("ktx2 reference: ETC1S with and without alpha slices (tests/etc1s_writ
         .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     check_against_reference(dir, file);
   }
+}
+
+TEST_CASE("ktx2 reference: the committed Basis Universal files (tests/ktx2: ETC1S, ETC1S with alpha, UASTC with Zstandard)") {
+  // test_ktx2_files.cpp checks them everywhere against hashes of this reference's output.
+  const std::string dir = transcoder_dir();
+  if (dir.empty()) return;
+  for (const char* name : {"etc1s_pattern_256x192.ktx2", "etc1s_alpha_pattern_150x100.ktx2", "uastc_zstd_pattern_128x128.ktx2"})
+    check_against_reference(dir, fs::path(SOFTPBR_SOURCE_DIR) / "tests/ktx2" / name);
 }
 
 TEST_CASE("ktx2 reference: AnisotropyBarnLamp's UASTC textures decode as Basis Universal's transcoder") {

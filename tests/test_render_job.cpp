@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -12,6 +13,8 @@
 
 #include <doctest/doctest.h>
 
+#include "shared_assets.h"
+#include "softpbr/dmath/dmath.h"
 #include "softpbr/image/load.h"
 #include "softpbr/job/render_job.h"
 #include "softpbr/loaders/format_bytes.h"
@@ -20,6 +23,7 @@
 #include "softpbr/pbr/environment.h"
 #include "softpbr/pbr/gallery.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/raster/pool.h"
 #include "softpbr/raster/raster.h"
 
 namespace job = softpbr::job;
@@ -74,6 +78,8 @@ TEST_CASE("render job: every setting is checked with one message, named as Pytho
   CHECK(errors_of({.env_intensity = -1.0f}).second == "--env-intensity: expected a number in [0, 1e6], got -1");
   CHECK(errors_of({.env_rotation = NAN}).second == "--env-rotation: expected a finite number of degrees");
   CHECK(errors_of({.occlusion = "yes"}).second == "--occlusion: expected on or off, got \"yes\"");
+  CHECK(errors_of({.shadows = "yes"}).second == "--shadows: expected on or off, got \"yes\"");
+  CHECK(errors_of({.shadows = "yes"}).first == "shadows: expected on or off, got \"yes\"");
   CHECK(errors_of({.background = "pink"}).second ==
         "--background: expected environment, blur, transparent or R,G,B (three numbers >= 0), got \"pink\"");
   CHECK(errors_of({.background = "0.1,0.2,0.3"}).first.empty());
@@ -120,6 +126,17 @@ TEST_CASE("render job: the memory estimate has the image, meshes, textures and e
   CHECK(job::estimate_memory(e, er).image == pbr::image_memory(er.width, er.height, er.msaa) + pbr::occlusion_memory(er.width, er.height));
   CHECK(job::estimate_memory(job::load(env_scene, {.occlusion = "off"}, pool), er).image ==
         pbr::image_memory(er.width, er.height, er.msaa));
+  // The shadow maps: a directional light's 2048² depths with --shadows on (lights.json's
+  // three lights: spot, directional, point — 16 + 16 + 24 MiB), none with off or by default.
+  const std::string lights = (kSource / "examples/scenes/lights.json").string();
+  const pbr::LoadedScene l = job::load(lights, {}, pool);
+  const pbr::RenderSettings& lr = l.render;
+  CHECK(job::estimate_memory(l, lr).image == pbr::image_memory(lr.width, lr.height, lr.msaa));
+  const pbr::LoadedScene lit = job::load(lights, {.shadows = "on"}, pool);
+  CHECK(pbr::shadow_memory(lit.scene) == (std::uint64_t{16 + 16 + 24} << 20));
+  CHECK(job::estimate_memory(lit, lr).image == pbr::image_memory(lr.width, lr.height, lr.msaa) + (std::uint64_t{56} << 20));
+  CHECK(job::estimate_memory(job::load(lights, {.shadows = "off"}, pool), lr).image ==
+        pbr::image_memory(lr.width, lr.height, lr.msaa));
   CHECK(e.mesh_bytes < studio);  // the cube alone
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "none"}, pool), e.render).environment == 0);
   CHECK(job::estimate_memory(job::load(env_scene, {.env = "studio"}, pool), e.render).environment == studio);
@@ -217,4 +234,66 @@ TEST_CASE("render job: a frame with MSAA is pbr::render_outputs' image and resol
   frame.render(scene, s, renderer, {.linear = true});
   const raster::Target taken = frame.take_linear();
   CHECK(raster::hash_colors(taken) == raster::hash_colors(resolve));
+}
+
+// ---- Animated models (issue 50) ---------------------------------------------------------
+
+TEST_CASE("animated frames (fps): frame i is the model at i/F, the camera framing the union of every frame's bounds") {
+  const fs::path file = shared_assets::folder() / "gltf" / "Fox" / "glTF-Binary" / "Fox.glb";
+  if (!fs::is_regular_file(file)) {
+    MESSAGE("skipped: Fox is absent");
+    return;
+  }
+  job::Settings s;
+  s.fps = 10.0;
+  s.animation = "Walk";
+  s.width = 64;
+  s.height = 48;
+  s.env = "none";
+  raster::ThreadPool pool(2);
+  const pbr::LoadedScene f = job::load(file.string(), s, pool);
+  REQUIRE(f.poser != nullptr);
+  // The camera: framing_camera of the union of the bounds at 0, 0.1, … up to the first
+  // moment at or after the animation's end, each loaded from the file alone.
+  double duration = 0.0;
+  for (const pbr::GltfAnimation& a : pbr::load_gltf(file).animations)
+    if (a.name == "Walk") duration = a.duration;
+  REQUIRE(duration > 0.3);
+  pbr::Bounds all = pbr::world_bounds(pbr::load_gltf(file, {.time = 0.0, .animation = "Walk"}).objects);
+  const pbr::Bounds first = all;
+  for (long k = 1; k <= static_cast<long>(std::ceil(duration * 10.0)); ++k)
+    all = pbr::merge(all, pbr::world_bounds(pbr::load_gltf(file, {.time = static_cast<double>(k) / 10.0, .animation = "Walk"}).objects));
+  CHECK(!(all.min == first.min && all.max == first.max));  // the walk reaches beyond frame 0's bounds
+  const pbr::Camera expected = pbr::framing_camera(all, 64.0f / 48.0f, 0.0f, static_cast<float>(softpbr::dmath::radians(15.0)));
+  CHECK(f.scene.camera.position == expected.position);
+  CHECK(f.scene.camera.target == expected.target);
+  CHECK(f.scene.camera.far == expected.far);
+  // Frame 3: the model loaded at 0.3 s, bit for bit; the camera does not move.
+  for (const long frame : {3L, 0L, 3L}) {
+    CAPTURE(frame);
+    pbr::Scene scene = f.scene;
+    job::pose_frame(f, s, frame, scene, pool);
+    const pbr::GltfScene loaded = pbr::load_gltf(file, {.time = static_cast<double>(frame) / 10.0, .animation = "Walk"});
+    REQUIRE(scene.objects.size() == loaded.objects.size());
+    for (std::size_t i = 0; i < loaded.objects.size(); ++i) {
+      CAPTURE(i);
+      const pbr::Mesh& a = *scene.objects[i].mesh;
+      const pbr::Mesh& b = *loaded.objects[i].mesh;
+      REQUIRE(a.vertices.size() == b.vertices.size());
+      CHECK(std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(pbr::MeshVertex)) == 0);
+      CHECK(std::memcmp(&scene.objects[i].transform, &loaded.objects[i].transform, sizeof(glm::mat4)) == 0);
+    }
+    CHECK(scene.camera.position == f.scene.camera.position);
+  }
+  // Settings: fps in (0, 1000], and not with a time.
+  for (const double bad : {0.0, -1.0, 1001.0, std::nan("")}) {
+    job::Settings b;
+    b.fps = bad;
+    CHECK_THROWS_AS(job::validate(b), job::Error);
+  }
+  job::Settings both;
+  both.fps = 24.0;
+  both.time = 1.0;
+  CHECK_THROWS_WITH_AS(job::validate(both),
+                       "fps: frame f is the moment f / fps: give the frames' fps or one time, not both", job::Error);
 }

@@ -89,7 +89,7 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
       {scene(R"("mesh": "box")"), "t.json: /objects/0/mesh: no mesh named \"box\" in /meshes"},
       {scene(R"("mesh": {"file": ""})"), "t.json: /objects/0/mesh/file: expected a file name, got \"\""},
       {scene(R"("mesh": {"type": "cube"}, "colour": 1)"),
-       "t.json: /objects/0/colour: unknown key \"colour\" (expected one of: name, mesh, material, transform)"},
+       "t.json: /objects/0/colour: unknown key \"colour\" (expected one of: name, mesh, material, transform, cast_shadows, receive_shadows)"},
       {scene(R"("mesh": {"type": "cube"})", R"("camera": {"fov": 180})"),
        "t.json: /camera/fov: expected a number in (0, 180), got 180"},
       {scene(R"("mesh": {"type": "cube"})", R"("camera": {"position": [0, 1, 0], "target": [0, 0, 0]})"),
@@ -117,6 +117,11 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
        "t.json: /lights/0/direction: expected a non-zero direction, got [0, 0, 0]"},
       {R"({"lights": [{"type": "point", "position": [0, 1, 0], "intensity": 1e31}], "objects": []})",
        "t.json: /lights/0/intensity: expected a number >= 0 and at most 1e+30 in magnitude, got 1e+31"},
+      {R"({"lights": [{"type": "point", "position": [0, 1, 0], "shadows": "yes"}], "objects": []})",
+       "t.json: /lights/0/shadows: expected true or false, got \"yes\""},
+      {scene(R"("mesh": {"type": "cube"}, "cast_shadows": 1)"), "t.json: /objects/0/cast_shadows: expected true or false, got 1"},
+      {scene(R"("mesh": {"type": "cube"}, "receive_shadows": null)"),
+       "t.json: /objects/0/receive_shadows: expected true or false, got null"},
       {R"({"lights": {}, "objects": []})", "t.json: /lights: expected an array, got an object"},
       {R"({"objects": [], "a/b~c": 1})",
        "t.json: /a~1b~0c: unknown key \"a/b~c\" (expected one of: camera, lights, ambient, environment, meshes, objects, render, animation)"},
@@ -277,4 +282,16 @@ TEST_CASE("scene file: unreadable, missing and oversized files are refused with 
   }
   CHECK(message(big) == big.string() + ": the scene file is 65.0 MiB, over the limit of 64.0 MiB (meshes belong in OBJ files)");
   fs::remove(big);
+}
+
+TEST_CASE("scene file: lights say \"shadows\" (off by default), objects \"cast_shadows\" and \"receive_shadows\" (on)") {
+  const pbr::SceneFile off = parse(scene());
+  CHECK_FALSE(off.scene.lights.at(0).shadows);
+  CHECK(off.scene.objects.at(0).cast_shadows);
+  CHECK(off.scene.objects.at(0).receive_shadows);
+  const pbr::SceneFile on = parse(R"({"lights": [{"type": "directional", "direction": [0, -1, 0], "shadows": true}],
+      "objects": [{"mesh": {"type": "cube"}, "cast_shadows": false, "receive_shadows": false}]})");
+  CHECK(on.scene.lights.at(0).shadows);
+  CHECK_FALSE(on.scene.objects.at(0).cast_shadows);
+  CHECK_FALSE(on.scene.objects.at(0).receive_shadows);
 }

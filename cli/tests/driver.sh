@@ -638,7 +638,41 @@ $(cat out.txt)"
       || fail "render --time: hashes ${a##*hash } ${b##*hash } ${c##*hash } ${d##*hash }"
     expect_error 3 "$model: /animations: no animation is named \"Walk\"" render "$model" -o x.png --time 1 --animation Walk
     [ ! -e x.png ] && pass "no output for an unknown animation" || fail "x.png written for an unknown animation"
+    # An animation's frames (--fps): frame i at i/F; shards give the same files; a second run
+    # resumes (nothing left to render); the frames differ from one another.
+    "$softpbr" render "$model" -o fps/all_#.png --frames 0..3 --fps 2 --width 80 --height 60 >all.txt 2>err.txt \
+      || fail "render --fps: $(cat err.txt)"
+    "$softpbr" render "$model" -o fps/shard_#.png --frames 0..3 --fps 2 --width 80 --height 60 --shard 0/2 -q &&
+      "$softpbr" render "$model" -o fps/shard_#.png --frames 0..3 --fps 2 --width 80 --height 60 --shard 1/2 -q || fail "render --fps --shard"
+    same=1
+    for i in 0 1 2 3; do cmp -s "fps/all_$i.png" "fps/shard_$i.png" || same=0; done
+    [ $same -eq 1 ] && ! cmp -s fps/all_0.png fps/all_2.png && [ "$(grep -c hash all.txt)" -eq 4 ] \
+      && pass "render --frames --fps: 4 frames that differ, the same from 2 shards" || fail "render --fps: $(cat all.txt)"
+    "$softpbr" render "$model" -o fps/all_#.png --frames 0..3 --fps 2 --width 80 --height 60 >again.txt
+    grep -q "^4 frames: 0 rendered, 4 skipped" again.txt && pass "render --fps resumes: nothing rendered again" \
+      || fail "render --fps again: $(cat again.txt)"
+    "$softpbr" render "$model" -o fps/turn_#.png --frames 2..2 --fps 2 --width 80 --height 60 --turntable -q
+    ! cmp -s fps/turn_2.png fps/all_2.png && pass "--turntable with --fps turns the camera" || fail "--turntable with --fps: same image"
+    expect_error 2 "--fps: frame f is the moment f / fps: give the frames' fps or one time, not both" \
+      render "$model" -o x.png --fps 2 --time 1
   fi
+  expect_error 2 "--fps: a glTF model's setting; a scene file's frames are its turntable's" \
+    render "$scenes/lights.json" -o keep.png --fps 24
+  # Several scenes (glTF's "scenes"): info lists them, --scene picks one.
+  multi=${SOFTPBR_SHARED:-$src/../shared}/gltf/MultipleScenes/glTF/MultipleScenes.gltf
+  if [ -f "$multi" ]; then
+    "$softpbr" info "$multi" >out.txt
+    grep -q "^  scenes     2 (default 1)\$" out.txt && grep -q "^    0   (unnamed)\$" out.txt && grep -q "^    1   (unnamed)\$" out.txt \
+      && pass "info lists MultipleScenes' 2 scenes" || fail "info MultipleScenes: $(cat out.txt)"
+    a=$("$softpbr" render "$multi" -o s0.png --scene 0 --width 64 --height 48)
+    b=$("$softpbr" render "$multi" -o s1.png --width 64 --height 48)
+    c=$("$softpbr" render "$multi" -o s1b.png --scene 1 --width 64 --height 48)
+    [ "${a##*hash }" != "${b##*hash }" ] && [ "${b##*hash }" = "${c##*hash }" ] \
+      && pass "render --scene 0 is another image; the default is scene 1" || fail "render --scene: ${a##*hash } ${b##*hash } ${c##*hash }"
+    expect_error 3 "$multi: /scenes: no scene \"left\" (the scenes: 0, 1)" render "$multi" -o x.png --scene left
+  fi
+  expect_error 2 "--scene: a glTF model's setting; in a scene file, a glTF object gives its own \"scene\"" \
+    render "$scenes/lights.json" -o keep.png --scene 1
   "$softpbr" render two.glb -o x.png --time 1e10 >/dev/null 2>err.txt; rc=$?
   [ $rc -eq 2 ] && grep -q "^--time: expected a finite number of seconds in \[-1e9, 1e9\]" err.txt \
     && pass "--time out of range: exit 2" || fail "--time 1e10: exit $rc, $(cat err.txt)"

@@ -58,6 +58,18 @@ def ibl():
     s["render"] = {"width": 1280, "height": 720, "tonemap": "aces"}
     order = ["camera", "environment", "meshes", "objects", "render"]
     return {k: s[k] for k in order}
+def shadows():
+    # The spheres before a wall, lit by one directional light from the upper left that casts
+    # shadows (docs/design.md, "Shadows"): each sphere's shadow falls on the wall below and
+    # right of it; bench_scenes renders it with shadows on and off.
+    s = scene(False)
+    s["lights"] = [{"type": "directional", "direction": [1, -1, -1.2], "color": [1, 1, 1], "intensity": 4,
+                    "shadows": True}]
+    s["meshes"]["wall"] = {"type": "plane", "width": 9, "depth": 6}
+    s["objects"].append({"mesh": "wall", "material": {"base_color": [0.8, 0.8, 0.8], "roughness": 0.8},
+                         "transform": {"rotate": [90, 0, 0], "translate": [0, 0, -0.6]}})
+    return s
 open("gallery.json", "w").write(dump(scene(False)))
+open("gallery_shadows.json", "w").write(dump(shadows()))
 open("gallery_ibl.json", "w").write(dump(ibl()))
 open("gallery_spot.json", "w").write(dump(scene(True)))

@@ -7,7 +7,7 @@
 namespace viewer {
 
 namespace {
-constexpr std::array<std::pair<Key, std::string_view>, 31> kNames{{
+constexpr std::array<std::pair<Key, std::string_view>, 33> kNames{{
     {Key::W, "w"},        {Key::A, "a"},         {Key::S, "s"},       {Key::D, "d"},
     {Key::Q, "q"},        {Key::E, "e"},         {Key::Up, "up"},     {Key::Down, "down"},
     {Key::Left, "left"},  {Key::Right, "right"}, {Key::Tab, "tab"},   {Key::Num0, "0"},
@@ -15,7 +15,7 @@ constexpr std::array<std::pair<Key, std::string_view>, 31> kNames{{
     {Key::Num5, "5"},     {Key::Num6, "6"},      {Key::Num7, "7"},    {Key::Num8, "8"},
     {Key::Num9, "9"},     {Key::N, "n"},         {Key::M, "m"},       {Key::C, "c"},       {Key::B, "b"},
     {Key::R, "r"},        {Key::F, "f"},         {Key::T, "t"},       {Key::P, "p"},
-    {Key::V, "v"},        {Key::Escape, "escape"},
+    {Key::V, "v"},        {Key::H, "h"},         {Key::G, "g"},       {Key::Escape, "escape"},
 }};
 // One name per key.
 static_assert(kNames.size() == kKeyCount);

@@ -23,6 +23,8 @@ enum class Key {
   P,                         // screenshot
   B,                         // next environment (off, the built-in studio, each --env map)
   V,                         // toggle 4× MSAA
+  H,                         // toggle the lights' shadows
+  G,                         // next material variant of a glTF model (KHR_materials_variants)
   Escape,                    // quit
 };
 

@@ -193,6 +193,7 @@ class Viewer {
         // Scripts capture in the state only: a real grab would add real mouse motion.
         if (options_.script.empty()) SDL_SetRelativeMouseMode(state_.captured ? SDL_TRUE : SDL_FALSE);
         if (effect == viewer::Effect::Screenshot) screenshot_requested_ = true;
+        if (effect == viewer::Effect::NextVariant) show_next_variant();
         return true;
       }
       case SDL_MOUSEMOTION:
@@ -216,7 +217,27 @@ class Viewer {
 
   // The title's material: a glTF model is drawn with its own.
   std::string material_text() const {
-    return meshes_[state_.mesh].model.empty() ? viewer::material_label(state_) : std::string("own materials");
+    const viewer::NamedMesh& entry = meshes_[state_.mesh];
+    if (entry.model.empty()) return viewer::material_label(state_);
+    const std::string variant = viewer::variant_label(entry);
+    return variant.empty() ? std::string("own materials") : "own materials, " + variant;
+  }
+
+  // G: the shown glTF model's next material variant. One that does not load again is one
+  // line on stderr, and the view stays as it was.
+  void show_next_variant() {
+    viewer::NamedMesh& entry = meshes_[state_.mesh];
+    try {
+      std::vector<std::string> warnings;
+      if (!viewer::next_variant(entry, warnings, &renderer_.pool())) return;
+      const std::string label = viewer::variant_label(entry);
+      std::printf("viewer: %s: %s\n", entry.name.c_str(), label.empty() ? "default materials" : label.c_str());
+      std::fflush(stdout);
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "viewer: %s: out of memory\n", entry.file.string().c_str());
+    } catch (const std::exception& ex) {
+      std::fprintf(stderr, "viewer: %s\n", ex.what());
+    }
   }
 
   // A dropped file joins the mesh list and is shown; one that does not load is one line on
@@ -250,11 +271,11 @@ class Viewer {
 
   void update_title(double ms) {
     char title[256];
-    std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s%s | %u threads%s", ms,
+    std::snprintf(title, sizeof title, "softpbr viewer | %.1f ms (%.1f FPS) | %s | %s | %dx%d%s%s | %u threads%s%s", ms,
                   ms > 0.0 ? 1000.0 / ms : 0.0, material_text().c_str(),
                   meshes_[state_.mesh].name.c_str(), frame_.rgba().width, frame_.rgba().height,
                   state_.msaa > 1 ? " 4x MSAA" : "", shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
-                  state_.lights_rotating ? " | lights rotating" : "");
+                  state_.lights_rotating ? " | lights rotating" : "", state_.shadows ? " | shadows" : "");
     window_.set_title(title);
   }
 
@@ -274,7 +295,7 @@ constexpr const char* kUsage =
     "usage: viewer [model.obj|.gltf|.glb ...] [--width W] [--height H] [--threads N] [--budget-ms MS]\n"
     "              [--software] [--script keys.txt] [--screenshot out.png] [--env map.hdr ...]\n"
     "keys: WASD/arrows fly, Q/E down/up, Tab capture mouse, 1-9 presets, N next preset, 0 gallery,\n"
-    "      M next mesh or model (also files dropped on the window), C rotate lights, R/F roughness up/down, T metallic, V 4x MSAA, P screenshot, Esc quit\n";
+    "      M next mesh or model (also files dropped on the window), C rotate lights, R/F roughness up/down, T metallic, V 4x MSAA, H shadows, P screenshot, Esc quit\n";
 
 Options parse(int argc, char** argv) {
   Options o;

@@ -7,7 +7,7 @@
 namespace viewer {
 
 namespace {
-constexpr std::array<std::pair<Key, SDL_Keycode>, 31> kKeys{{
+constexpr std::array<std::pair<Key, SDL_Keycode>, 33> kKeys{{
     {Key::W, SDLK_w},         {Key::A, SDLK_a},         {Key::S, SDLK_s},       {Key::D, SDLK_d},
     {Key::Q, SDLK_q},         {Key::E, SDLK_e},         {Key::Up, SDLK_UP},     {Key::Down, SDLK_DOWN},
     {Key::Left, SDLK_LEFT},   {Key::Right, SDLK_RIGHT}, {Key::Tab, SDLK_TAB},   {Key::Num0, SDLK_0},
@@ -15,7 +15,7 @@ constexpr std::array<std::pair<Key, SDL_Keycode>, 31> kKeys{{
     {Key::Num5, SDLK_5},      {Key::Num6, SDLK_6},      {Key::Num7, SDLK_7},    {Key::Num8, SDLK_8},
     {Key::Num9, SDLK_9},      {Key::N, SDLK_n},         {Key::M, SDLK_m},       {Key::C, SDLK_c},       {Key::B, SDLK_b},
     {Key::R, SDLK_r},         {Key::F, SDLK_f},         {Key::T, SDLK_t},       {Key::P, SDLK_p},
-    {Key::V, SDLK_v},         {Key::Escape, SDLK_ESCAPE},
+    {Key::V, SDLK_v},         {Key::H, SDLK_h},         {Key::G, SDLK_g},       {Key::Escape, SDLK_ESCAPE},
 }};
 // One SDL key per viewer key.
 static_assert(kKeys.size() == kKeyCount);

@@ -1,6 +1,8 @@
 // Viewer state → scene → image (see viewer_scene.h).
 #include "viewer_scene.h"
 
+#include <algorithm>
+
 #include <cctype>
 #include <cstdio>
 #include <stdexcept>
@@ -57,9 +59,11 @@ glm::vec3 turn_about_y(glm::vec3 p, float angle) {
 }
 }  // namespace
 
-NamedMesh load_model(const std::filesystem::path& file, std::vector<std::string>& warnings, raster::ThreadPool* pool) {
+namespace {
+NamedMesh load_model_variant(const std::filesystem::path& file, std::vector<std::string>& warnings,
+                             raster::ThreadPool* pool, const std::string& variant) {
   if (!is_gltf(file)) return {file.stem().string(), load_merged(file, warnings)};
-  pbr::GltfScene g = pbr::load_gltf(file, {.pool = pool});
+  pbr::GltfScene g = pbr::load_gltf(file, {.pool = pool, .variant = variant});
   warnings.insert(warnings.end(), g.warnings.begin(), g.warnings.end());
   if (g.triangles == 0 || g.objects.empty()) throw pbr::LoadError(file.string() + ": has no triangles to show");
   const pbr::Bounds b = pbr::world_bounds(g.objects);
@@ -67,9 +71,37 @@ NamedMesh load_model(const std::filesystem::path& file, std::vector<std::string>
   const float radius = 0.5f * glm::length(b.max - b.min);
   const float scale = radius > 0.0f ? 0.4f * kSingleObjectScale / radius : 1.0f;
   const glm::mat4 fit = glm::scale(glm::mat4(1.0f), glm::vec3(scale)) * glm::translate(glm::mat4(1.0f), -centre);
-  NamedMesh entry{file.stem().string(), nullptr, std::move(g.objects)};
+  NamedMesh entry{file.stem().string(), nullptr, std::move(g.objects), file, std::move(g.variants)};
   for (pbr::Object& o : entry.model) o.transform = fit * o.transform;
   return entry;
+}
+}  // namespace
+
+NamedMesh load_model(const std::filesystem::path& file, std::vector<std::string>& warnings, raster::ThreadPool* pool) {
+  return load_model_variant(file, warnings, pool, "");
+}
+
+bool next_variant(NamedMesh& entry, std::vector<std::string>& warnings, raster::ThreadPool* pool) {
+  if (entry.variants.empty()) return false;
+  const std::size_t next = (entry.variant + 1) % (entry.variants.size() + 1);
+  // By name (the loader looks names up first), or by index ("0", "1", …) for a name that is
+  // empty or repeated.
+  std::string chosen;
+  if (next != 0) {
+    const std::string& name = entry.variants[next - 1];
+    const bool unique = !name.empty() && std::count(entry.variants.begin(), entry.variants.end(), name) == 1;
+    chosen = unique ? name : std::to_string(next - 1);
+  }
+  NamedMesh loaded = load_model_variant(entry.file, warnings, pool, chosen);
+  loaded.name = entry.name;
+  loaded.variant = next;
+  entry = std::move(loaded);
+  return true;
+}
+
+std::string variant_label(const NamedMesh& entry) {
+  if (entry.variant == 0 || entry.variant > entry.variants.size()) return "";
+  return "variant " + entry.variants[entry.variant - 1];
 }
 
 std::vector<NamedMesh> load_meshes(const std::filesystem::path& assets_dir,
@@ -121,6 +153,9 @@ pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& m
   scene.camera = state.camera.camera();
   if (state.light_angle != 0.0f)
     for (pbr::Light& l : scene.lights) l.position = turn_about_y(l.position, state.light_angle);
+  softpbr::job::Settings shadows;
+  shadows.shadows = state.shadows ? "on" : "off";
+  softpbr::job::apply_shadows(scene, shadows);
   if (state.environment != 0) {
     scene.environment.map = environments.at(state.environment);
     scene.background_mode = pbr::BackgroundMode::Environment;

@@ -38,6 +38,11 @@ struct NamedMesh {
   // A glTF model's objects with their materials, already fitted (see above); empty for
   // a mesh.
   std::vector<softpbr::pbr::Object> model{};
+  // A glTF model's file, its KHR_materials_variants names and the one shown (0: the file's
+  // default materials, i: variants[i − 1]).
+  std::filesystem::path file{};
+  std::vector<std::string> variants{};
+  std::size_t variant = 0;
 };
 
 // An OBJ file (all shapes merged) or a glTF model (.gltf/.glb, by the extension; images
@@ -46,6 +51,16 @@ struct NamedMesh {
 // are appended to `warnings`.
 NamedMesh load_model(const std::filesystem::path& file, std::vector<std::string>& warnings,
                      softpbr::raster::ThreadPool* pool = nullptr);
+
+// The G key: a glTF model with KHR_materials_variants is loaded again with its next variant
+// (after the last, its default materials), fitted as before (the variants change materials
+// only). Returns false, and leaves `entry` as it is, for an entry without variants. Throws
+// what load_model throws (the file changed or vanished since).
+bool next_variant(NamedMesh& entry, std::vector<std::string>& warnings, softpbr::raster::ThreadPool* pool = nullptr);
+
+// What the title shows of an entry's variant: "" for the default (or no variants), else
+// "variant NAME".
+std::string variant_label(const NamedMesh& entry);
 
 // The sphere grid, spot and the teapot from `assets_dir` (assets/ of the source tree), a
 // torus and a cube, then each file (load_model: OBJ or glTF). Throws pbr::LoadError naming

@@ -41,7 +41,9 @@ Effect press(ViewerState& s, Key key) {
       if (s.material != kGalleryMaterial) s.metallic = !s.metallic;
       break;
     case Key::V: s.msaa = s.msaa == 1 ? 4 : 1; break;
+    case Key::H: s.shadows = !s.shadows; break;
     case Key::P: return Effect::Screenshot;
+    case Key::G: return Effect::NextVariant;
     case Key::Escape: s.quit = true; return Effect::Quit;
     default: break;  // movement keys act in advance()
   }

@@ -13,6 +13,7 @@
 //   R / F             roughness up / down by 0.05    T  toggle metallic (preset mode only)
 //   B                 next environment: off (the paper's lights), the built-in studio, each --env map
 //   V                 toggle 4× MSAA (antialiased edges, docs/design.md "MSAA")
+//   H                 toggle the lights' shadows (docs/design.md "Shadows")
 //   P                 screenshot                      Escape  quit
 #pragma once
 
@@ -52,6 +53,7 @@ struct ViewerState {
   float light_angle = 0.0f;  // radians in [0, 2π): the lights' turn about the y axis
   bool captured = false;     // mouse captured: motion turns the camera
   int msaa = 1;              // samples a pixel: 1 or 4 (V toggles)
+  bool shadows = false;      // the lights cast shadows (H toggles; job::Settings::shadows)
   bool quit = false;
   std::array<bool, kKeyCount> held{};  // keys currently down
 
@@ -60,7 +62,9 @@ struct ViewerState {
 };
 
 // What an event asks of the shell besides the state change.
-enum class Effect { None, Screenshot, Quit };
+// NextVariant: show the current glTF model's next material variant (the shell reloads it:
+// viewer_scene.h's next_variant).
+enum class Effect { None, Screenshot, Quit, NextVariant };
 
 // Applies one input event. Key repeats are not events: the shell drops them.
 Effect apply(ViewerState& state, const Event& event);

@@ -221,9 +221,10 @@ std::string etc1s_read_global(std::span<const std::uint8_t> sgd, int levels, Etc
 }
 
 std::string etc1s_decode_slice(const Etc1sGlobal& g, std::span<const std::uint8_t> slice, int w, int h,
-                               std::uint8_t* rgba, bool alpha) {
+                               std::span<Etc1sBlock> blocks) {
   const int bw = (w + 3) / 4, bh = (h + 3) / 4;
   const std::uint64_t total_blocks = std::uint64_t(bw) * std::uint64_t(bh);
+  if (blocks.size() != total_blocks) return "a slice's block buffer does not fit the image";  // the caller's error
   const int selectors = static_cast<int>(g.selectors.size());
   const int endpoints = static_cast<int>(g.endpoints.size());
   Bits bits(slice);
@@ -328,14 +329,27 @@ std::string etc1s_decode_slice(const Etc1sGlobal& g, std::span<const std::uint8_
                " beyond the codebooks (" + std::to_string(endpoints) + ", " + std::to_string(selectors) + ")";
       if (bits.overrun()) return "a slice is truncated";
 
+      blocks[static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx)] = {
+          static_cast<std::uint16_t>(endpoint), static_cast<std::uint16_t>(selector)};
+    }
+  }
+  return "";
+}
+
+void etc1s_expand(const Etc1sGlobal& g, std::span<const Etc1sBlock> blocks, int w, int h, int by_begin, int by_end,
+                  std::uint8_t* rgba, bool alpha) {
+  const int bw = (w + 3) / 4;
+  for (int by = by_begin; by < by_end; ++by)
+    for (int bx = 0; bx < bw; ++bx) {
+      const Etc1sBlock& b = blocks[static_cast<std::size_t>(by) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(bx)];
       // The block's four colours: the 5-bit colour widened (c << 3 | c >> 2) plus each modifier.
-      const Etc1sEndpoint& e = g.endpoints[static_cast<std::size_t>(endpoint)];
+      const Etc1sEndpoint& e = g.endpoints[b.endpoint];
       const auto& mod = kModifiers[e.inten];
       std::uint8_t colour[4][3];
       const int base[3] = {(e.r << 3) | (e.r >> 2), (e.g << 3) | (e.g >> 2), (e.b << 3) | (e.b >> 2)};
       for (int s = 0; s < 4; ++s)
         for (int c = 0; c < 3; ++c) colour[s][c] = static_cast<std::uint8_t>(std::clamp(base[c] + mod[static_cast<std::size_t>(s)], 0, 255));
-      const auto& sel = g.selectors[static_cast<std::size_t>(selector)];
+      const auto& sel = g.selectors[b.selector];
       const int rows_in = std::min(4, h - by * 4), cols_in = std::min(4, w - bx * 4);
       for (int y = 0; y < rows_in; ++y)
         for (int x = 0; x < cols_in; ++x) {
@@ -347,11 +361,10 @@ std::string etc1s_decode_slice(const Etc1sGlobal& g, std::span<const std::uint8_
             p[0] = colour[s][0];
             p[1] = colour[s][1];
             p[2] = colour[s][2];
+            p[3] = 255;
           }
         }
     }
-  }
-  return "";
 }
 
 }  // namespace softpbr::image::detail

@@ -9,7 +9,8 @@
 // a move-to-front history buffer, with runs). A block's texels are ETC1's "differential"
 // mode with one colour for both halves (KHR Data Format Specification 1.3, §21.1): the
 // colour widened to 8 bits, plus the table's modifier for the selector, clamped to 0..255.
-// An alpha slice is decoded the same way and gives alpha from its green channel.
+// An alpha slice is decoded the same way and gives alpha from its green channel. The
+// Huffman decoding of a slice is sequential; expanding its blocks to texels is not.
 //
 // Every Huffman table is validated (a complete prefix code, or a single symbol) and every
 // codebook index and history-buffer reference checked; a slice that reads past its end is
@@ -62,9 +63,21 @@ struct Etc1sGlobal {
 // Reads the global data of a texture of `levels` images. Returns "" or what is wrong.
 std::string etc1s_read_global(std::span<const std::uint8_t> sgd, int levels, Etc1sGlobal& out);
 
-// Decodes a slice of a w×h image into `rgba` (w·h·4 bytes): colour (alpha left at 255) or,
-// with `alpha`, the alpha channel only. Returns "" or what is wrong.
+// A block's codebook entries, as a slice codes them.
+struct Etc1sBlock {
+  std::uint16_t endpoint = 0, selector = 0;
+};
+
+// Decodes a slice of a w×h image — its Huffman codes, one after the other — into `blocks`,
+// one per 4×4 block, rows of (w + 3) / 4 top down ((w + 3) / 4 · (h + 3) / 4 of them), every
+// endpoint and selector checked against the codebooks. Returns "" or what is wrong.
 std::string etc1s_decode_slice(const Etc1sGlobal& g, std::span<const std::uint8_t> slice, int w, int h,
-                               std::uint8_t* rgba, bool alpha);
+                               std::span<Etc1sBlock> blocks);
+
+// Expands block rows [by_begin, by_end) of a slice's `blocks` (etc1s_decode_slice's) into
+// the w×h `rgba` (w·h·4 bytes): the colour channels and alpha 255 or, with `alpha`, the
+// alpha channel only. Block rows are independent: ranges may run on different threads at once.
+void etc1s_expand(const Etc1sGlobal& g, std::span<const Etc1sBlock> blocks, int w, int h, int by_begin, int by_end,
+                  std::uint8_t* rgba, bool alpha);
 
 }  // namespace softpbr::image::detail

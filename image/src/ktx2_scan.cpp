@@ -235,11 +235,14 @@ Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, co
     if (l <= last_level) {
       decoded += texels * 4;
       if (scheme == 2) scratch = std::max(scratch, lv.data_bytes);
+      if (scheme == 1)  // a level's ETC1S blocks, decoded before they are expanded (etc1s.h): 4 bytes a slice
+        scratch = std::max(scratch, std::uint64_t((lv.width + 3) / 4) * std::uint64_t((lv.height + 3) / 4) *
+                                        (s.etc1s_alpha ? 8u : 4u));
     }
     s.levels.push_back(lv);
   }
   // Everything decoded counts against the limit: the levels' RGBA after the first's and
-  // one Zstandard level's blocks at a time.
+  // one Zstandard level's blocks (or one ETC1S level's decoded blocks) at a time.
   check_size(name, w, h, 4, limits, decoded - std::uint64_t(w) * std::uint64_t(h) * 4 + scratch);
   return s;
 }

@@ -41,7 +41,8 @@ inline constexpr int kAllKtx2Levels = 1 << 30;
 
 // Throws "<name>: <what is wrong>" unless the file is a KTX2 file this reader decodes and
 // every level's data lies inside it (BasisLZ slices are checked when decoded: etc1s.h). The decoded RGBA of levels [0, last_level] plus the
-// largest Zstandard level's blocks must fit limits.max_decoded_bytes.
+// largest Zstandard level's blocks (or ETC1S level's decoded blocks) must fit
+// limits.max_decoded_bytes.
 Ktx2Scan ktx2_scan(std::span<const std::uint8_t> file, std::string_view name, const Limits& limits, int last_level);
 
 // The header's and the DFD's description, nothing checked (read_ktx2_info).

@@ -114,14 +114,22 @@ void validate(const Settings& s) {
     bad_setting("missing-images", "expected error or warn, got \"" + *s.missing_images + "\"");
   if (s.occlusion && *s.occlusion != "on" && *s.occlusion != "off")
     bad_setting("occlusion", "expected on or off, got \"" + *s.occlusion + "\"");
+  if (s.shadows && *s.shadows != "on" && *s.shadows != "off")
+    bad_setting("shadows", "expected on or off, got \"" + *s.shadows + "\"");
+  if (s.ground && *s.ground != "shadow" && *s.ground != "none")
+    bad_setting("ground", "expected shadow or none, got \"" + *s.ground + "\"");
   if (s.pitch && !(*s.pitch >= -89.0f && *s.pitch <= 89.0f))
     bad_setting("pitch", "expected degrees in [-89, 89], got " + show_value(*s.pitch));
   if (s.yaw && !std::isfinite(*s.yaw)) bad_setting("yaw", "expected a finite number of degrees, got " + show_value(*s.yaw));
   if (s.time && !(*s.time >= -1e9 && *s.time <= 1e9))
     bad_setting("time", "expected a finite number of seconds in [-1e9, 1e9], got " + show_value(*s.time));
   if (s.animation && s.animation->empty()) bad_setting("animation", "expected an index or a name, got \"\"");
+  if (s.fps && !(*s.fps > 0.0 && *s.fps <= 1000.0))
+    bad_setting("fps", "expected frames per second in (0, 1000], got " + show_value(*s.fps));
+  if (s.fps && s.time) bad_setting("fps", "frame f is the moment f / fps: give the frames' fps or one time, not both");
   if (s.camera && *s.camera < 0) bad_setting("camera", "expected an index >= 0, got " + std::to_string(*s.camera));
   if (s.variant && s.variant->empty()) bad_setting("variant", "expected a material variant's name or index, got \"\"");
+  if (s.scene && s.scene->empty()) bad_setting("scene", "expected a scene's name or index, got \"\"");
   if (s.max_memory_mib && !(*s.max_memory_mib > 0 && *s.max_memory_mib <= 1e9))
     bad_setting("max_memory", "expected a number of MiB in (0, 1e9], got " + show_value(*s.max_memory_mib));
   for (const fs::path& r : s.roots) {
@@ -138,18 +146,67 @@ std::uint64_t requested_memory_limit(const Settings& s) {
   return s.max_memory_mib ? static_cast<std::uint64_t>(*s.max_memory_mib * 1048576.0) : pbr::kDefaultMemoryLimit;
 }
 
+namespace {
+
+// At most this many moments are posed to frame an animation: a longer one is sampled at
+// every k-th frame (k the smallest that fits), which may miss a pose between them.
+constexpr long kMaxFramingPoses = 250;
+
+// The union of the bounds of poseable `g` at the moments of frames 0, 1, … up to the first
+// at or after the end of the animation (`animation`'s duration, or the longest of all):
+// every frame f ≥ 0 is one of those poses (after its last key an animation holds it), so
+// a camera framing them does not jump between frames (negative frames: the first key's
+// pose, also frame 0's when the keys start at 0). `g` is left posed at frame 0.
+pbr::Bounds animation_bounds(pbr::GltfScene& g, double fps, const std::string& animation, raster::ThreadPool& pool) {
+  double duration = 0.0;
+  for (std::size_t i = 0; i < g.animations.size(); ++i)
+    if (animation.empty() || animation == std::to_string(i) || animation == g.animations[i].name)
+      duration = std::max(duration, g.animations[i].duration);
+  const double frames = std::ceil(duration * fps);  // duration ≤ 3.4e38 (a float key), fps ≤ 1000: finite
+  const long last = frames >= static_cast<double>(kMaxFrame) ? kMaxFrame : static_cast<long>(frames);
+  const long step = std::max(1L, (last + kMaxFramingPoses - 1) / kMaxFramingPoses);
+  pbr::Bounds b = pbr::world_bounds(g.objects);  // frame 0 (loaded at 0 s)
+  for (long f = step; f <= last; f += step) {
+    g.pose(static_cast<double>(f) / fps, animation, &pool);
+    b = pbr::merge(b, pbr::world_bounds(g.objects));
+  }
+  if (last % step != 0) {
+    g.pose(static_cast<double>(last) / fps, animation, &pool);
+    b = pbr::merge(b, pbr::world_bounds(g.objects));
+  }
+  g.pose(0.0, animation, &pool);
+  return b;
+}
+
+}  // namespace
+
+void pose_frame(const pbr::LoadedScene& loaded, const Settings& s, long frame, pbr::Scene& scene, raster::ThreadPool& pool) {
+  if (!s.fps || loaded.poser == nullptr) return;
+  pbr::GltfScene g;
+  g.poser = loaded.poser;
+  g.pose(static_cast<double>(frame) / *s.fps, s.animation.value_or(""), &pool);
+  scene.objects = std::move(g.objects);
+  if (!g.lights.empty()) scene.lights = std::move(g.lights);
+  if (s.camera && static_cast<std::size_t>(*s.camera) < g.cameras.size())
+    scene.camera = g.cameras[static_cast<std::size_t>(*s.camera)].camera;
+}
+
 // A glTF model as a scene (docs/scene-format.md, "glTF models"): pbr::gltf_scene_file with
 // the settings' view (env "none": the light rig instead of the studio).
 pbr::LoadedScene load_model(const std::string& input, const Settings& s, raster::ThreadPool& pool) {
   pbr::GltfScene g;
+  std::optional<pbr::Bounds> frame_bounds;
   try {
     g = pbr::load_gltf(input, {.pool = &pool,
                                .memory_limit = requested_memory_limit(s),
                                .roots = s.roots,
                                .missing_images = missing_images(s),
                                .variant = s.variant.value_or(""),
-                               .time = s.time,
-                               .animation = s.animation.value_or("")});
+                               .time = s.fps ? std::optional<double>(0.0) : s.time,
+                               .animation = s.animation.value_or(""),
+                               .poseable = s.fps.has_value(),
+                               .scene_name = s.scene.value_or("")});
+    if (s.fps) frame_bounds = animation_bounds(g, *s.fps, s.animation.value_or(""), pool);
   } catch (const std::bad_alloc&) {
     throw Error(Error::Kind::Memory, "",
                 input + ": out of memory while loading it (the process's memory or address-space limit)");
@@ -169,6 +226,7 @@ pbr::LoadedScene load_model(const std::string& input, const Settings& s, raster:
   }
   view.environment = !s.env || *s.env != "none";
   view.pool = &pool;
+  view.bounds = frame_bounds;
   std::vector<std::string> files = g.files;
   pbr::LoadedScene f;
   try {
@@ -226,6 +284,12 @@ void apply_environment(pbr::LoadedScene& f, const Settings& a, raster::ThreadPoo
   }
 }
 
+void apply_shadows(pbr::Scene& scene, const Settings& a) {
+  if (a.ground) scene.ground.shadow = *a.ground == "shadow";
+  if (!a.shadows) return;
+  for (pbr::Light& l : scene.lights) l.shadows = *a.shadows == "on";
+}
+
 pbr::LoadedScene load(const std::string& input, const Settings& s, raster::ThreadPool& pool) {
   pbr::LoadedScene file;
   if (lower_extension_is(input, {".gltf", ".glb"})) {
@@ -233,6 +297,8 @@ pbr::LoadedScene load(const std::string& input, const Settings& s, raster::Threa
   } else {
     if (s.variant)
       bad_setting("variant", "a glTF model's setting; in a scene file, a glTF object gives its own \"variant\"");
+    if (s.fps) bad_setting("fps", "a glTF model's setting; a scene file's frames are its turntable's");
+    if (s.scene) bad_setting("scene", "a glTF model's setting; in a scene file, a glTF object gives its own \"scene\"");
     file = pbr::load_scene_file(input, {.memory_limit = requested_memory_limit(s),
                                         .pool = &pool,
                                         .environment_cache = s.env_cache,
@@ -240,6 +306,7 @@ pbr::LoadedScene load(const std::string& input, const Settings& s, raster::Threa
                                         .missing_images = missing_images(s)});
   }
   apply_environment(file, s, pool);
+  apply_shadows(file.scene, s);
   return file;
 }
 
@@ -270,6 +337,7 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& s)
 MemoryEstimate estimate_memory(const pbr::LoadedScene& f, const pbr::RenderSettings& s) {
   std::uint64_t image = pbr::image_memory(s.width, s.height, s.msaa);
   if (f.scene.environment.map && f.scene.environment.occlusion) image += pbr::occlusion_memory(s.width, s.height);
+  image += pbr::shadow_memory(f.scene);
   for (const pbr::Object& o : f.scene.objects)
     if (o.material.transmissive()) {
       image += pbr::transmission_memory(s.width, s.height);

@@ -32,7 +32,7 @@ using scene_file::Reader;
 
 SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& base_dir,
                const SceneLoadOptions& options) {
-  r.object(root, {"camera", "lights", "ambient", "environment", "meshes", "objects", "render", "animation"});
+  r.object(root, {"camera", "lights", "ambient", "environment", "ground", "meshes", "objects", "render", "animation"});
   SceneFile out;
   scene_file::MemoryBudget budget(r, options.memory_limit);
   scene_file::TextureLibrary textures(r, base_dir, budget);
@@ -45,6 +45,12 @@ SceneFile load(const Reader& r, const Node& root, const std::filesystem::path& b
   // After /render: the environment's background replaces render.background.
   if (auto e = r.member(root, "environment")) scene_file::read_environment(r, *e, base_dir, budget, options, out);
   if (auto a = r.member(root, "animation")) scene_file::read_animation(r, *a, out.animation);
+  if (auto g = r.member(root, "ground")) {
+    r.object(*g, {"shadow", "darkness", "softness"});
+    if (auto v = r.member(*g, "shadow")) out.scene.ground.shadow = r.boolean(*v);
+    if (auto v = r.member(*g, "darkness")) out.scene.ground.darkness = static_cast<float>(r.number(*v, 0, 1));
+    if (auto v = r.member(*g, "softness")) out.scene.ground.softness = static_cast<float>(r.number(*v, 0, 1));
+  }
   if (auto l = r.member(root, "lights")) {
     const std::size_t n = r.array(*l, kMaxLights, "every light is evaluated at every pixel");
     for (std::size_t i = 0; i < n; ++i) out.scene.lights.push_back(scene_file::read_light(r, l->at(i)));

@@ -21,6 +21,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <memory>
+
+#include "softpbr/simd/dispatch.h"
+#include "softpbr/simd/simd.h"
 
 namespace softpbr::pbr::detail {
 
@@ -114,7 +118,43 @@ float occlusion_at(const Frame& f, int x, int y, float radius, float strength) {
   return std::clamp(ao, 0.0f, 1.0f);
 }
 
+// The blurred factor of pixel (x, y) into row[x] (left as it is, 1, where no surface is):
+// the mean of the raw factors of the pixels x − 2 … x + 1, y − 2 … y + 1 (one of each
+// rotation) on P's surface — depth within kBlurDepth · R, normal within kBlurNormal.
+void blur_at(const Frame& f, const float* raw, float depth_tolerance, int x, int y, float* row) {
+  const int w = f.w, h = f.h;
+  const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+  const glm::vec4 c = f.g[i];
+  if (!(c.w > 0.0f)) return;  // 1
+  float sum = 0.0f, n = 0.0f;
+  for (int dy = -2; dy <= 1; ++dy) {
+    const int yy = y + dy;
+    if (yy < 0 || yy >= h) continue;
+    for (int dx = -2; dx <= 1; ++dx) {
+      const int xx = x + dx;
+      if (xx < 0 || xx >= w) continue;
+      const std::size_t j = static_cast<std::size_t>(yy) * static_cast<std::size_t>(w) + static_cast<std::size_t>(xx);
+      const glm::vec4 q = f.g[j];
+      if (!(q.w > 0.0f)) continue;
+      const float dd = q.w - c.w;
+      if (!(std::max(dd, -dd) <= depth_tolerance)) continue;
+      if (!(q.x * c.x + q.y * c.y + q.z * c.z >= kBlurNormal)) continue;
+      sum = sum + raw[j];
+      n = n + 1.0f;
+    }
+  }
+  row[x] = sum / n;  // n ≥ 1: the pixel itself
+}
+
 }  // namespace
+}  // namespace softpbr::pbr::detail
+
+// {baseline, avx2, avx512}::occlusion_rows<N>() and blur_rows<N>(): the same pixels N at
+// a time (occlusion-inl.h).
+#define SOFTPBR_TARGET_FILE "occlusion-inl.h"
+#include "softpbr/simd/foreach_target.h"
+
+namespace softpbr::pbr::detail {
 
 void compute_occlusion(const raster::Target& gbuffer, const OcclusionSettings& s, raster::ThreadPool& pool,
                        std::vector<float>& out) {
@@ -132,47 +172,43 @@ void compute_occlusion(const raster::Target& gbuffer, const OcclusionSettings& s
                 2.0f / static_cast<float>(h),
                 0.5f * static_cast<float>(w),
                 0.5f * static_cast<float>(h)};
-  std::vector<float> raw(count);
+  // Every raw factor is written below (no fill first: the pages are first touched by the
+  // threads that compute them).
+  const std::unique_ptr<float[]> raw_storage(new float[count]);
+  float* const raw = raw_storage.get();
   out.assign(count, 1.0f);
   // Rows in bands of 8: fewer hand-outs of the pool, each band written by one thread.
   constexpr int kBand = 8;
   const auto bands = static_cast<std::size_t>((h + kBand - 1) / kBand);
   pool.parallel_for(bands, [&](std::size_t band) {
     const int y0 = static_cast<int>(band) * kBand, y1 = std::min(h, y0 + kBand);
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < w; ++x)
-        raw[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
-            occlusion_at(f, x, y, s.radius, s.strength);
+    switch (s.lanes) {
+      case 16: return SOFTPBR_DISPATCH(s.isa, occlusion_rows<16>)(f, y0, y1, s.radius, s.strength, raw);
+      case 8: return SOFTPBR_DISPATCH(s.isa, occlusion_rows<8>)(f, y0, y1, s.radius, s.strength, raw);
+      case 4: return SOFTPBR_DISPATCH(s.isa, occlusion_rows<4>)(f, y0, y1, s.radius, s.strength, raw);
+      default:
+        for (int y = y0; y < y1; ++y)
+          for (int x = 0; x < w; ++x)
+            raw[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+                occlusion_at(f, x, y, s.radius, s.strength);
+    }
   });
   // The 4×4 blur (pixels x − 2 … x + 1, y − 2 … y + 1: one of each rotation), of the
   // neighbours on P's surface: depth within kBlurDepth · R, normal within kBlurNormal.
   const float depth_tolerance = kBlurDepth * s.radius;
   pool.parallel_for(bands, [&](std::size_t band) {
     const int y0 = static_cast<int>(band) * kBand, y1 = std::min(h, y0 + kBand);
-    for (int y = y0; y < y1; ++y) {
-      for (int x = 0; x < w; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-        const glm::vec4 c = f.g[i];
-        if (!(c.w > 0.0f)) continue;  // 1
-        float sum = 0.0f, n = 0.0f;
-        for (int dy = -2; dy <= 1; ++dy) {
-          const int yy = y + dy;
-          if (yy < 0 || yy >= h) continue;
-          for (int dx = -2; dx <= 1; ++dx) {
-            const int xx = x + dx;
-            if (xx < 0 || xx >= w) continue;
-            const std::size_t j = static_cast<std::size_t>(yy) * static_cast<std::size_t>(w) + static_cast<std::size_t>(xx);
-            const glm::vec4 q = f.g[j];
-            if (!(q.w > 0.0f)) continue;
-            const float dd = q.w - c.w;
-            if (!(std::max(dd, -dd) <= depth_tolerance)) continue;
-            if (!(q.x * c.x + q.y * c.y + q.z * c.z >= kBlurNormal)) continue;
-            sum = sum + raw[j];
-            n = n + 1.0f;
-          }
-        }
-        out[i] = sum / n;  // n ≥ 1: the pixel itself
+    if (s.lanes <= 1) {
+      for (int y = y0; y < y1; ++y) {
+        float* row = out.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
+        for (int x = 0; x < w; ++x) blur_at(f, raw, depth_tolerance, x, y, row);
       }
+      return;
+    }
+    switch (s.lanes) {
+      case 16: return SOFTPBR_DISPATCH(s.isa, blur_rows<16>)(f, raw, depth_tolerance, y0, y1, out.data());
+      case 8: return SOFTPBR_DISPATCH(s.isa, blur_rows<8>)(f, raw, depth_tolerance, y0, y1, out.data());
+      default: return SOFTPBR_DISPATCH(s.isa, blur_rows<4>)(f, raw, depth_tolerance, y0, y1, out.data());
     }
   });
 }

@@ -126,6 +126,10 @@ struct OcclusionSettings {
   float p00 = 1.0f, p11 = 1.0f;  // the projection's x and y scales (ndc = p · view / w)
   float radius = 1.0f;           // world units
   float strength = 1.0f;
+  // The lanes a row is computed in (1: one pixel at a time; 4, 8, 16) and the instruction
+  // set of that code (the renderer's: Renderer::lanes(), isa()). The same bits for all.
+  int lanes = 1;
+  simd::Isa isa = simd::Isa::Baseline;
 };
 
 // The occlusion factor of every pixel of `gbuffer` (GBufferShader's colours, 1 sample a

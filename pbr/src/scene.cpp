@@ -4,10 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -15,6 +18,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/pbr/shading.h"
 #include "softpbr/pbr/textured_shading.h"
+#include "ground.h"
 #include "scene_kernels.h"
 
 namespace softpbr::pbr {
@@ -43,6 +47,13 @@ std::uint64_t transmission_memory(int width, int height) {
     bytes += 16 * static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
     if (w == 1 && h == 1) break;
   }
+  return bytes;
+}
+
+std::uint64_t shadow_memory(const Scene& scene) {
+  std::uint64_t bytes = 0;
+  for (const Light& l : scene.lights) bytes += detail::shadow_map_bytes(l);
+  if (scene.ground.shadow) bytes += detail::ground_bytes();
   return bytes;
 }
 
@@ -235,7 +246,145 @@ void draw_occlusion(const Scene& scene, raster::Renderer& renderer, int width, i
                                 : glm::length(scene.camera.target - scene.camera.position) / projection[1][1];
   settings.radius = kOcclusionRadius * half_height;
   settings.strength = kOcclusionStrength;
+  settings.lanes = renderer.lanes();
+  settings.isa = renderer.isa();
   detail::compute_occlusion(gbuffer, settings, renderer.pool(), out);
+}
+
+// A frame's shadow maps: each light's map and the depth-only targets its faces point into.
+struct ShadowFrame {
+  std::vector<std::unique_ptr<ShadowMap>> maps;
+  std::vector<std::unique_ptr<raster::Target>> faces;
+};
+
+// The bounds of every object in world space (the corners of each mesh's bounds, transformed).
+Bounds scene_bounds(const Scene& scene) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  Bounds world{glm::vec3(inf), glm::vec3(-inf)};
+  for (const Object& o : scene.objects) {
+    const Bounds b = bounds(*o.mesh);
+    if (b.empty()) continue;
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec3 corner((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+      const glm::vec3 w(o.transform * glm::vec4(corner, 1.0f));
+      world = merge(world, Bounds{w, w});
+    }
+  }
+  return world;
+}
+
+// What blocks the lights and lies above the ground: an object with cast_shadows, drawn
+// depth-only. Masked and blended ones are cut out where their alpha is below ½, by their
+// own textured shader made unlit.
+struct Caster {
+  const ObjectDraw* draw;
+  bool cut_out;
+  TexturedPbrShader textured;
+  TexturedUv0PbrShader textured_uv0;
+};
+
+// The casters of `opaque` and `blended`, their textured shaders for the alpha made once
+// (unlit, no lights, no environment).
+std::vector<Caster> shadow_casters(const Scene& scene, const std::vector<ObjectDraw>& opaque,
+                                   const std::vector<ObjectDraw>& blended) {
+  std::vector<Caster> casters;
+  const auto no_lights = std::make_shared<const std::vector<PreparedLight>>();
+  for (const auto* list : {&opaque, &blended})
+    for (const ObjectDraw& d : *list) {
+      const Object& o = scene.objects[d.object];
+      if (!o.cast_shadows) continue;
+      Caster c{&d, o.material.alpha_mode != AlphaMode::Opaque, {}, {}};
+      if (c.cut_out) {
+        const auto cut = [&](auto& shader, const auto& from) {
+          shader = from;
+          auto material = std::make_shared<TexturedMaterial>(*from.material);
+          material->unlit = true;
+          shader.material = material;
+          shader.lights = no_lights;
+          shader.environment = nullptr;
+          shader.alpha_to_coverage = false;
+        };
+        if (d.kind == ObjectDraw::Kind::TexturedUv0) cut(c.textured_uv0, d.textured_uv0);
+        else cut(c.textured, d.textured);
+      }
+      casters.push_back(std::move(c));
+    }
+  return casters;
+}
+
+// The casters' depth seen through `view_projection`, drawn into the depth-only target
+// `face` (cleared to 1) with their draws' culling, or with none when `cull_none` (the
+// ground's view from below sees the undersides of open surfaces too).
+void draw_caster_depths(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+                        const glm::mat4& view_projection, raster::Target& face, bool cull_none) {
+  renderer.begin_frame(face, raster::ClearValues{glm::vec4(0.0f), 1.0f});
+  try {
+    for (Caster& c : casters) {
+      const ObjectDraw& d = *c.draw;
+      raster::DrawState state;
+      state.cull = cull_none ? raster::Cull::None : d.state.cull;
+      if (!c.cut_out) {
+        detail::ShadowDepthShader s;
+        s.model = scene.objects[d.object].transform;
+        s.view_projection = view_projection;
+        renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
+        continue;
+      }
+      state.alpha_test = true;
+      state.alpha_ref = 0.5f;
+      if (d.kind == ObjectDraw::Kind::TexturedUv0) {
+        detail::MaskedShadowDepthShader<TexturedUv0PbrShader> s;
+        s.inner = c.textured_uv0;
+        s.inner.view_projection = view_projection;
+        renderer.draw(s, d.mesh->vertices, d.mesh->indices, state);
+      } else {
+        detail::MaskedShadowDepthShader<TexturedPbrShader> s;
+        s.inner = c.textured;
+        s.inner.view_projection = view_projection;
+        renderer.draw(s, std::span<const TexturedVertex>(d.vertices), d.mesh->indices, state);
+      }
+    }
+  } catch (...) {
+    renderer.end_frame();
+    throw;
+  }
+  renderer.end_frame();
+}
+
+// The shadow maps (docs/design.md, "Shadows"): for each light with shadows, its faces fitted
+// to the scene's bounds (shadow_setup), each drawn into a depth-only target with the
+// casters, then the light's PreparedLight::shadow set to it.
+void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+                      std::vector<PreparedLight>& lights, ShadowFrame& frame) {
+  const Bounds world = scene_bounds(scene);
+  for (PreparedLight& light : lights) {
+    if (!light.light.shadows) continue;
+    detail::ShadowSetup setup;
+    if (!detail::shadow_setup(light, world, setup)) continue;
+    auto map = std::make_unique<ShadowMap>(setup.map);
+    for (std::size_t f = 0; f < setup.view_projection.size(); ++f) {
+      frame.faces.push_back(std::make_unique<raster::Target>(
+          raster::Target::depth_only(setup.map.size, setup.map.size, &renderer.pool())));
+      raster::Target& face = *frame.faces.back();
+      draw_caster_depths(scene, renderer, casters, setup.view_projection[f], face, false);
+      map->faces[f] = std::as_const(face).depths().data();
+    }
+    light.shadow = map.get();
+    frame.maps.push_back(std::move(map));
+  }
+}
+
+// The ground's shadow catcher (ground.h), or false when the scene has nothing to stand on
+// it: the casters seen from below, their depths and the lights' maps made its texture.
+bool make_ground(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+                 const std::vector<PreparedLight>& lights, Object& out) {
+  detail::GroundSetup setup;
+  if (!detail::ground_setup(scene_bounds(scene), scene.ground, setup)) return false;
+  raster::Target below = raster::Target::depth_only(detail::kGroundSize, detail::kGroundSize, &renderer.pool());
+  draw_caster_depths(scene, renderer, casters, setup.view_projection, below, true);
+  out = detail::ground_object(
+      setup, detail::ground_texture(setup, scene.ground, std::as_const(below).depths(), lights, renderer.pool()));
+  return true;
 }
 
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
@@ -262,6 +411,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   lights->reserve(scene.lights.size());
   for (std::size_t i = 0; i < scene.lights.size(); ++i)
     lights->push_back(with_context("lights[" + std::to_string(i) + "]", [&] { return prepare_light(scene.lights[i]); }));
+  // Objects that receive no shadows read the lights without their maps (the list as it is
+  // before draw_shadow_maps sets them).
+  const bool shadowed = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.shadows; });
+  std::shared_ptr<const std::vector<PreparedLight>> unshadowed_lights = lights;
+  if (shadowed) unshadowed_lights = std::make_shared<const std::vector<PreparedLight>>(*lights);
   const glm::mat4 view_projection =
       scene.camera.projection(static_cast<float>(target.width()) / static_cast<float>(target.height())) *
       scene.camera.view();
@@ -270,8 +424,9 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   std::vector<ObjectDraw> opaque, blended, transmissive;
   // What the transmissive draws read: the opaque pass's colour (filled after that pass).
   TransmissionSource source;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& o = scene.objects[i];
+  // Object `o` (scene.objects[i], or the ground) as a draw in `opaque`, `transmissive` or
+  // `blended`.
+  const auto add_draw = [&](const Object& o, std::size_t i) {
     const std::string where = "objects[" + std::to_string(i) + "]";
     if (!o.mesh) throw std::invalid_argument(where + ": has no mesh");
     ObjectDraw d;
@@ -287,7 +442,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.orthographic = scene.camera.orthographic;
       s.view_direction = view_direction;
       s.ambient = scene.ambient;
-      s.lights = lights;
+      s.lights = o.receive_shadows ? std::shared_ptr<const std::vector<PreparedLight>>(lights) : unshadowed_lights;
       // Transmissive objects are not in the occlusion pass (they are seen through).
       s.environment =
           occluding && o.material.alpha_mode != AlphaMode::Blend && !o.material.transmissive() ? &occluded : env;
@@ -296,7 +451,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       d.plain.material = with_context(where, [&] { return prepare_material(o.material); });
       set_up_frame(d.plain);
       opaque.push_back(std::move(d));
-      continue;
+      return;
     }
     auto material = std::make_shared<const TexturedMaterial>(
         with_context(where, [&] { return prepare_textured_material(o.material); }));
@@ -352,13 +507,25 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     }
     (o.material.transmissive() ? transmissive : o.material.alpha_mode == AlphaMode::Blend ? blended : opaque)
         .push_back(std::move(d));
-  }
+  };
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) add_draw(scene.objects[i], i);
   // Blended objects after every opaque one, farthest first (ties: scene order); the
   // transmissive ones between the two, farthest first too (the glTF Sample Viewer's order).
   const auto farthest_first = [](const ObjectDraw& a, const ObjectDraw& b) { return a.distance2 > b.distance2; };
   std::stable_sort(blended.begin(), blended.end(), farthest_first);
   std::stable_sort(transmissive.begin(), transmissive.end(), farthest_first);
 
+  ShadowFrame shadow_frame;  // the maps live until the frame is drawn
+  Object ground;             // the ground's draw points into it
+  if (shadowed || scene.ground.shadow) {
+    std::vector<Caster> casters = shadow_casters(scene, opaque, blended);
+    if (shadowed) draw_shadow_maps(scene, renderer, casters, *lights, shadow_frame);
+    // The ground first of the blended draws: it lies under everything.
+    if (scene.ground.shadow && make_ground(scene, renderer, casters, *lights, ground)) {
+      add_draw(ground, scene.objects.size());
+      std::rotate(blended.begin(), blended.end() - 1, blended.end());
+    }
+  }
   // What the draws will bin, so that a transient target's frame that fits is one pass.
   std::size_t geometry = raster::draw_geometry_bytes(3, 1, raster::kVaryingCount<BackgroundShader::Varyings>);
   for (const auto* list : {&opaque, &transmissive, &blended})

@@ -17,6 +17,7 @@
 #include "softpbr/pbr/textured_shading.h"
 #include "softpbr/raster/renderer.h"
 #include "occlusion.h"
+#include "shadows.h"
 
 namespace softpbr::pbr::detail {
 
@@ -120,3 +121,5 @@ extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::BackgroundShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::GBufferShader);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedGBufferShader<::softpbr::pbr::TexturedPbrShader>);
 extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedGBufferShader<::softpbr::pbr::TexturedUv0PbrShader>);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedShadowDepthShader<::softpbr::pbr::TexturedPbrShader>);
+extern SOFTPBR_PBR_SCENE_KERNEL(::softpbr::pbr::detail::MaskedShadowDepthShader<::softpbr::pbr::TexturedUv0PbrShader>);

@@ -87,7 +87,8 @@ def load_scene(scene: SceneLike, *, base_dir: Union[str, "os.PathLike[str]", Non
 def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[int] = None, threads: Optional[int] = None,
            tile_size: Optional[int] = None, tonemap: Optional[str] = None, exposure: Optional[float] = None,
            gamma: Optional[float] = None, msaa: Optional[int] = None, frame: int = 0,
-           base_dir: Union[str, "os.PathLike[str]", None] = None, variant: Optional[str] = None) -> numpy.ndarray:
+           base_dir: Union[str, "os.PathLike[str]", None] = None, variant: Optional[str] = None,
+           shadows: Optional[bool] = None, ground: Optional[str] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) uint8 array: tone mapped, sRGB (or gamma)
     encoded, the bytes ``softpbr render scene.json -o out.png`` writes. ``scene`` is a scene
     file's path, a glTF model's (framed automatically), a dict with the scene-file schema or
@@ -98,22 +99,30 @@ def render(scene: SceneLike, *, width: Optional[int] = None, height: Optional[in
     tile_size, tonemap ("none", "reinhard", "aces", "neutral"), exposure (stops), gamma
     (0 = exact sRGB), msaa (samples a pixel: 1, 4 or 8, as ``--msaa``). ``frame`` picks a
     frame of the scene's turntable animation. ``variant`` shows a glTF model's material
-    variant (KHR_materials_variants), by name or index, as ``--variant``.
+    variant (KHR_materials_variants), by name or index, as ``--variant``. ``shadows``:
+    True (every light casts shadows), False (none does) or None (as the scene says: a glTF
+    model's lights cast them, a scene file's where ``"shadows": true``), as ``--shadows``.
+    ``ground``: "shadow" (a shadow catcher under the objects: their soft contact shadow and
+    the lights' shadows, black with the shadow as alpha), "none" or None (as the scene
+    says), as ``--ground``.
     The GIL is released while rendering; Ctrl-C raises KeyboardInterrupt from here.
     """
     return _softpbr.render(load_scene(scene, base_dir=base_dir, width=width, height=height, variant=variant), width=width, height=height, threads=threads,
-                           tile_size=tile_size, tonemap=tonemap, exposure=exposure, gamma=gamma, msaa=msaa, frame=frame)
+                           tile_size=tile_size, tonemap=tonemap, exposure=exposure, gamma=gamma, msaa=msaa, frame=frame,
+                           shadows=shadows, ground=ground)
 
 
 def render_hdr(scene: SceneLike, *, width: Optional[int] = None, height: Optional[int] = None, threads: Optional[int] = None,
                tile_size: Optional[int] = None, exposure: Optional[float] = None, msaa: Optional[int] = None,
                frame: int = 0, base_dir: Union[str, "os.PathLike[str]", None] = None,
-               variant: Optional[str] = None) -> numpy.ndarray:
+               variant: Optional[str] = None, shadows: Optional[bool] = None,
+               ground: Optional[str] = None) -> numpy.ndarray:
     """Renders ``scene`` to a (height, width, 4) float32 array of linear colour x 2^exposure
     (what ``.exr`` output holds; with MSAA the samples' linear average, the box filter),
     without a copy of the render target's colour buffer."""
     return _softpbr.render_hdr(load_scene(scene, base_dir=base_dir, width=width, height=height, variant=variant), width=width, height=height, threads=threads,
-                               tile_size=tile_size, exposure=exposure, msaa=msaa, frame=frame)
+                               tile_size=tile_size, exposure=exposure, msaa=msaa, frame=frame, shadows=shadows,
+                               ground=ground)
 
 
 def translate(x: float, y: float, z: float) -> numpy.ndarray:

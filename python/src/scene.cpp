@@ -165,10 +165,16 @@ pbr::RenderSettings& settings(PyScene& s) { return s.file.render; }
 std::shared_ptr<PyScene> gltf_scene(const std::filesystem::path& path, int width, int height, double yaw, double pitch,
                                     std::optional<int> camera, bool environment, const std::string& missing_images,
                                     std::optional<std::string> variant, std::optional<double> time,
-                                    std::optional<std::variant<int, std::string>> animation) {
+                                    std::optional<std::variant<int, std::string>> animation,
+                                    std::optional<std::variant<int, std::string>> scene) {
   require_readable(path);
   job::Settings view;
   view.time = time;
+  if (scene) {
+    if (std::holds_alternative<int>(*scene) && std::get<int>(*scene) < 0)
+      value_error("Scene.load_gltf: scene: expected an index >= 0 or a name, got " + std::to_string(std::get<int>(*scene)));
+    view.scene = std::holds_alternative<int>(*scene) ? std::to_string(std::get<int>(*scene)) : std::get<std::string>(*scene);
+  }
   if (animation)
     view.animation = std::holds_alternative<int>(*animation) ? std::to_string(std::get<int>(*animation))
                                                              : std::get<std::string>(*animation);
@@ -619,7 +625,7 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
       .def_static("load_gltf", &gltf_scene, py::arg("path"), py::kw_only(), py::arg("width") = 1280, py::arg("height") = 720,
                   py::arg("yaw") = 0.0, py::arg("pitch") = static_cast<double>(pbr::kDefaultPitch), py::arg("camera") = py::none(), py::arg("environment") = true,
                   py::arg("missing_images") = "error", py::arg("variant") = py::none(), py::arg("time") = py::none(),
-                  py::arg("animation") = py::none(),
+                  py::arg("animation") = py::none(), py::arg("scene") = py::none(),
                   "A glTF 2.0 model (.gltf, .glb) as `softpbr render model.glb` shows it: framed for a width x height "
                   "image, turned by yaw and raised by pitch (degrees; 15 by default, 0 for a level view), or through camera N of the file; lit by the "
                   "built-in studio environment (blurred background) and the file's lights, or with environment=False "
@@ -627,7 +633,8 @@ Scene() is empty (default camera, no objects, 1280x720); Scene.load(path) reads 
                   "leaves out a texture whose image file cannot be read, with a warning (`--missing-images warn`); "
                   "variant: the KHR_materials_variants variant to show, by name or index (`--variant`). "
                   "time (seconds) applies the model's animations at that moment, every one or only animation (an "
-                  "index or a name) (`--time`, `--animation`). "
+                  "index or a name) (`--time`, `--animation`). scene: the file's scene to show, an index or a name "
+                  "(`--scene`; default its \"scene\", else 0). "
                   "OSError if unreadable, "
                   "ValueError naming the JSON pointer if invalid.")
       .def_static(

@@ -424,3 +424,20 @@ def test_a_material_variant_renders_as_the_command_and_an_unknown_one_lists_them
         softpbr.render(model, width=64, height=48, variant="red")
     with pytest.raises(ValueError, match="variant: a glTF model's setting"):
         softpbr.render(source_dir / "examples" / "scenes" / "lights.json", variant="beach")
+
+
+# ---- Shadows ---------------------------------------------------------------------------------
+
+def test_the_shadows_keyword_is_the_shadows_option(cli, tmp_path):
+    # BASE's point light, then the same with "shadows": true in the file.
+    shadowed = scene_with(lights=[{"type": "point", "position": [2, 3, 2], "intensity": 15, "shadows": True}])
+    png, _ = cli_render(cli, scene_with(), tmp_path, "--shadows", "on", png_only=True)
+    assert_same(softpbr.render(scene_with(), shadows=True), png)
+    assert_same(softpbr.render(shadowed), png)
+    # The shadows show: the plane behind the sphere and the cube is darker.
+    assert not numpy.array_equal(softpbr.render(shadowed), softpbr.render(scene_with()))
+    # shadows=False turns a file's shadows off; None keeps them.
+    assert_same(softpbr.render(shadowed, shadows=False), softpbr.render(scene_with()))
+    assert_same(softpbr.render_hdr(shadowed, shadows=False), softpbr.render_hdr(scene_with()))
+    off, _ = cli_render(cli, shadowed, tmp_path, "--shadows", "off", name="off", png_only=True)
+    assert_same(off, softpbr.render(scene_with()))

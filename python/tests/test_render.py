@@ -152,3 +152,18 @@ def test_an_animated_gltf_model_at_a_time_renders_as_the_command_renders_it(cli,
         assert not numpy.array_equal(image, still), args
     with pytest.raises(ValueError, match='no animation is named "Walk"'):
         softpbr.Scene.load_gltf(model, time=1.0, animation="Walk")
+
+
+def test_a_gltf_scene_chosen_by_index_renders_as_the_command_renders_it(cli, source_dir, tmp_path):
+    shared = Path(os.environ.get("SOFTPBR_SHARED", source_dir.parent / "shared"))
+    model = shared / "gltf" / "MultipleScenes" / "glTF" / "MultipleScenes.gltf"
+    if not model.is_file():
+        pytest.skip(f"{model} is absent")
+    default = softpbr.render(softpbr.Scene.load_gltf(model, width=80, height=60), width=80, height=60)
+    png = tmp_path / "scene0.png"
+    run_cli(cli, model, "-o", png, "--width", 80, "--height", 60, "--scene", 0)
+    image = softpbr.render(softpbr.Scene.load_gltf(model, width=80, height=60, scene=0), width=80, height=60)
+    assert numpy.array_equal(image, softpbr.load_image(png))
+    assert not numpy.array_equal(image, default)
+    with pytest.raises(ValueError, match=r'no scene "left" \(the scenes: 0, 1\)'):
+        softpbr.Scene.load_gltf(model, scene="left")

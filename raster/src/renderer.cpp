@@ -58,7 +58,7 @@ void clear_tile(simd::Isa isa, const TargetPixels& target, const TileRect& r, co
   const auto fill = isa == simd::Isa::Avx512 ? detail::fill_block_for(isa) : nullptr;
   const float color[4] = {clear.color.r, clear.color.g, clear.color.b, clear.color.a};
   const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
-  for (int s = 0; s < target.samples; ++s) {  // each sample plane (target.h)
+  for (int s = 0; s < (target.colors != nullptr ? target.samples : 0); ++s) {  // each sample plane (target.h); none: depth only
     glm::vec4* colors = target.colors + static_cast<std::size_t>(s) * target.plane;
     for (int y = r.y0; y < r.y1; ++y) {
       const std::size_t row = static_cast<std::size_t>(y) * static_cast<std::size_t>(target.width);

@@ -73,6 +73,29 @@ Target::Target(int width, int height, int samples, ThreadPool* pool, SampleStora
   }
 }
 
+Target Target::depth_only(int width, int height, ThreadPool* pool) {
+  Target t(width, height, 4, nullptr, SampleStorage::Transient);  // checks the size; allocates nothing
+  t.samples_ = 1;
+  t.transient_ = false;
+  t.depth_only_ = true;
+  const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  t.depth_.resize(n);
+  // Pieces of 2^20 depths (4 MiB), written by the pool's threads as the constructor's.
+  constexpr std::size_t kPiece = std::size_t{1} << 20;
+  const std::size_t pieces = (n + kPiece - 1) / kPiece;
+  auto fill = [&](std::size_t k) {
+    const std::size_t begin = k * kPiece, end = std::min(n, begin + kPiece);
+    std::fill(t.depth_.begin() + static_cast<std::ptrdiff_t>(begin), t.depth_.begin() + static_cast<std::ptrdiff_t>(end),
+              1.0f);
+  };
+  if (pool != nullptr && pieces > 1) {
+    pool->parallel_for(pieces, fill);
+  } else {
+    for (std::size_t k = 0; k < pieces; ++k) fill(k);
+  }
+  return t;
+}
+
 void Target::throw_transient() {
   throw std::logic_error(
       "Target: a transient multisampled target keeps no samples to read or clear "
@@ -99,6 +122,7 @@ void Target::clear_depth(float depth) {
 }
 
 TargetPixels read_pixels(const Target& target) {
+  if (target.is_depth_only()) throw std::logic_error("Target: a depth-only target has no colour to read");
   const std::span<const glm::vec4> colors = target.colors();
   const std::span<const float> depths = target.depths();
   return {const_cast<glm::vec4*>(colors.data()), const_cast<float*>(depths.data()), target.width(), target.height(),
@@ -143,6 +167,7 @@ Target resolve_box(const Target& source) {
 }
 
 Image8 resolve_srgb8(const Target& source) {
+  if (source.is_depth_only()) throw std::logic_error("Target: a depth-only target has no colour to resolve");
   if (source.samples() > 1) return resolve_srgb8(resolve_box(source));
   const Target& target = source;
   Image8 image;

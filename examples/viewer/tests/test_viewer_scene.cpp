@@ -243,3 +243,49 @@ TEST_CASE("glTF models join the mesh list after the OBJ files' place, drawn alon
     CHECK(std::string(e.what()).rfind("/nonexistent/model.glb: ", 0) == 0);
   }
 }
+
+TEST_CASE("G cycles a glTF model's material variants: the default, each variant in order, the default again") {
+  const std::filesystem::path dir = VIEWER_TESTS_DIR;
+  std::vector<std::string> warnings;
+  NamedMesh entry = load_model(dir / "variants.gltf", warnings);
+  CHECK(warnings.empty());
+  REQUIRE(entry.variants == std::vector<std::string>{"blue", "green"});
+  CHECK(entry.variant == 0);
+  CHECK(variant_label(entry).empty());
+  REQUIRE(entry.model.size() == 1);
+  const glm::mat4 fitted = entry.model[0].transform;
+  CHECK(entry.model[0].material.base_color == glm::vec3(0.3f));
+  // G asks the shell for the next variant.
+  ViewerState s;
+  CHECK(apply(s, KeyDown{Key::G}) == Effect::NextVariant);
+  const glm::vec3 expected[] = {glm::vec3(0.1f, 0.2f, 0.9f), glm::vec3(0.1f, 0.8f, 0.2f), glm::vec3(0.3f)};
+  const char* labels[] = {"variant blue", "variant green", ""};
+  for (int step = 0; step < 3; ++step) {
+    CAPTURE(step);
+    REQUIRE(next_variant(entry, warnings));
+    CHECK(entry.variant == static_cast<std::size_t>((step + 1) % 3));
+    CHECK(variant_label(entry) == labels[step]);
+    CHECK(entry.name == "variants");
+    REQUIRE(entry.model.size() == 1);
+    CHECK(entry.model[0].material.base_color == expected[step]);
+    CHECK(entry.model[0].transform == fitted);  // the same fit: variants change materials only
+  }
+  // The shown variant reaches the picture.
+  std::vector<NamedMesh> list{entry};
+  ViewerState shown;
+  shown.mesh_count = 1;
+  const auto hash = [&] {
+    raster::Renderer renderer({.threads = 1});
+    raster::Target target(64, 48);
+    render_view(shown, list, renderer, target);
+    return raster::hash_colors(target);
+  };
+  const std::uint64_t default_look = hash();
+  REQUIRE(next_variant(list[0], warnings));
+  CHECK(hash() != default_look);
+  // A model without variants: G changes nothing.
+  NamedMesh wedge = load_model(dir / "wedge.gltf", warnings);
+  CHECK(wedge.variants.empty());
+  CHECK_FALSE(next_variant(wedge, warnings));
+  CHECK(wedge.variant == 0);
+}

@@ -80,6 +80,15 @@ TEST_CASE("V toggles 4x MSAA on and off") {
   CHECK(s.msaa == 1);
 }
 
+TEST_CASE("H toggles the lights' shadows on and off") {
+  ViewerState s;
+  CHECK_FALSE(s.shadows);
+  tap(s, Key::H);
+  CHECK(s.shadows);
+  tap(s, Key::H);
+  CHECK_FALSE(s.shadows);
+}
+
 TEST_CASE("a key held down is pressed once: repeated key-down events do not toggle again") {
   ViewerState s;
   apply(s, KeyDown{Key::C});

@@ -5,10 +5,14 @@
 // specification before it is used.
 #include "softpbr/loaders/gltf.h"
 
+#include <algorithm>
 #include <limits>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +30,17 @@
 #include "softpbr/loaders/gltf_info.h"
 
 namespace softpbr::pbr {
+
+// What a poseable GltfScene keeps: the scene graph with everything it refers to.
+class GltfPoser {
+ public:
+  std::string file;
+  tinygltf::Model model;
+  GltfOptions options;
+  GltfScene scene;  // what the scene graph fills
+  std::unique_ptr<gltf::SceneGraph> graph;
+  std::mutex mutex;
+};
 
 namespace {
 
@@ -166,8 +181,26 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
     start = end + 1;
   }
   gltf::use_texture_extension_sources(model);
+  out.variants = gltf::variant_names(model);
   if (!options.variant.empty()) gltf::select_variant(model, options.variant, file);
-  gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, doc.placeholders, doc.draco_indices).load();
+  if (options.poseable) {
+    // The scene graph, its model and options kept for GltfScene::pose (it fills the
+    // poser's scene, which `out` copies).
+    auto poser = std::make_shared<GltfPoser>();
+    poser->file = file;
+    poser->model = std::move(model);
+    poser->options = options;
+    poser->scene = std::move(out);
+    poser->graph = std::make_unique<gltf::SceneGraph>(gltf::Context(poser->file, poser->model, poser->options, poser->scene),
+                                                      base_dir, doc.placeholders, doc.draco_indices);
+    poser->graph->load();
+    poser->options.pool = nullptr;  // the caller's pool may not outlive the scene
+    out = poser->scene;
+    out.poser = poser;
+    if (info != nullptr) model = poser->model;  // (a copy: describe() reads it below)
+  } else {
+    gltf::SceneGraph(gltf::Context(file, model, options, out), base_dir, doc.placeholders, doc.draco_indices).load();
+  }
   if (info != nullptr) {
     std::map<int, image::ImageHeader> headers;
     std::map<int, std::size_t> sizes;
@@ -183,6 +216,28 @@ GltfScene load(std::span<const std::uint8_t> bytes, const std::string& file, con
 }
 
 }  // namespace
+
+void GltfScene::pose(std::optional<double> time, const std::string& animation, raster::ThreadPool* pool) {
+  if (poser == nullptr) throw std::logic_error("GltfScene::pose: the model was not loaded with GltfOptions::poseable");
+  const std::lock_guard<std::mutex> lock(poser->mutex);
+  GltfOptions& o = poser->options;
+  o.time = time;
+  o.animation = animation;
+  o.pool = pool;
+  poser->scene.warnings.clear();
+  try {
+    poser->graph->pose();
+  } catch (...) {
+    o.pool = nullptr;
+    throw;
+  }
+  o.pool = nullptr;
+  objects = poser->scene.objects;
+  lights = poser->scene.lights;
+  cameras = poser->scene.cameras;
+  for (const std::string& w : poser->scene.warnings)
+    if (std::find(warnings.begin(), warnings.end(), w) == warnings.end()) warnings.push_back(w);
+}
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options) {
   const std::vector<unsigned char> bytes = read_file(path, options.max_file_bytes, path.string());

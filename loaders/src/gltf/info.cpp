@@ -187,6 +187,7 @@ GltfInfo describe(const tg::Model& m, const std::string& file, const std::string
   info.copyright = m.asset.copyright;
   info.scenes = m.scenes.size();
   info.default_scene = m.defaultScene;
+  for (const tg::Scene& s : m.scenes) info.scene_names.push_back(s.name);
   info.nodes = m.nodes.size();
   info.accessors = m.accessors.size();
   info.buffer_views = m.bufferViews.size();

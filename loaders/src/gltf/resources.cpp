@@ -404,7 +404,7 @@ std::vector<std::shared_ptr<const raster::Texture>> Resources::textures(
   read_images(jobs);
   check_texture_memory(jobs);
   std::vector<std::shared_ptr<const raster::Texture>> textures(jobs.size());
-  auto decode = [&](std::size_t j) {
+  auto decode = [&](std::size_t j, const image::ParallelFor& parallel) {
     const auto [index, space] = jobs[j];
     if (missing_[static_cast<std::size_t>(index)]) return;  // left out (read_images warned)
     const tg::Image& im = m_.images[static_cast<std::size_t>(index)];
@@ -418,7 +418,8 @@ std::vector<std::shared_ptr<const raster::Texture>> Resources::textures(
       // Decoded with room for the mip chain, which the texture then builds in place; a KTX2
       // file's own levels are used as stored (only those it lacks are built).
       if (image::is_ktx2(bytes)) {
-        image::Ktx2Image k = image::load_ktx2(bytes, name, options_.image_limits, &raster::Texture::rgba8_chain_bytes);
+        image::Ktx2Image k =
+            image::load_ktx2(bytes, name, options_.image_limits, &raster::Texture::rgba8_chain_bytes, parallel);
         textures[j] = std::make_shared<const raster::Texture>(std::move(k.levels[0]),
                                                               std::span<const image::Image8>(k.levels).subspan(1), space);
       } else {
@@ -433,7 +434,15 @@ std::vector<std::shared_ptr<const raster::Texture>> Resources::textures(
       throw LoadError(e.what());
     }
   };
-  for_each_job(jobs.size(), decode);
+  // Several textures: one a thread. One texture (a KTX2 file's blocks split between
+  // threads; the same bytes as on one): the pool's threads lent to it, since a pool's
+  // parallel_for cannot run inside another.
+  if (jobs.size() == 1 && options_.pool != nullptr) {
+    raster::ThreadPool* pool = options_.pool;
+    decode(0, [pool](std::size_t count, const std::function<void(std::size_t)>& task) { pool->parallel_for(count, task); });
+  } else {
+    for_each_job(jobs.size(), [&](std::size_t j) { decode(j, {}); });
+  }
   return textures;
 }
 

@@ -36,8 +36,9 @@ std::vector<glm::dmat4> Rigging::joint_matrices(int skin, const std::vector<glm:
   return out;
 }
 
-SkinInfluences Rigging::influences(const tg::Primitive& p, std::size_t vertices, std::size_t joints,
-                                   const std::string& pointer) const {
+SkinInfluences& Rigging::influences(const tg::Primitive& p, std::size_t vertices, std::size_t joints,
+                                    const std::string& pointer) {
+  if (auto it = influences_.find({&p, joints}); it != influences_.end()) return it->second;
   SkinInfluences k;
   std::vector<std::vector<float>> js, ws;
   for (int set = 0;; ++set) {
@@ -61,28 +62,30 @@ SkinInfluences Rigging::influences(const tg::Primitive& p, std::size_t vertices,
   k.influences = 4 * js.size();
   k.joints.resize(vertices * k.influences);
   k.weights.resize(vertices * k.influences);
+  const std::string where = pointer + "/attributes/";
+  std::vector<double> given(k.influences);
   for (std::size_t v = 0; v < vertices; ++v) {
     double sum = 0.0;
     for (std::size_t set = 0; set < js.size(); ++set)
       for (std::size_t c = 0; c < 4; ++c) {
         const float jf = js[set][4 * v + c];
         const float wf = ws[set][4 * v + c];
-        const std::string where = pointer + "/attributes/";
         if (!(wf >= 0.0f) || !std::isfinite(wf))
           fail(where + "WEIGHTS_" + str(set), "vertex " + str(v) + " has a weight that is negative or not finite");
         if (wf > 0.0f && !(static_cast<double>(jf) < static_cast<double>(joints)))
           fail(where + "JOINTS_" + str(set), "vertex " + str(v) + " names joint " + std::to_string(static_cast<long>(jf)) +
                                                  " of a skin with " + str(joints) + " joints");
         k.joints[v * k.influences + 4 * set + c] = wf > 0.0f ? static_cast<std::uint32_t>(jf) : 0u;
-        k.weights[v * k.influences + 4 * set + c] = wf;
+        given[4 * set + c] = wf;
         sum += wf;
       }
     if (!(sum > 0.0))
       fail(pointer + "/attributes/WEIGHTS_0", "vertex " + str(v) + "'s weights sum to 0 (every vertex of a skinned mesh needs a joint)");
-    if (sum != 1.0)  // §3.7.3.3: the weights are normalised to sum to 1
-      for (std::size_t c = 0; c < k.influences; ++c) k.weights[v * k.influences + c] /= sum;
+    // §3.7.3.3: the weights are normalised to sum to 1 (in double, then rounded once).
+    for (std::size_t c = 0; c < k.influences; ++c)
+      k.weights[v * k.influences + c] = static_cast<float>(sum != 1.0 ? given[c] / sum : given[c]);
   }
-  return k;
+  return influences_[{&p, joints}] = std::move(k);
 }
 
 std::vector<double> Rigging::weights(int node, int mesh, const std::vector<double>* posed) const {
@@ -107,26 +110,35 @@ std::vector<double> Rigging::weights(int node, int mesh, const std::vector<doubl
 }
 
 std::vector<MorphTarget> Rigging::targets(const tg::Primitive& p, const std::vector<double>& weights,
-                                          std::size_t vertices, const std::string& pointer) const {
+                                          std::size_t vertices, const std::string& pointer) {
   std::vector<MorphTarget> out;
   for (std::size_t t = 0; t < p.targets.size() && t < weights.size(); ++t) {
     if (weights[t] == 0.0) continue;
+    auto it = deltas_.find({&p, t});
+    if (it == deltas_.end()) {
+      Deltas d;
+      const std::string tp = pointer + "/targets/" + str(t) + "/";
+      auto read = [&](const char* name, std::vector<float>& into) {
+        const auto a = p.targets[t].find(name);
+        if (a == p.targets[t].end()) return;
+        into = resources_.read_floats(a->second, tp + name, {3});
+        if (into.size() != 3 * vertices)
+          fail(tp + name, "has " + str(into.size() / 3) + " elements for " + str(vertices) + " positions");
+        for (float x : into)
+          if (!std::isfinite(x)) fail("/accessors/" + std::to_string(a->second), "holds a value that is not finite");
+      };
+      read("POSITION", d.position);
+      read("NORMAL", d.normal);
+      read("TANGENT", d.tangent);
+      it = deltas_.emplace(std::make_pair(&p, t), std::move(d)).first;
+    }
+    const Deltas& d = it->second;
     MorphTarget m;
     m.weight = weights[t];
-    const std::string tp = pointer + "/targets/" + str(t) + "/";
-    auto read = [&](const char* name, std::vector<float>& into) {
-      const auto it = p.targets[t].find(name);
-      if (it == p.targets[t].end()) return;
-      into = resources_.read_floats(it->second, tp + name, {3});
-      if (into.size() != 3 * vertices)
-        fail(tp + name, "has " + str(into.size() / 3) + " elements for " + str(vertices) + " positions");
-      for (float x : into)
-        if (!std::isfinite(x)) fail("/accessors/" + std::to_string(it->second), "holds a value that is not finite");
-    };
-    read("POSITION", m.position);
-    read("NORMAL", m.normal);
-    read("TANGENT", m.tangent);
-    out.push_back(std::move(m));
+    m.position = d.position.empty() ? nullptr : d.position.data();
+    m.normal = d.normal.empty() ? nullptr : d.normal.data();
+    m.tangent = d.tangent.empty() ? nullptr : d.tangent.data();
+    out.push_back(m);
   }
   return out;
 }

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -29,21 +31,28 @@ class Rigging : public Context {
 
   // Primitive `p`'s influences (at `pointer`) for `vertices` accessor vertices and
   // `joints` joints: every JOINTS_n with its WEIGHTS_n, weights ≥ 0 with a sum above 0,
-  // normalised to 1.
-  SkinInfluences influences(const tg::Primitive& p, std::size_t vertices, std::size_t joints,
-                            const std::string& pointer) const;
+  // normalised to 1. Read once per primitive and joint count, kept for later poses (the
+  // caller sets their palette).
+  SkinInfluences& influences(const tg::Primitive& p, std::size_t vertices, std::size_t joints,
+                             const std::string& pointer);
 
   // The morph weights of a node placing mesh `mesh`: its pose's (animated), else the
   // node's "weights", else the mesh's, else zeros; one per target of its primitives (which
   // must all have the same count).
   std::vector<double> weights(int node, int mesh, const std::vector<double>* posed) const;
 
-  // Primitive `p`'s targets with a weight other than 0, their deltas read (`vertices` each).
+  // Primitive `p`'s targets with a weight other than 0, their deltas read (`vertices`
+  // each) once per target and kept for later poses.
   std::vector<MorphTarget> targets(const tg::Primitive& p, const std::vector<double>& weights, std::size_t vertices,
-                                   const std::string& pointer) const;
+                                   const std::string& pointer);
 
  private:
+  struct Deltas {
+    std::vector<float> position, normal, tangent;
+  };
   const Resources& resources_;
+  std::map<std::pair<const tg::Primitive*, std::size_t>, SkinInfluences> influences_;  // by primitive and joint count
+  std::map<std::pair<const tg::Primitive*, std::size_t>, Deltas> deltas_;              // by primitive and target
 };
 
 }  // namespace softpbr::pbr::gltf

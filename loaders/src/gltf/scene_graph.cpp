@@ -44,20 +44,47 @@ void SceneGraph::load() {
   }
   const std::string where = scene >= 0 ? "/scenes/" + str(static_cast<std::size_t>(scene)) + "/nodes" : "/nodes";
   check_draw_memory(roots, where);
+  roots_ = std::move(roots);
+  where_ = where;
   // The animations (animation.h): listed, and sampled at the chosen moment into a pose.
   for (const AnimationSummary& a : animations_.summaries()) out_.animations.push_back({a.name, a.duration, a.channels});
-  pose_ = animations_.pose();
-  world_.assign(m_.nodes.size(), glm::dmat4(1.0));
-  visited_.assign(m_.nodes.size(), false);
-  std::vector<bool> on_path(m_.nodes.size(), false);
-  for (std::size_t i = 0; i < roots.size(); ++i)
-    visit(roots[i], glm::dmat4(1.0), where + "/" + str(i), 0, on_path);
-  // Skins and morph targets, now that every joint's world transform is known.
-  deform_meshes();
+  place();
   // The textures (every image decoded once, in parallel), then the objects, now that their
   // materials are complete.
   materials_.make_textures(resources_);
+  // A material that transmits light (KHR_materials_transmission, factor > 0: a lamp's paper
+  // shade, glass), which softpbr draws opaque, casts no shadow: the light passes through it
+  // (docs/design.md, "Shadows").
+  const auto transmits = [&](int index) {
+    if (index < 0 || static_cast<std::size_t>(index) >= m_.materials.size()) return false;
+    const tg::ExtensionMap& e = m_.materials[static_cast<std::size_t>(index)].extensions;
+    const auto it = e.find("KHR_materials_transmission");
+    if (it == e.end() || !it->second.IsObject() || !it->second.Has("transmissionFactor")) return false;
+    const tg::Value& f = it->second.Get("transmissionFactor");
+    return f.IsNumber() && f.GetNumberAsDouble() > 0.0;
+  };
+  for (const Placed& o : placed_)
+    out_.objects.push_back({o.mesh, materials_.at(o.material), o.transform, !transmits(o.material)});
+}
+
+void SceneGraph::pose() {
+  out_.objects.clear();
+  out_.cameras.clear();
+  out_.lights.clear();
+  place();
   for (const Placed& o : placed_) out_.objects.push_back({o.mesh, materials_.at(o.material), o.transform});
+}
+
+void SceneGraph::place() {
+  pose_ = animations_.pose();
+  world_.assign(m_.nodes.size(), glm::dmat4(1.0));
+  visited_.assign(m_.nodes.size(), false);
+  placed_.clear();
+  std::vector<bool> on_path(m_.nodes.size(), false);
+  for (std::size_t i = 0; i < roots_.size(); ++i)
+    visit(roots_[i], glm::dmat4(1.0), where_ + "/" + str(i), 0, on_path);
+  // Skins and morph targets, now that every joint's world transform is known.
+  deform_meshes();
 }
 
 void SceneGraph::check_extensions() const {
@@ -71,6 +98,18 @@ void SceneGraph::check_extensions() const {
 }
 
 int SceneGraph::pick_scene() const {
+  if (!options_.scene_name.empty()) {
+    const std::string& n = options_.scene_name;
+    for (std::size_t i = 0; i < m_.scenes.size(); ++i)
+      if (m_.scenes[i].name == n) return static_cast<int>(i);
+    const bool digits = n.size() <= 9 && std::all_of(n.begin(), n.end(), [](unsigned char c) { return c >= '0' && c <= '9'; });
+    if (digits && std::stoul(n) < m_.scenes.size()) return static_cast<int>(std::stoul(n));
+    std::string listed;
+    for (std::size_t i = 0; i < m_.scenes.size() && i < 32; ++i)
+      listed += (i ? ", " : "") + str(i) + (m_.scenes[i].name.empty() ? "" : " \"" + m_.scenes[i].name + "\"");
+    if (m_.scenes.size() > 32) listed += ", …";
+    fail("/scenes", "no scene " + (digits ? n : "\"" + n + "\"") + " (the scenes: " + (listed.empty() ? "none" : listed) + ")");
+  }
   if (m_.scenes.empty()) {
     if (options_.scene >= 0) fail("/scenes", "the file has no scene " + std::to_string(options_.scene));
     return -1;
@@ -118,9 +157,12 @@ void SceneGraph::check_draw_memory(const std::vector<int>& roots, const std::str
     seen[static_cast<std::size_t>(n)] = true;
     const tg::Node& node = m_.nodes[static_cast<std::size_t>(n)];
     if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < m_.meshes.size()) {
-      ++instances[static_cast<std::size_t>(node.mesh)];
-      ++placed;
-      deformed += deform_bytes(node.mesh, node.skin >= 0);
+      // EXT_mesh_gpu_instancing: one draw a instance (from its accessors' counts), each
+      // with its matrix and Object (256 bytes counted, however small the mesh).
+      const std::uint64_t copies = node.skin >= 0 ? 1 : instance_count(static_cast<std::size_t>(n));
+      instances[static_cast<std::size_t>(node.mesh)] += copies;
+      placed += copies;
+      deformed += static_cast<double>(copies) * (deform_bytes(node.mesh, node.skin >= 0) + 256.0);
     }
     stack.insert(stack.end(), node.children.rbegin(), node.children.rend());
   }
@@ -135,6 +177,71 @@ void SceneGraph::check_draw_memory(const std::vector<int>& roots, const std::str
 }
 
 // ---- Nodes ---------------------------------------------------------------------------
+
+const tg::Value* SceneGraph::instancing(std::size_t node) const {
+  const tg::Node& n = m_.nodes[node];
+  const auto it = n.extensions.find(kInstancing);
+  if (it == n.extensions.end()) return nullptr;
+  const std::string ip = "/nodes/" + str(node) + "/extensions/" + kInstancing;
+  if (!it->second.IsObject() || !it->second.Has("attributes") || !it->second.Get("attributes").IsObject())
+    fail(ip + "/attributes", "must be an object naming TRANSLATION, ROTATION or SCALE accessors");
+  return &it->second.Get("attributes");
+}
+
+std::uint64_t SceneGraph::instance_count(std::size_t node) const {
+  const tg::Value* attributes = instancing(node);
+  if (attributes == nullptr) return 1;
+  std::uint64_t count = 0;
+  for (const char* name : {"TRANSLATION", "ROTATION", "SCALE"}) {
+    if (!attributes->Has(name) || !attributes->Get(name).IsInt()) continue;
+    const int a = attributes->Get(name).GetNumberAsInt();
+    if (a >= 0 && static_cast<std::size_t>(a) < m_.accessors.size())
+      count = std::max<std::uint64_t>(count, m_.accessors[static_cast<std::size_t>(a)].count);
+  }
+  return std::max<std::uint64_t>(count, 1);
+}
+
+// EXT_mesh_gpu_instancing: world × T·R·S of each instance (the extension's order), from
+// its TRANSLATION, ROTATION (unit quaternions, float or normalised integers) and SCALE
+// accessors, all of one count and finite; none of the three: the node alone.
+std::vector<glm::dmat4> SceneGraph::instance_worlds(std::size_t node, const glm::dmat4& world) const {
+  const tg::Value* attributes = instancing(node);
+  if (attributes == nullptr) return {world};
+  const std::string ap = "/nodes/" + str(node) + "/extensions/" + kInstancing + "/attributes/";
+  std::size_t count = 0;
+  bool any = false;
+  auto read = [&](const char* name, int comps) -> std::vector<float> {
+    if (!attributes->Has(name)) return {};
+    const tg::Value& a = attributes->Get(name);
+    if (!a.IsInt()) fail(ap + name, "must be an accessor index");
+    const int index = a.GetNumberAsInt();
+    std::vector<float> v = resources_.read_floats(index, ap + name, {comps});
+    for (float x : v)
+      if (!std::isfinite(x)) fail("/accessors/" + std::to_string(index), "holds a value that is not finite");
+    const std::size_t c = v.size() / static_cast<std::size_t>(comps);
+    if (any && c != count)
+      fail(ap + name, "has " + str(c) + " instances; the other attributes have " + str(count));
+    count = c;
+    any = true;
+    return v;
+  };
+  const std::vector<float> t = read("TRANSLATION", 3), r = read("ROTATION", 4), s = read("SCALE", 3);
+  if (!any) fail(ap.substr(0, ap.size() - 1), "names none of TRANSLATION, ROTATION and SCALE");
+  std::vector<glm::dmat4> out;
+  out.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    glm::dmat4 T(1.0), R(1.0), S(1.0);
+    if (!t.empty()) T[3] = glm::dvec4(t[3 * i], t[3 * i + 1], t[3 * i + 2], 1.0);
+    if (!r.empty()) R = glm::mat4_cast(glm::dquat(r[4 * i + 3], r[4 * i], r[4 * i + 1], r[4 * i + 2]));  // (x, y, z, w)
+    if (!s.empty()) {
+      S[0][0] = s[3 * i];
+      S[1][1] = s[3 * i + 1];
+      S[2][2] = s[3 * i + 2];
+    }
+    out.push_back(world * (T * R * S));
+  }
+  return out;
+}
 
 glm::dmat4 SceneGraph::local_matrix(std::size_t index, const std::string& pointer) const {
   const tg::Node& n = m_.nodes[index];
@@ -220,40 +327,47 @@ void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string&
   std::vector<double> weights =
       rigging_.weights(static_cast<int>(node), index, posed != nullptr && posed->weights ? &*posed->weights : nullptr);
   const bool morphed = std::any_of(weights.begin(), weights.end(), [](double w) { return w != 0.0; });
-  const glm::mat4 transform = skinned ? glm::mat4(1.0f) : glm::mat4(world);
-  const bool mirrored = !skinned && glm::determinant(glm::dmat3(world)) < 0.0;
-  for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
-    const tg::Primitive& p = mesh.primitives[k];
-    const std::string pp = pointer + "/primitives/" + str(k);
-    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-      if (mode >= 0 && mode <= 3) {
-        warn(pp + ": points and lines are not drawn");
-        continue;
+  // EXT_mesh_gpu_instancing: the primitives once per instance. A skinned mesh is placed by
+  // its joints alone (§3.7.3.1), so a skinned node's instances are not drawn.
+  if (skinned && instancing(node) != nullptr)
+    warn("/nodes/" + str(node) + "/extensions/" + kInstancing + ": a skinned node's instances are not drawn (only its skin)");
+  const std::vector<glm::dmat4> worlds = skinned ? std::vector<glm::dmat4>{world} : instance_worlds(node, world);
+  for (std::size_t instance = 0; instance < worlds.size(); ++instance) {
+    const glm::mat4 transform = skinned ? glm::mat4(1.0f) : glm::mat4(worlds[instance]);
+    const bool mirrored = !skinned && glm::determinant(glm::dmat3(worlds[instance])) < 0.0;
+    for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
+      const tg::Primitive& p = mesh.primitives[k];
+      const std::string pp = pointer + "/primitives/" + str(k);
+      const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+      if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        if (mode >= 0 && mode <= 3) {
+          if (instance == 0) warn(pp + ": points and lines are not drawn");
+          continue;
+        }
+        fail(pp + "/mode", "unknown mode " + std::to_string(mode));
       }
-      fail(pp + "/mode", "unknown mode " + std::to_string(mode));
-    }
-    // A Draco primitive's indices accessor only describes the Draco data's triangles.
-    meshes_.check_draco_indices(static_cast<std::size_t>(index), k, pp);
-    // The material is validated (and prepared, once) in the order its primitives come.
-    materials_.material(p.material, pp + "/material");
-    // Tangents, generated when the file has none, for a normal map, a coat's normal map or
-    // an anisotropic lobe (KHR_materials_anisotropy: "tangents are computed" then).
-    bool normal_mapped = false;
-    if (p.material >= 0) {
-      const tg::Material& gm = m_.materials[static_cast<std::size_t>(p.material)];
-      normal_mapped = gm.normalTexture.index >= 0 || gm.extensions.count("KHR_materials_anisotropy") != 0;
-      const auto coat = gm.extensions.find("KHR_materials_clearcoat");
-      if (coat != gm.extensions.end() && coat->second.IsObject() && coat->second.Has("clearcoatNormalTexture"))
-        normal_mapped = true;
-    }
-    placed_.push_back({meshes_.primitive(index, k, mirrored, pp, normal_mapped), p.material, transform});
-    if (skinned || morphed) {
-      placed_.back().node = static_cast<int>(node);
-      placed_.back().mesh_index = index;
-      placed_.back().primitive = k;
-      placed_.back().weights = weights;
-      placed_.back().skinned = skinned;
+      // A Draco primitive's indices accessor only describes the Draco data's triangles.
+      meshes_.check_draco_indices(static_cast<std::size_t>(index), k, pp);
+      // The material is validated (and prepared, once) in the order its primitives come.
+      materials_.material(p.material, pp + "/material");
+      // Tangents, generated when the file has none, for a normal map, a coat's normal map or
+      // an anisotropic lobe (KHR_materials_anisotropy: "tangents are computed" then).
+      bool normal_mapped = false;
+      if (p.material >= 0) {
+        const tg::Material& gm = m_.materials[static_cast<std::size_t>(p.material)];
+        normal_mapped = gm.normalTexture.index >= 0 || gm.extensions.count("KHR_materials_anisotropy") != 0;
+        const auto coat = gm.extensions.find("KHR_materials_clearcoat");
+        if (coat != gm.extensions.end() && coat->second.IsObject() && coat->second.Has("clearcoatNormalTexture"))
+          normal_mapped = true;
+      }
+      placed_.push_back({meshes_.primitive(index, k, mirrored, pp, normal_mapped), p.material, transform});
+      if (skinned || morphed) {
+        placed_.back().node = static_cast<int>(node);
+        placed_.back().mesh_index = index;
+        placed_.back().primitive = k;
+        placed_.back().weights = weights;
+        placed_.back().skinned = skinned;
+      }
     }
   }
 }
@@ -261,7 +375,7 @@ void SceneGraph::add_mesh(int index, const glm::dmat4& world, const std::string&
 // Each skinned or morphed primitive's mesh deformed (deform.h), in the order placed; the
 // joint matrices made once per skin.
 void SceneGraph::deform_meshes() {
-  std::map<int, std::vector<glm::dmat4>> joints;
+  std::map<int, JointPalette> joints;
   for (Placed& o : placed_) {
     if (o.node < 0) continue;
     const tg::Node& n = m_.nodes[static_cast<std::size_t>(o.node)];
@@ -275,14 +389,14 @@ void SceneGraph::deform_meshes() {
     d.sources = &sources.sources;
     d.flat = sources.flat;
     d.targets = rigging_.targets(p, o.weights, vertices, pp);
-    SkinInfluences influences;
     if (o.skinned) {
       auto it = joints.find(n.skin);
       if (it == joints.end())
-        it = joints.emplace(n.skin, rigging_.joint_matrices(n.skin, world_, visited_,
-                                                             "/nodes/" + std::to_string(o.node) + "/skin")).first;
-      influences = rigging_.influences(p, vertices, it->second.size(), pp);
-      influences.matrices = &it->second;
+        it = joints.emplace(n.skin, joint_palette(rigging_.joint_matrices(n.skin, world_, visited_,
+                                                                          "/nodes/" + std::to_string(o.node) + "/skin")))
+                 .first;
+      SkinInfluences& influences = rigging_.influences(p, vertices, it->second.size(), pp);
+      influences.palette = &it->second;
       d.skin = &influences;
     }
     o.mesh = std::make_shared<const Mesh>(deform(*o.mesh, d, options_.pool));
@@ -372,6 +486,7 @@ void SceneGraph::add_light(int index, const glm::dmat4& world, const std::string
     out.inner_cone = static_cast<float>(l.spot.innerConeAngle);
     out.outer_cone = static_cast<float>(l.spot.outerConeAngle);
   }
+  out.shadows = true;  // glTF's lights cast shadows (docs/scene-format.md; --shadows off turns them off)
   out_.lights.push_back(out);
 }
 
@@ -388,7 +503,7 @@ const std::vector<std::string>& gltf_extensions_rendered() {
                                   "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat",
                                   "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_iridescence",
                                   "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_dispersion",
-                                  gltf::kMeshopt, gltf::kDraco};
+                                  gltf::kMeshopt, gltf::kDraco, gltf::kInstancing};
     std::sort(v.begin(), v.end());
     return v;
   }();

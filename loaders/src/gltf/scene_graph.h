@@ -23,6 +23,9 @@
 
 namespace softpbr::pbr::gltf {
 
+// EXT_mesh_gpu_instancing: a node's mesh drawn once per instance (SceneGraph::instance_worlds).
+inline constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
+
 class SceneGraph : public Context {
  public:
   // `fallback` and `draco_indices`: what the pre-pass took out of the JSON (document.h).
@@ -39,13 +42,24 @@ class SceneGraph : public Context {
   // the textures made and the objects placed.
   void load();
 
+  // After load(): the GltfScene's objects, cameras and lights made again for the pose
+  // options_'s time and animation now name (the same steps as load()'s, with what it read
+  // and made kept: meshes, materials and textures, skins' influences, targets' deltas).
+  void pose();
+
  private:
+  void place();  // the pose sampled, the nodes visited, the meshes deformed
   void check_extensions() const;
   int pick_scene() const;
   void check_draw_memory(const std::vector<int>& roots, const std::string& where) const;
   glm::dmat4 local_matrix(std::size_t index, const std::string& pointer) const;
   void visit(int index, const glm::dmat4& parent, const std::string& referrer, int depth, std::vector<bool>& on_path);
   void add_mesh(int index, const glm::dmat4& world, const std::string& referrer, std::size_t node);
+  // EXT_mesh_gpu_instancing: the node's extension's attributes (null: none), its instances
+  // as counted before anything is read (1 without the extension), and their world matrices.
+  const tg::Value* instancing(std::size_t node) const;
+  std::uint64_t instance_count(std::size_t node) const;
+  std::vector<glm::dmat4> instance_worlds(std::size_t node, const glm::dmat4& world) const;
   void deform_meshes();
   void add_camera(int index, const glm::dmat4& world, const std::string& referrer);
   void add_light(int index, const glm::dmat4& world, const std::string& referrer);
@@ -55,6 +69,8 @@ class SceneGraph : public Context {
   Meshes meshes_;
   Animations animations_;
   Rigging rigging_;
+  std::vector<int> roots_;      // the scene's root nodes
+  std::string where_;           // their JSON pointer ("/scenes/0/nodes")
   std::vector<NodePose> pose_;   // by node, at the chosen moment (empty: no animation applied)
   std::vector<glm::dmat4> world_;  // by node, once visited
   std::vector<bool> visited_;      // by node: placed by the scene

@@ -61,6 +61,7 @@ LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string
   f.warnings = std::move(g.warnings);
   f.scene.objects = std::move(g.objects);
   f.triangles = g.triangles;
+  f.poser = g.poser;
   f.render.width = view.width;
   f.render.height = view.height;
   if (view.camera >= 0) {
@@ -74,7 +75,7 @@ LoadedScene gltf_scene_file(GltfScene g, const GltfView& view, const std::string
     // A model whose bounds float cannot hold, or which is too large or too small for a
     // camera in float to frame (positions near 3.4e38, a node scaling by 1e38, a model
     // 1e-40 across), is an input error naming the file, not an invalid camera later.
-    const Bounds b = world_bounds(f.scene.objects);
+    const Bounds b = view.bounds ? *view.bounds : world_bounds(f.scene.objects);
     if (!b.empty() && (!finite3(b.min) || !finite3(b.max)))
       throw LoadError(name + ": the automatic camera cannot frame the model: its bounds " + show(b.min) + " to " +
                       show(b.max) + " reach beyond float's range (a vertex or a node's transform near 3.4e38)");

@@ -8,7 +8,7 @@
 namespace softpbr::pbr::scene_file {
 
 Light read_light(const Reader& r, const Node& spec) {
-  r.object(spec, {"type", "position", "direction", "color", "intensity", "range", "inner_cone", "outer_cone"});
+  r.object(spec, {"type", "position", "direction", "color", "intensity", "range", "inner_cone", "outer_cone", "shadows"});
   Light l;
   const std::string type = r.choice(r.required(spec, "type"), {"point", "directional", "spot"});
   l.type = type == "point" ? LightType::Point : type == "directional" ? LightType::Directional : LightType::Spot;
@@ -42,6 +42,7 @@ Light read_light(const Reader& r, const Node& spec) {
   if (inner > outer) r.fail(r.required(spec, "inner_cone"), "expected inner_cone <= outer_cone (" + json_reader::show_number(outer) + "), got " + json_reader::show_number(inner));
   l.inner_cone = static_cast<float>(dmath::radians(inner));
   l.outer_cone = static_cast<float>(dmath::radians(outer));
+  if (auto s = r.member(spec, "shadows")) l.shadows = r.boolean(*s);
   check_at(r, spec, [&] { prepare_light(l); });
   return l;
 }

@@ -132,7 +132,7 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   // A glTF model's animation (its moment and which: pbr::GltfOptions::time, animation) and
   // material variant (an OBJ model's is refused below, by name).
-  if (lower == ".gltf" || lower == ".glb") r_.object(spec, {"file", "fit", "variant", "time", "animation"});
+  if (lower == ".gltf" || lower == ".glb") r_.object(spec, {"file", "fit", "variant", "time", "animation", "scene"});
   else r_.object(spec, {"file", "fit", "variant"});
   if (rel.empty()) r_.fail(file, "expected a file name, got \"\"");
   const std::filesystem::path path = rel.is_absolute() ? rel : base_dir_ / rel;
@@ -169,6 +169,11 @@ LoadedMesh MeshLibrary::build_obj(const Node& spec, const Node& file) {
       if (auto a = r_.member(spec, "animation")) {
         if (a->value.is_string()) g.animation = r_.string(*a);
         else g.animation = std::to_string(r_.integer(*a, 0, 1'000'000'000));
+      }
+      if (auto sc = r_.member(spec, "scene")) {
+        if (sc->value.is_string()) g.scene_name = r_.string(*sc);
+        else g.scene_name = std::to_string(r_.integer(*sc, 0, 1'000'000'000));
+        if (g.scene_name.empty()) r_.fail(*sc, "expected a scene's name or index, got \"\"");
       }
       if (const std::string problem = detail::outside_roots(path, g.roots); !problem.empty())
         throw LoadError(path.string() + ": " + problem);

@@ -77,8 +77,11 @@ glm::mat4 read_transform(const Reader& r, const Node& spec) {
 
 void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, TextureLibrary& textures, MemoryBudget& budget,
                  SceneFile& out) {
-  r.object(spec, {"name", "mesh", "material", "transform"});
+  r.object(spec, {"name", "mesh", "material", "transform", "cast_shadows", "receive_shadows"});
   if (auto n = r.member(spec, "name")) r.string(*n);
+  bool cast_shadows = true, receive_shadows = true;
+  if (auto c = r.member(spec, "cast_shadows")) cast_shadows = r.boolean(*c);
+  if (auto c = r.member(spec, "receive_shadows")) receive_shadows = r.boolean(*c);
   LoadedMesh& m = meshes.mesh(r.required(spec, "mesh"));
   const glm::mat4 placed = [&] {
     const auto t = r.member(spec, "transform");
@@ -104,7 +107,7 @@ void read_object(const Reader& r, const Node& spec, MeshLibrary& meshes, Texture
       r.fail(where, "too many objects to draw (the limit is " + std::to_string(kMaxObjects) + ": each is a draw call)");
     budget.charge(where, draw_bytes(mesh->vertices.size(), mesh->triangle_count()), "drawing this object");
     out.triangles += mesh->triangle_count();
-    out.scene.objects.push_back({std::move(mesh), material, placed});
+    out.scene.objects.push_back({std::move(mesh), material, placed, cast_shadows, receive_shadows});
   };
   if (auto mat = r.member(spec, "material")) {
     const Material material = read_material(r, *mat, textures);

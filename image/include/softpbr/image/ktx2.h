@@ -20,8 +20,10 @@
 // end of the file (4000 bytes)".
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -49,10 +51,24 @@ struct Ktx2Image {
 
 Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits = {});
 Ktx2Image load_ktx2(const std::filesystem::path& path, const Limits& limits = {});
+
+// How a caller lends its threads to the decoder: calls task(0) … task(count − 1), each once,
+// in any order and on any threads, and returns when all are done; when a task throws (only
+// std::bad_alloc), rethrows one such exception after the others finish. A
+// raster::ThreadPool's parallel_for is one:
+//   [&pool](std::size_t n, const std::function<void(std::size_t)>& f) { pool.parallel_for(n, f); }
+// Empty: everything on the calling thread.
+using ParallelFor = std::function<void(std::size_t count, const std::function<void(std::size_t)>& task)>;
+
 // As above, level 0's buffer reserved to capacity(width, height) bytes (load.h's Capacity:
 // raster::Texture::rgba8_chain_bytes, so that a Texture made from it with the other levels
-// keeps the buffer).
-Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity);
+// keeps the buffer), and a level's blocks decoded on `parallel`'s threads: UASTC blocks
+// and the expansion of ETC1S blocks to texels in ranges of block rows, an ETC1S level's
+// colour and alpha slices (each read sequentially: Huffman codes) side by side. The ranges
+// do not depend on the threads: the bytes are the same however the tasks run, and so is
+// the error a bad file gives (the first bad block in row order).
+Ktx2Image load_ktx2(std::span<const std::uint8_t> bytes, std::string_view name, const Limits& limits, Capacity capacity,
+                    const ParallelFor& parallel = {});
 
 // Whether `bytes` begin with KTX 2.0's identifier.
 bool is_ktx2(std::span<const std::uint8_t> bytes);

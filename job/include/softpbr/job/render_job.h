@@ -64,10 +64,18 @@ struct Settings {
   // A glTF model's material variant (KHR_materials_variants): a name, or an index ("1");
   // GltfOptions::variant. Not for a scene file, whose glTF objects say their own.
   std::optional<std::string> variant{};
+  // A glTF model's scene (glTF's "scenes"): a name, or an index ("1"); default the
+  // file's "scene", else 0 (GltfOptions::scene_name).
+  std::optional<std::string> scene{};
   // A glTF model's animations (pbr::GltfOptions): the moment, seconds in [-1e9, 1e9], and
   // the animation applied, an index or a name (default: every one).
   std::optional<double> time{};
   std::optional<std::string> animation{};
+  // A glTF model's animation over frames: frame f is the model at f / fps seconds (in
+  // (0, 1000]; not with `time`). The model is kept posable (pbr::GltfOptions::poseable)
+  // and pose_frame poses each frame; the automatic camera frames the union of the model's
+  // bounds at every frame's moment in the animation (docs/cli.md, "Animated models").
+  std::optional<double> fps{};
   // Image-based lighting: a file, "studio" or "none"; its intensity and rotation (degrees);
   // what is seen behind the scene: environment, blur, transparent or R,G,B (linear).
   std::optional<std::string> env{};
@@ -76,6 +84,15 @@ struct Settings {
   // Screen-space ambient occlusion of the environment's light: "on" (the default of a
   // scene with an environment) or "off" (EnvironmentLighting::occlusion).
   std::optional<std::string> occlusion{};
+  // Shadows of the punctual lights (pbr::Light::shadows): "on" (every light casts them),
+  // "off" (none does); unset: as the scene says (a glTF model's lights cast them, a scene
+  // file's lights where they say "shadows": true). apply_shadows() puts it over a scene.
+  std::optional<std::string> shadows{};
+  // A ground under the objects (pbr::Ground): "shadow" (a shadow catcher: the objects'
+  // soft contact shadow and the lights' shadows on the plane under them, black with the
+  // shadow as alpha) or "none"; unset: as the scene says (a scene file's "ground"; none
+  // for a glTF model). apply_shadows() puts it over a scene.
+  std::optional<std::string> ground{};
   std::filesystem::path env_cache{};  // prefiltered environments kept in this folder
   // Loading: the memory limit in MiB (default pbr::kDefaultMemoryLimit) and the folders a
   // scene may read files from (empty: anywhere).
@@ -108,8 +125,20 @@ pbr::LoadedScene load(const std::string& input, const Settings& settings, raster
 // camera (Python's Scene.load_gltf). Throws as load().
 pbr::LoadedScene load_model(const std::string& input, const Settings& settings, raster::ThreadPool& pool);
 
+// Frame `frame` of a model loaded with settings.fps: `scene`'s objects replaced by the
+// model's at frame / fps seconds, and its lights (when the model has its own) and camera
+// (when viewed through one of its cameras) by theirs; deformed on `pool`. Does nothing
+// for a scene loaded without fps. Throws pbr::LoadError as loading at that time would.
+void pose_frame(const pbr::LoadedScene& loaded, const Settings& settings, long frame, pbr::Scene& scene,
+                raster::ThreadPool& pool);
+
 // The settings' environment and background over a scene already loaded (load() does it).
 void apply_environment(pbr::LoadedScene& scene, const Settings& settings, raster::ThreadPool& pool);
+
+// The settings' shadows over the scene's lights: with "on" every light casts shadows, with
+// "off" none does; unset, the scene's own; and their ground ("shadow" or "none") over the
+// scene's. load() does it; Python does it to the scene it renders.
+void apply_shadows(pbr::Scene& scene, const Settings& settings);
 
 // The scene's render settings with the settings given over them, every value checked (the
 // scene's own too, which Python may have set to anything): Error (Kind::Setting).
@@ -118,7 +147,8 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& se
 // The memory a render is estimated to need, by what needs it.
 struct MemoryEstimate {
   std::uint64_t image = 0;        // the target (pbr::image_memory: every sample, and the resolve),
-                                  // and with an environment's occlusion its buffers (pbr::occlusion_memory),
+                                  // with an environment's occlusion its buffers (pbr::occlusion_memory),
+                                  // the lights' shadow maps and the ground (pbr::shadow_memory),
                                   // with a transmissive object the opaque copy (pbr::transmission_memory)
   std::uint64_t mesh = 0;         // meshes and their draws (LoadedScene::mesh_bytes)
   std::uint64_t texture = 0;      // textures' texels (LoadedScene::texture_bytes)

@@ -46,8 +46,15 @@
 // - skins (§3.7.3): joint matrices world(joint) × inverse bind matrix, JOINTS_n/WEIGHTS_n
 //   (weights normalised), the skinned node's own transform ignored; and morph targets
 //   (§3.7.2.2: POSITION, NORMAL and TANGENT deltas with the node's, mesh's or animated
-//   weights). Both are applied to a copy of the primitive's mesh on the CPU, in double
-//   (a skinned mesh is in world space, its Object's transform the identity).
+//   weights). Both are applied to a copy of the primitive's mesh on the CPU (joint
+//   matrices in double, once per joint; vertices in float in a fixed order, on `pool`;
+//   a skinned mesh is in world space, its Object's transform the identity). With
+//   `poseable`, GltfScene::pose poses the loaded model again at another moment.
+// - EXT_mesh_gpu_instancing: a node's mesh placed once per instance, at the node's world
+//   × the instance's T·R·S (TRANSLATION, ROTATION, SCALE accessors of one count), the
+//   instances counted in the draw memory estimate before any mesh is built (a skinned
+//   node's instances are not drawn, with a warning);
+// - several scenes: `scene` or `scene_name` chooses one (default the file's "scene", else 0).
 //
 // Errors are pbr::LoadError (load_error.h) with one line: the file, the JSON pointer and what is
 // wrong, e.g. `model.gltf: /accessors/3: 1000 elements of 12 bytes run past bufferView 2
@@ -57,6 +64,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -103,7 +111,18 @@ struct GltfOptions {
   // an earlier one on the same target), else an index ("0") or a name. Named without
   // `time`: sampled at 0.
   std::string animation{};
+  // Keep what GltfScene::pose needs to pose the model again without reading the file:
+  // tinygltf's model (the buffers and the encoded images), the meshes, materials and
+  // textures made, the skins' influences and the targets' deltas read. That memory is kept
+  // as long as a copy of the GltfScene is.
+  bool poseable = false;
+  // The scene shown, by name, or by index when no scene has that name ("1"); when not
+  // empty it decides over `scene`. A name the file does not have is a LoadError listing
+  // the file's scenes.
+  std::string scene_name{};
 };
+
+class GltfPoser;  // what a poseable GltfScene keeps (private to the glTF reader)
 
 // One of the file's animations (glTF 2.0 §3.11).
 struct GltfAnimation {
@@ -126,6 +145,19 @@ struct GltfScene {
   std::size_t triangles = 0;
   std::vector<std::string> files;     // the external buffers and images read (not the file itself)
   std::vector<GltfAnimation> animations;
+  // KHR_materials_variants: the file's variant names, in their order (empty: none); the
+  // one shown is GltfOptions::variant's.
+  std::vector<std::string> variants;
+  std::shared_ptr<GltfPoser> poser;   // set when loaded with GltfOptions::poseable (shared by copies)
+
+  // The model posed again, as load_gltf with GltfOptions::time `time` and ::animation
+  // `animation` would give it, bit for bit, without reading the file again: `objects`,
+  // `lights` and `cameras` replaced (meshes and materials not deformed are shared with the
+  // earlier pose), new warnings appended. Deforms on `pool` when given. Throws LoadError
+  // for what that pose reads (an animation that does not exist, a bad key), and
+  // std::logic_error when the scene was not loaded with GltfOptions::poseable. Copies of
+  // one GltfScene share its poser: they may pose one at a time (a mutex).
+  void pose(std::optional<double> time, const std::string& animation = {}, raster::ThreadPool* pool = nullptr);
 };
 
 GltfScene load_gltf(const std::filesystem::path& path, const GltfOptions& options = {});
@@ -171,6 +203,9 @@ struct GltfView {
   // when it has none, with kDefaultAmbient and a dark grey background.
   bool environment = true;
   raster::ThreadPool* pool = nullptr;  // prefilters the studio environment (on first use) in parallel
+  // What the automatic camera frames: these bounds (an animated model's over its frames),
+  // else the objects' (world_bounds).
+  std::optional<Bounds> bounds{};
 };
 
 // The scene of a loaded model as the command renders it, with its memory estimate: the
@@ -178,6 +213,7 @@ struct GltfView {
 // count_object_memory counts them, and the studio environment (environment_bytes). Throws
 // std::invalid_argument ("camera: … has N cameras, no camera K", "pitch: …") for a view
 // the model does not have.
+// The LoadedScene keeps the model's poser (LoadedScene::poser).
 LoadedScene gltf_scene_file(GltfScene model, const GltfView& view, const std::string& name);
 
 // The glTF extensions load_gltf renders (or decodes), sorted: any other is ignored with a

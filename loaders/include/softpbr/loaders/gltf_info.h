@@ -71,6 +71,7 @@ struct GltfInfo {
   std::string version, generator, copyright;  // the asset's
   std::size_t scenes = 0;
   int default_scene = -1;                     // "scene", -1 when absent
+  std::vector<std::string> scene_names;       // each scene's name ("" when it has none), in order
   std::size_t nodes = 0, accessors = 0, buffer_views = 0, buffers = 0, samplers = 0, skins = 0, animations = 0;
   std::uint64_t buffer_bytes = 0;             // the buffers' sizes, as read
   std::vector<GltfMeshInfo> meshes;

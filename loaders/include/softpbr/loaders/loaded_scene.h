@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -25,6 +26,8 @@ struct RenderSettings {
   int msaa = 1;  // samples a pixel: 1, 4 or 8 (raster::Target)
 };
 
+class GltfPoser;  // gltf.h
+
 struct LoadedScene {
   Scene scene;
   RenderSettings render;
@@ -35,6 +38,9 @@ struct LoadedScene {
   std::uint64_t triangles = 0;    // drawn per frame (a shared mesh counts once per object)
   std::vector<std::string> warnings;  // e.g. from OBJ files, one line each, naming the file
   std::vector<std::string> inputs;    // the files read: the scene, models, MTL files, images
+  // A glTF model loaded to be posed again (GltfOptions::poseable; the job's fps setting):
+  // GltfScene::pose through it, the scene's objects being the model's.
+  std::shared_ptr<GltfPoser> poser;
 };
 
 // Adds object `o`'s memory to `scene`'s estimate: its draw (raster::draw_geometry_bytes with

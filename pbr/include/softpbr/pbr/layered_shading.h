@@ -349,6 +349,9 @@ inline Vec3L<F> shade_layered(const MaterialLanes<F>& m_in, const LayerLanes<F>&
       const F nc_dot_l = layers.coat ? simd::dot(nc, l) : n_dot_l;
       const auto lit = simd::max(n_dot_l, nc_dot_l) > zero;
       if (!simd::any(lit)) continue;
+      // A light with a shadow map (as shade()): the falloff times the part that reaches the point.
+      if (const ShadowMap* map = lights[first + i].shadow; map != nullptr)
+        samples[i].falloff = samples[i].falloff * shadow_visibility(*map, position, n, l, n_dot_l);
       const F NoL = simd::clamp(n_dot_l, zero, one);
       const HalfTerms<F> h = half_terms(l, v);
       const F w = NoL * s.falloff;

@@ -27,7 +27,13 @@ struct Light {
   float range = 0.0f;                      // point/spot: 0 = unlimited, else zero at this distance
   float inner_cone = 0.0f;                 // spot: full intensity inside this angle (radians)
   float outer_cone = 0.7853981633974483f;  // spot: zero outside this angle (radians), π/4 default
+  // Whether the light casts shadows (a shadow map, shadow.h): objects with cast_shadows
+  // block it for objects with receive_shadows. Off by default here and in scene files; glTF
+  // lights (KHR_lights_punctual) turn it on.
+  bool shadows = false;
 };
+
+struct ShadowMap;  // shadow.h
 
 // Direction towards the light and the incident radiance Li at a surface point.
 struct LightSample {
@@ -43,6 +49,9 @@ struct PreparedLight {
   float cone_scale;
   float cone_offset;
   glm::vec3 radiance{0.0f};  // color · intensity, once (not per packet)
+  // The light's shadow map for this frame (render() sets it for a light with shadows), or
+  // null: the light shines through everything, and the shaders run no shadow code for it.
+  const ShadowMap* shadow = nullptr;
 };
 
 // Validates and prepares a light. Throws std::invalid_argument naming the field when a

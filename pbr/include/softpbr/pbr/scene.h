@@ -23,12 +23,28 @@ struct Object {
   std::shared_ptr<const Mesh> mesh;
   Material material;
   glm::mat4 transform{1.0f};  // model → world
+  // Shadows (docs/design.md, "Shadows"): whether the object blocks the lights that cast
+  // shadows (Light::shadows), and whether it is darkened where they are blocked.
+  bool cast_shadows = true;
+  bool receive_shadows = true;
 };
 
 // What is seen where no object is: the colour `background` (alpha 0 for a transparent
 // image), the environment itself, or the environment blurred (its prefiltered radiance at
 // roughness background_blur).
 enum class BackgroundMode : std::uint8_t { Color, Environment, Blur };
+
+// A ground under the objects (docs/design.md, "Ground"). With `shadow`, a shadow catcher: a
+// square on the plane under the objects' bounds, drawn after the opaque objects, black with
+// the shadow as its alpha — so that over a transparent background the image's alpha is the
+// shadow, which composites onto any page. The shadow is the objects' soft contact shadow
+// (their depth seen from below, what is higher above the ground fainter and more blurred)
+// and, over it, the shadows that the lights casting shadows (Light::shadows) throw on it.
+struct Ground {
+  bool shadow = false;
+  float darkness = 0.7f;  // the shadow's opacity where an object touches the ground, [0, 1]
+  float softness = 0.5f;  // [0, 1]: how far the shadow of what is high above the ground spreads
+};
 
 struct Scene {
   Camera camera;
@@ -42,6 +58,7 @@ struct Scene {
   EnvironmentLighting environment;
   BackgroundMode background_mode = BackgroundMode::Color;
   float background_blur = 0.3f;  // roughness of BackgroundMode::Blur, [0, 1]
+  Ground ground;
 };
 
 // Bytes a frame of width × height pixels holds besides its target when the scene has a
@@ -53,6 +70,11 @@ std::uint64_t transmission_memory(int width, int height);
 // Bytes a frame of width × height pixels holds besides its target when the scene's
 // environment has occlusion on: the 1-sample depth and normal target and two floats a pixel.
 std::uint64_t occlusion_memory(int width, int height);
+
+// Bytes a frame of the scene holds besides its target for its shadow maps: a depth-only
+// target a face for each light with shadows (16 MiB a directional or spot light, 24 MiB a
+// point light's six faces), and for its ground's shadow (3.3 MiB).
+std::uint64_t shadow_memory(const Scene& scene);
 
 // Clears the target to the background (depth to 1), draws the environment as the
 // background when background_mode asks for it, then every object with PbrShader (or

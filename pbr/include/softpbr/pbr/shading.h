@@ -31,6 +31,7 @@
 #include "softpbr/pbr/light.h"
 #include "softpbr/pbr/material.h"
 #include "softpbr/pbr/mesh.h"
+#include "softpbr/pbr/shadow.h"
 #include "softpbr/raster/shader.h"
 #include "softpbr/simd/simd.h"
 
@@ -383,6 +384,9 @@ inline Vec3L<F> shade(const MaterialLanes<F>& m, const MaterialTerms<F>& mt, con
       const F NoL = simd::dot(n, s.to_light);
       const auto lit = NoL > F(0.0f);
       if (!simd::any(lit)) continue;
+      // A light with a shadow map: the falloff times the part of it that reaches the point.
+      if (const ShadowMap* map = lights[first + i].shadow; map != nullptr)
+        samples[i].falloff = samples[i].falloff * shadow_visibility(*map, position, n, s.to_light, NoL);
       // f · NoL · falloff, times the light's unattenuated radiance (uniform).
       // The material's lanes are read in the loop, not copied before it (simd::in_memory).
       const Vec3L<F> f =

@@ -134,12 +134,20 @@ class Renderer {
   void begin_frame(Target& target, const ClearValues& clear, std::size_t geometry);
 
   // Draws indexed triangles (three indices each). Throws std::logic_error outside a
-  // frame, std::invalid_argument if indices.size() is not a multiple of 3 and
+  // frame, std::invalid_argument for a shader that is not depth-only on a depth-only
+  // target or a depth-only one on a multisampled target (shader.h, kDepthOnly), if
+  // indices.size() is not a multiple of 3 and
   // std::out_of_range for an index past the vertices; nothing is drawn then.
   template <Shader S>
   void draw(const S& shader, std::span<const typename S::Vertex> vertices, std::span<const std::uint32_t> indices,
             const DrawState& state = {}) {
     require_frame();
+    if constexpr (kDepthOnly<S>) {
+      if (target_->samples() != 1) throw std::invalid_argument("Renderer::draw: a depth-only shader draws into a 1-sample target");
+    } else {
+      if (target_->is_depth_only())
+        throw std::invalid_argument("Renderer::draw: a depth-only target takes depth-only shaders (raster::kDepthOnly)");
+    }
     validate_indices(indices, vertices.size());
     auto call = std::make_unique<TypedDrawCall<S>>(shader);
     call->geometry = take_geometry();

@@ -108,6 +108,21 @@ template <class S>
   requires requires { S::kUsesDerivatives; }
 inline constexpr bool kUsesDerivatives<S> = S::kUsesDerivatives;
 
+// A depth-only shader (a shadow map's casters) says
+//   static constexpr bool kDepthOnly = true;
+// Its draws run the pipeline of every draw — the vertex stage, clipping, setup, coverage
+// and the depth test, with the same rules and the same bits — and write depth alone: no
+// colour is written, and without the alpha test nothing is shaded (fragment() and
+// fragment_packet() are not called, no varying is interpolated). With the alpha test the
+// shader runs for its alpha only, and the depth of the fragments it keeps is written after
+// it (an alpha-masked caster's cut-out). It draws into a 1-sample target: a depth-only one
+// (Target::depth_only) or any other, whose colour it leaves alone.
+template <class S>
+inline constexpr bool kDepthOnly = false;
+template <class S>
+  requires requires { S::kDepthOnly; }
+inline constexpr bool kDepthOnly<S> = S::kDepthOnly;
+
 // Number of floats in a varyings struct.
 template <class V>
 inline constexpr int kVaryingCount = std::is_empty_v<V> ? 0 : static_cast<int>(sizeof(V) / sizeof(float));

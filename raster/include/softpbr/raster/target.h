@@ -128,6 +128,16 @@ class Target {
   // valid_sample_count(samples).
   Target(int width, int height, int samples = 1, ThreadPool* pool = nullptr,
          SampleStorage storage = SampleStorage::Kept);
+  // A depth-only target (a shadow map's): one sample a pixel and its depth alone, 4 bytes a
+  // pixel, every depth starting at 1. Only depth-only shaders (shader.h, kDepthOnly) draw
+  // into it (Renderer::draw throws std::invalid_argument for others); colors() is empty and
+  // read_pixels(), resolve_box() and resolve_srgb8() throw std::logic_error. Throws as the
+  // constructor for a size out of range.
+  static Target depth_only(int width, int height, ThreadPool* pool = nullptr);
+  // Bytes such a target holds.
+  static std::uint64_t depth_only_bytes(int width, int height) {
+    return static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) * sizeof(float);
+  }
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -135,6 +145,8 @@ class Target {
   // Whether the target keeps no samples between frames (SampleStorage::Transient with
   // more than one sample).
   bool transient() const { return transient_; }
+  // Whether the target holds depth alone (depth_only()).
+  bool is_depth_only() const { return depth_only_; }
   // Bytes of sample planes the target holds now: bytes(width, height, samples) for a kept
   // target; for a transient one 0 until a frame needed planes (see SampleStorage).
   std::uint64_t allocated_bytes() const {
@@ -211,6 +223,7 @@ class Target {
   int height_;
   int samples_;
   bool transient_ = false;
+  bool depth_only_ = false;
   // Elements are left unwritten by resize() (the constructor writes each once), not
   // value-initialized; copies are copies.
   template <class T>
@@ -252,7 +265,7 @@ struct FrameAccess {
   // null pointers (the renderer then draws every tile in a block).
   static void allocate_planes(Target& t) { t.allocate_planes(); }
   static TargetPixels pixels(Target& t) {
-    return {t.color_.data(), t.depth_.data(), t.width_, t.height_, t.samples_,
+    return {t.depth_only_ ? nullptr : t.color_.data(), t.depth_.data(), t.width_, t.height_, t.samples_,
             static_cast<std::size_t>(t.width_) * static_cast<std::size_t>(t.height_), 0};
   }
 };

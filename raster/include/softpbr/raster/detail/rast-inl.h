@@ -283,7 +283,7 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
   } else {
     simd::store_interleave4<W>(c.r, c.g, c.b, c.a, out);
   }
-  const auto color = [&](int lane) {
+  [[maybe_unused]] const auto color = [&](int lane) {
     glm::vec4 v;
     __builtin_memcpy(&v, out + 4 * lane, sizeof v);
     return v;
@@ -300,10 +300,14 @@ void flush_packet(const S& shader, Packet<W, S>& b, const DrawState& state, cons
       const float z = get_lane(p.depth, lane);
       if (!depth_passes(state.depth_test, z, depths[idx])) continue;
       if (state.depth_write) depths[idx] = z;
-      glm::vec4 c = color(lane);
-      if (state.alpha_to_coverage) c.a = 1.0f;  // one sample: the alpha test, then alpha to one
-      colors[idx] = blend(state.blend, c, colors[idx]);
+      if constexpr (!kDepthOnly<S>) {
+        glm::vec4 c = color(lane);
+        if (state.alpha_to_coverage) c.a = 1.0f;  // one sample: the alpha test, then alpha to one
+        colors[idx] = blend(state.blend, c, colors[idx]);
+      }
     }
+  } else if constexpr (kDepthOnly<S>) {
+    // Never reached: a depth-only draw without the alpha test fills no packet.
   } else if (state.blend == Blend::Replace) {
     for (int lane = 0; lane < b.count; ++lane) colors[b.index[lane]] = color(lane);
   } else {
@@ -622,6 +626,11 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
         }
       }
       if (mask == 0) continue;
+      // A depth-only draw (shader.h, kDepthOnly) has written its depths above: nothing is
+      // shaded, unless its alpha test decides which depths to keep.
+      if constexpr (kDepthOnly<S>) {
+        if (!state.alpha_test) continue;
+      }
 
       // Perspective-correct varyings at all four lanes (helper lanes feed derivatives):
       // b1, b2 are the perspective-correct weights of vertices 1 and 2; beyond the
@@ -676,13 +685,13 @@ void raster_triangle(const S& shader, const DrawGeometry& geometry, const Triang
             for (int s = 0; s < kMs; ++s) zs[s] = sample_z[s][j];
             write_samples<kMs>(state, src, lane_samples[j], zs, idx, quad_depths + j, target);
           } else {
-            glm::vec4 c = src;
+            [[maybe_unused]] glm::vec4 c = src;
             if (state.alpha_test) {
               if (!(src.a >= state.alpha_ref)) continue;
               if (depth_write) depths[idx] = z[j];
               if (state.alpha_to_coverage) c.a = 1.0f;  // one sample: the alpha test, then alpha to one
             }
-            colors[idx] = blend(state.blend, c, colors[idx]);
+            if constexpr (!kDepthOnly<S>) colors[idx] = blend(state.blend, c, colors[idx]);
           }
         }
       } else {

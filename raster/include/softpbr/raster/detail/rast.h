@@ -113,10 +113,14 @@ auto tile_kernel([[maybe_unused]] simd::Isa isa) {
 template <int W, Shader S>
 ShadeCounts dispatch_tile(simd::Isa isa, const S& shader, const DrawGeometry& geometry, std::size_t tile,
                           const TileRect& rect, const TargetPixels& target) {
-  switch (target.samples) {
-    case 4: return tile_kernel<W, 4, S>(isa)(shader, geometry, tile, rect, target);
-    case 8: return tile_kernel<W, 8, S>(isa)(shader, geometry, tile, rect, target);
-    default: return tile_kernel<W, 1, S>(isa)(shader, geometry, tile, rect, target);
+  if constexpr (kDepthOnly<S>) {  // 1 sample a pixel only (Renderer::draw checks)
+    return tile_kernel<W, 1, S>(isa)(shader, geometry, tile, rect, target);
+  } else {
+    switch (target.samples) {
+      case 4: return tile_kernel<W, 4, S>(isa)(shader, geometry, tile, rect, target);
+      case 8: return tile_kernel<W, 8, S>(isa)(shader, geometry, tile, rect, target);
+      default: return tile_kernel<W, 1, S>(isa)(shader, geometry, tile, rect, target);
+    }
   }
 }
 }  // namespace detail
