@@ -49,25 +49,8 @@ void deform_1M(benchmark::State& state, bool tangents) {
 
 // The baseline: deformation as it was first written (issue 50, part 1), kept here to
 // measure against — a copy of the whole mesh, the morph in double into it, a second copy,
-// then per vertex the 4×4 skin matrix Σ wⱼ·Jⱼ in double and its inverse transpose (nine
-// cofactors and a division) for the normal.
-glm::dmat3 cofactor_inverse_transpose(const glm::dmat4& m) {
-  const glm::dmat3 a(m);
-  glm::dmat3 c;
-  c[0][0] = a[1][1] * a[2][2] - a[2][1] * a[1][2];
-  c[0][1] = a[2][0] * a[1][2] - a[1][0] * a[2][2];
-  c[0][2] = a[1][0] * a[2][1] - a[2][0] * a[1][1];
-  c[1][0] = a[2][1] * a[0][2] - a[0][1] * a[2][2];
-  c[1][1] = a[0][0] * a[2][2] - a[2][0] * a[0][2];
-  c[1][2] = a[2][0] * a[0][1] - a[0][0] * a[2][1];
-  c[2][0] = a[0][1] * a[1][2] - a[1][1] * a[0][2];
-  c[2][1] = a[1][0] * a[0][2] - a[0][0] * a[1][2];
-  c[2][2] = a[0][0] * a[1][1] - a[1][0] * a[0][1];
-  const double det = a[0][0] * c[0][0] + a[1][0] * c[1][0] + a[2][0] * c[2][0];
-  if (det == 1.0 || !std::isfinite(det) || det == 0.0) return c;
-  return c * (1.0 / det);
-}
-
+// then per vertex the 4×4 skin matrix Σ wⱼ·Jⱼ in double and its inverse transpose (the
+// loader's normal_matrix: nine cofactors and a division) for the normal.
 softpbr::pbr::Mesh deform_double(const softpbr::testing::SyntheticRig& rig, raster::ThreadPool* pool) {
   const softpbr::pbr::Mesh& base = rig.base;
   const gltf::Deformation& d = rig.deformation;
@@ -108,7 +91,7 @@ softpbr::pbr::Mesh deform_double(const softpbr::testing::SyntheticRig& rig, rast
       }
       const softpbr::pbr::MeshVertex& v = morphed.vertices[i];
       out.vertices[i].position = glm::vec3(glm::dvec3(M * glm::dvec4(glm::dvec3(v.position), 1.0)));
-      out.vertices[i].normal = glm::vec3(cofactor_inverse_transpose(M) * glm::dvec3(v.normal));
+      out.vertices[i].normal = glm::vec3(gltf::normal_matrix(M) * glm::dvec3(v.normal));
       if (tangents) {
         const glm::vec4& t = morphed.tangents[i];
         out.tangents[i] = glm::vec4(glm::vec3(glm::dmat3(M) * glm::dvec3(t.x, t.y, t.z)), t.w);

@@ -124,7 +124,7 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
        "t.json: /objects/0/receive_shadows: expected true or false, got null"},
       {R"({"lights": {}, "objects": []})", "t.json: /lights: expected an array, got an object"},
       {R"({"objects": [], "a/b~c": 1})",
-       "t.json: /a~1b~0c: unknown key \"a/b~c\" (expected one of: camera, lights, ambient, environment, meshes, objects, render, animation)"},
+       "t.json: /a~1b~0c: unknown key \"a/b~c\" (expected one of: camera, lights, ambient, environment, ground, meshes, objects, render, animation)"},
       {R"({"lights": []})", "t.json: (top level): missing key \"objects\""},
       {R"({"objects": [{"mesh": {"type": "cube"}}, {"mesh": {"type": "cube"}, "material": {"roughness": 0.2, "roughness": 2}}]})",
        "t.json: /objects/1/material/roughness: duplicate key \"roughness\" (each key may appear once per object)"},
@@ -135,7 +135,7 @@ TEST_CASE("scene file: each invalid value gives one line with the file, the JSON
          return p;
        }() + ": nested deeper than 32 levels"},
       {"{\"objects\": [], \"a\\nb\": 1}",
-       "t.json: /a?b: unknown key \"a?b\" (expected one of: camera, lights, ambient, environment, meshes, objects, render, animation)"},
+       "t.json: /a?b: unknown key \"a?b\" (expected one of: camera, lights, ambient, environment, ground, meshes, objects, render, animation)"},
       {R"({"objects": [], "objects": []})", "t.json: /objects: duplicate key \"objects\" (each key may appear once per object)"},
       {R"([1, 2])", "t.json: (top level): expected an object, got [1,2]"},
       {R"({"objects": [}")", "t.json: invalid JSON: parse error at line 1, column 14: syntax error while parsing value - unexpected '}'; expected '[', '{', or a literal"},

@@ -157,7 +157,7 @@ errors)
 "type": "point"|"type": "spot"|3|bad.json: /lights/0: missing key "direction"
 "position": [0, 0, 3]|"position": [0, 0]|3|bad.json: /camera/position: expected an array of 3 numbers, got [0,0]
 "position": [0, 0, 3]|"position": [0, 0, 0]|3|bad.json: /camera: camera target: must differ from position
-"objects": [|"objects": 7, "x": [|3|bad.json: /x: unknown key "x" (expected one of: camera, lights, ambient, environment, meshes, objects, render, animation)
+"objects": [|"objects": 7, "x": [|3|bad.json: /x: unknown key "x" (expected one of: camera, lights, ambient, environment, ground, meshes, objects, render, animation)
 "render": {|"render": [{|3|bad.json: invalid JSON: parse error at line 1, column 236: syntax error while parsing array - unexpected '}'; expected ']'
 EOF
   # A 10^6-light scene: the count is refused with the limit, before any light is read.

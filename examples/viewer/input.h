@@ -23,7 +23,7 @@ enum class Key {
   P,                         // screenshot
   B,                         // next environment (off, the built-in studio, each --env map)
   V,                         // toggle 4× MSAA
-  H,                         // toggle the lights' shadows
+  H,                         // the lights' shadows, then the ground's, then neither
   G,                         // next material variant of a glTF model (KHR_materials_variants)
   Escape,                    // quit
 };

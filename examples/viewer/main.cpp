@@ -275,7 +275,7 @@ class Viewer {
                   ms > 0.0 ? 1000.0 / ms : 0.0, material_text().c_str(),
                   meshes_[state_.mesh].name.c_str(), frame_.rgba().width, frame_.rgba().height,
                   state_.msaa > 1 ? " 4x MSAA" : "", shown_divisor_ > 1 ? " (moving)" : "", renderer_.threads(),
-                  state_.lights_rotating ? " | lights rotating" : "", state_.shadows ? " | shadows" : "");
+                  state_.lights_rotating ? " | lights rotating" : "", state_.ground ? " | shadows + ground" : state_.shadows ? " | shadows" : "");
     window_.set_title(title);
   }
 
@@ -295,7 +295,7 @@ constexpr const char* kUsage =
     "usage: viewer [model.obj|.gltf|.glb ...] [--width W] [--height H] [--threads N] [--budget-ms MS]\n"
     "              [--software] [--script keys.txt] [--screenshot out.png] [--env map.hdr ...]\n"
     "keys: WASD/arrows fly, Q/E down/up, Tab capture mouse, 1-9 presets, N next preset, 0 gallery,\n"
-    "      M next mesh or model (also files dropped on the window), C rotate lights, R/F roughness up/down, T metallic, V 4x MSAA, H shadows, P screenshot, Esc quit\n";
+    "      M next mesh or model (also files dropped on the window), C rotate lights, R/F roughness up/down, T metallic, V 4x MSAA, H shadows (then + ground), P screenshot, Esc quit\n";
 
 Options parse(int argc, char** argv) {
   Options o;

@@ -155,6 +155,7 @@ pbr::Scene build_scene(const ViewerState& state, const std::vector<NamedMesh>& m
     for (pbr::Light& l : scene.lights) l.position = turn_about_y(l.position, state.light_angle);
   softpbr::job::Settings shadows;
   shadows.shadows = state.shadows ? "on" : "off";
+  shadows.ground = state.ground ? "shadow" : "none";
   softpbr::job::apply_shadows(scene, shadows);
   if (state.environment != 0) {
     scene.environment.map = environments.at(state.environment);

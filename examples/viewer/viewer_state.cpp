@@ -41,7 +41,11 @@ Effect press(ViewerState& s, Key key) {
       if (s.material != kGalleryMaterial) s.metallic = !s.metallic;
       break;
     case Key::V: s.msaa = s.msaa == 1 ? 4 : 1; break;
-    case Key::H: s.shadows = !s.shadows; break;
+    case Key::H:  // off → the lights' shadows → and the ground's → off
+      if (!s.shadows) s.shadows = true;
+      else if (!s.ground) s.ground = true;
+      else s.shadows = s.ground = false;
+      break;
     case Key::P: return Effect::Screenshot;
     case Key::G: return Effect::NextVariant;
     case Key::Escape: s.quit = true; return Effect::Quit;

@@ -13,7 +13,7 @@
 //   R / F             roughness up / down by 0.05    T  toggle metallic (preset mode only)
 //   B                 next environment: off (the paper's lights), the built-in studio, each --env map
 //   V                 toggle 4× MSAA (antialiased edges, docs/design.md "MSAA")
-//   H                 toggle the lights' shadows (docs/design.md "Shadows")
+//   H                 the lights' shadows, then also the ground's, then neither (docs/design.md "Shadows")
 //   P                 screenshot                      Escape  quit
 #pragma once
 
@@ -53,7 +53,8 @@ struct ViewerState {
   float light_angle = 0.0f;  // radians in [0, 2π): the lights' turn about the y axis
   bool captured = false;     // mouse captured: motion turns the camera
   int msaa = 1;              // samples a pixel: 1 or 4 (V toggles)
-  bool shadows = false;      // the lights cast shadows (H toggles; job::Settings::shadows)
+  bool shadows = false;      // the lights cast shadows (H; job::Settings::shadows)
+  bool ground = false;       // a shadow catcher under the objects (H after shadows; job::Settings::ground)
   bool quit = false;
   std::array<bool, kKeyCount> held{};  // keys currently down
 

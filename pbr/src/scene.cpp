@@ -375,15 +375,42 @@ void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, std::vecto
 }
 
 // The ground's shadow catcher (ground.h), or false when the scene has nothing to stand on
-// it: the casters seen from below, their depths and the lights' maps made its texture.
+// it: the casters seen from below, their depths, the lights' maps and a map along the
+// environment's dominant light (when `env` has one) made its texture.
 bool make_ground(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
-                 const std::vector<PreparedLight>& lights, Object& out) {
+                 const std::vector<PreparedLight>& lights, const PreparedEnvironment* env, Object& out) {
+  const Bounds world = scene_bounds(scene);
+  // The lights whose shadows fall on the ground: the square holds them.
+  std::vector<detail::GroundLight> shadow_lights;
+  for (const PreparedLight& l : lights) {
+    if (l.shadow == nullptr) continue;
+    if (l.light.type == LightType::Directional) shadow_lights.push_back({true, -l.unit_direction, glm::vec3(0.0f)});
+    else shadow_lights.push_back({false, glm::vec3(0.0f), l.light.position});
+  }
+  detail::DominantLight dominant;
+  const bool sky_light = env != nullptr && detail::dominant_light(*env, dominant);
+  if (sky_light) shadow_lights.push_back({true, dominant.to_light, glm::vec3(0.0f)});
   detail::GroundSetup setup;
-  if (!detail::ground_setup(scene_bounds(scene), scene.ground, setup)) return false;
+  if (!detail::ground_setup(world, scene.ground, shadow_lights, setup)) return false;
   raster::Target below = raster::Target::depth_only(detail::kGroundSize, detail::kGroundSize, &renderer.pool());
   draw_caster_depths(scene, renderer, casters, setup.view_projection, below, true);
-  out = detail::ground_object(
-      setup, detail::ground_texture(setup, scene.ground, std::as_const(below).depths(), lights, renderer.pool()));
+  std::optional<raster::Target> sky_face;
+  ShadowMap sky;
+  if (sky_light) {
+    Light l;
+    l.type = LightType::Directional;
+    l.direction = -dominant.to_light;
+    l.shadows = true;
+    detail::ShadowSetup sky_setup;
+    if (detail::shadow_setup(prepare_light(l), world, sky_setup)) {
+      sky_face.emplace(raster::Target::depth_only(sky_setup.map.size, sky_setup.map.size, &renderer.pool()));
+      draw_caster_depths(scene, renderer, casters, sky_setup.view_projection[0], *sky_face, false);
+      sky = sky_setup.map;
+      sky.faces[0] = std::as_const(*sky_face).depths().data();
+    }
+  }
+  out = detail::ground_object(setup, detail::ground_texture(setup, scene.ground, std::as_const(below).depths(), lights,
+                                                            sky_face ? &sky : nullptr, dominant, renderer.pool()));
   return true;
 }
 
@@ -521,7 +548,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     std::vector<Caster> casters = shadow_casters(scene, opaque, blended);
     if (shadowed) draw_shadow_maps(scene, renderer, casters, *lights, shadow_frame);
     // The ground first of the blended draws: it lies under everything.
-    if (scene.ground.shadow && make_ground(scene, renderer, casters, *lights, ground)) {
+    if (scene.ground.shadow && make_ground(scene, renderer, casters, *lights, env, ground)) {
       add_draw(ground, scene.objects.size());
       std::rotate(blended.begin(), blended.end() - 1, blended.end());
     }

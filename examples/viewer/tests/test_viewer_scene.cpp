@@ -160,6 +160,20 @@ TEST_CASE("every part of the state changes the image") {
   }
 }
 
+TEST_CASE("H's ground puts a shadow under the gallery's spheres") {
+  ViewerState s;
+  s.mesh_count = meshes().size();
+  select_material(s, kGalleryMaterial);
+  const std::uint64_t without = image_hash(s);
+  s.shadows = true;
+  const pbr::Scene lit = build_scene(s, meshes());
+  s.ground = true;
+  const pbr::Scene grounded = build_scene(s, meshes());
+  CHECK_FALSE(lit.ground.shadow);
+  CHECK(grounded.ground.shadow);
+  CHECK(image_hash(s) != without);
+}
+
 TEST_CASE("material labels name the preset with roughness and metallic or the gallery") {
   ViewerState s;
   CHECK(material_label(s) == "gallery");

@@ -80,13 +80,19 @@ TEST_CASE("V toggles 4x MSAA on and off") {
   CHECK(s.msaa == 1);
 }
 
-TEST_CASE("H toggles the lights' shadows on and off") {
+TEST_CASE("H turns the lights' shadows on, then the ground's too, then both off") {
   ViewerState s;
   CHECK_FALSE(s.shadows);
+  CHECK_FALSE(s.ground);
   tap(s, Key::H);
   CHECK(s.shadows);
+  CHECK_FALSE(s.ground);
+  tap(s, Key::H);
+  CHECK(s.shadows);
+  CHECK(s.ground);
   tap(s, Key::H);
   CHECK_FALSE(s.shadows);
+  CHECK_FALSE(s.ground);
 }
 
 TEST_CASE("a key held down is pressed once: repeated key-down events do not toggle again") {

@@ -18,26 +18,6 @@ namespace {
 // the thread count (nor would the result: each vertex is computed alone).
 constexpr std::size_t kVerticesPerTask = 4096;
 
-// The inverse transpose of m's upper 3×3 (cofactors over the determinant); the identity
-// gives the identity exactly. A singular matrix gives its cofactor matrix (the normals of
-// a flattened part keep a direction rather than becoming NaN).
-glm::dmat3 normal_matrix(const glm::dmat4& m) {
-  const glm::dmat3 a(m);
-  glm::dmat3 c;
-  c[0][0] = a[1][1] * a[2][2] - a[2][1] * a[1][2];
-  c[0][1] = a[2][0] * a[1][2] - a[1][0] * a[2][2];
-  c[0][2] = a[1][0] * a[2][1] - a[2][0] * a[1][1];
-  c[1][0] = a[2][1] * a[0][2] - a[0][1] * a[2][2];
-  c[1][1] = a[0][0] * a[2][2] - a[2][0] * a[0][2];
-  c[1][2] = a[2][0] * a[0][1] - a[0][0] * a[2][1];
-  c[2][0] = a[0][1] * a[1][2] - a[1][1] * a[0][2];
-  c[2][1] = a[1][0] * a[0][2] - a[0][0] * a[1][2];
-  c[2][2] = a[0][0] * a[1][1] - a[1][0] * a[0][1];
-  const double det = a[0][0] * c[0][0] + a[1][0] * c[1][0] + a[2][0] * c[2][0];
-  if (det == 1.0 || !std::isfinite(det) || det == 0.0) return c;
-  return c * (1.0 / det);
-}
-
 // One pass over vertices [begin, end) of `from` into `out` (which may be `from`: each
 // vertex is read whole before it is written): morphed when `morph`, skinned when `skin`.
 void deform_range(const Mesh& from, const Deformation& d, const std::vector<float>& morph_weights, bool morph,
@@ -96,6 +76,24 @@ void deform_range(const Mesh& from, const Deformation& d, const std::vector<floa
 }
 
 }  // namespace
+
+glm::dmat3 normal_matrix(const glm::dmat4& m) {
+  const glm::dmat3 a(m);
+  glm::dmat3 c;
+  c[0][0] = a[1][1] * a[2][2] - a[2][1] * a[1][2];
+  c[0][1] = a[2][0] * a[1][2] - a[1][0] * a[2][2];
+  c[0][2] = a[1][0] * a[2][1] - a[2][0] * a[1][1];
+  c[1][0] = a[2][1] * a[0][2] - a[0][1] * a[2][2];
+  c[1][1] = a[0][0] * a[2][2] - a[2][0] * a[0][2];
+  c[1][2] = a[2][0] * a[0][1] - a[0][0] * a[2][1];
+  c[2][0] = a[0][1] * a[1][2] - a[1][1] * a[0][2];
+  c[2][1] = a[1][0] * a[0][2] - a[0][0] * a[1][2];
+  c[2][2] = a[0][0] * a[1][1] - a[1][0] * a[0][1];
+  const double det = a[0][0] * c[0][0] + a[1][0] * c[1][0] + a[2][0] * c[2][0];
+  if (det == 1.0 || !std::isfinite(det) || det == 0.0) return c;
+  return c * (1.0 / det);
+}
+
 
 JointPalette joint_palette(const std::vector<glm::dmat4>& J) {
   JointPalette out(J.size());

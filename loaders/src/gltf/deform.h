@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
 #include "softpbr/pbr/mesh.h"
@@ -71,5 +72,10 @@ void deform(const Mesh& base, const Deformation& d, Mesh& out, raster::ThreadPoo
 
 // The same into a new mesh (a copy of base's indices, UVs and colours).
 Mesh deform(const Mesh& base, const Deformation& d, raster::ThreadPool* pool);
+
+// The inverse transpose of m's upper 3×3 (cofactors over the determinant): a joint's normal
+// matrix. The identity gives the identity exactly; a singular matrix gives its cofactor
+// matrix (the normals of a flattened part keep a direction rather than becoming NaN).
+glm::dmat3 normal_matrix(const glm::dmat4& m);
 
 }  // namespace softpbr::pbr::gltf

@@ -39,7 +39,8 @@ enum class BackgroundMode : std::uint8_t { Color, Environment, Blur };
 // the shadow as its alpha — so that over a transparent background the image's alpha is the
 // shadow, which composites onto any page. The shadow is the objects' soft contact shadow
 // (their depth seen from below, what is higher above the ground fainter and more blurred)
-// and, over it, the shadows that the lights casting shadows (Light::shadows) throw on it.
+// and, over it, the shadows that the lights casting shadows (Light::shadows) and the
+// environment's dominant light throw on it.
 struct Ground {
   bool shadow = false;
   float darkness = 0.7f;  // the shadow's opacity where an object touches the ground, [0, 1]
@@ -73,7 +74,7 @@ std::uint64_t occlusion_memory(int width, int height);
 
 // Bytes a frame of the scene holds besides its target for its shadow maps: a depth-only
 // target a face for each light with shadows (16 MiB a directional or spot light, 24 MiB a
-// point light's six faces), and for its ground's shadow (3.3 MiB).
+// point light's six faces), and for its ground's shadow (20 MiB).
 std::uint64_t shadow_memory(const Scene& scene);
 
 // Clears the target to the background (depth to 1), draws the environment as the

@@ -357,7 +357,7 @@ struct BasicTexturedPbrShader {
   // The layers' lanes at this pixel: the factors times their textures (layered_shading.h).
   template <class F, class Lookup>
   static LayerLanes<F> layer_lanes(const PreparedLayers& L, const Lookup& lookup, F metallic) {
-    LayerLanes<F> out;
+    LayerLanes<F> out{};  // the layers that are off stay zero (GCC: -Wmaybe-uninitialized)
     Vec3L<F> specular_color = lanes<F>(L.specular_color);
     F weight(L.specular);
     if (L.specular_color_slot.texture != nullptr) {
