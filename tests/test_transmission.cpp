@@ -385,7 +385,7 @@ TEST_CASE("golden: examples/scenes/glass.json (roughness and attenuation rows) a
   }
 }
 
-TEST_CASE("dispersion: green keeps the undispersed bits, red and blue move; 0 or a thin wall disperse nothing") {
+TEST_CASE("dispersion: green keeps the undispersed bits, red and blue move, and 0 or a thin wall disperse nothing") {
   pbr::Scene plain = glass_scene();
   pbr::Scene dispersed = plain;
   pbr::Scene zero = plain;
