@@ -248,6 +248,14 @@ std::vector<BenchScene> layered_gallery_variants(int width, int height) {
     m.iridescence.factor = 1.0f;
     m.iridescence.thickness_max = 500.0f;
   });
+  // Glass (issue 49): every sphere transmissive, with a volume — the frame adds the opaque
+  // pass' copy and its mip chain (here the environment background alone) and the refraction.
+  variant("transmission", [](pbr::Material& m) {
+    m.transmission.factor = 1.0f;
+    m.volume.thickness = 0.5f;
+    m.volume.attenuation_distance = 1.0f;
+    m.volume.attenuation_color = {0.9f, 0.7f, 0.5f};
+  });
   // The same with three punctual lights (the gallery has none: its layers' per-light terms
   // are measured here), against gallery_ibl_lit_<size>.
   const auto lit = [&](BenchScene s, const std::string& name) {

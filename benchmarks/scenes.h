@@ -94,7 +94,7 @@ BenchScene ibl_gallery_scene(int width, int height);
 //   gallery_ibl_empty      nothing but the clear and the tone map of the cleared tiles
 std::vector<BenchScene> ibl_gallery_variants(int width, int height);
 // The IBL gallery with each layer of the material extensions on every material, and all of
-// them: gallery_layers_{specular,clearcoat,sheen,all}_<size>.
+// them: gallery_layers_{specular,clearcoat,sheen,all,anisotropy,iridescence,transmission}_<size>.
 std::vector<BenchScene> layered_gallery_variants(int width, int height);
 
 // Variants of fill_scene(width, height) that split its frame time (bench_scenes only),

@@ -1,7 +1,9 @@
 // Determinism (docs/design.md, "Determinism"): the same scene gives the same colour and depth bits with any
 // thread count, tile size and packet lane width, frame after frame, and with two
 // renderers at once.
+#include <atomic>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <thread>
 #include <utility>
@@ -367,6 +369,51 @@ TEST_CASE("rasterizing in several passes (a small geometry budget) gives the one
       raster::Target u(kW, kH);
       draw_lit<LitPacketShader>(s, fresh, u);
       CHECK(hashes(t) == hashes(u));
+    }
+  }
+}
+
+TEST_CASE("Renderer::flush mid-frame gives the one-pass bits, and its callback sees every tile once") {
+  // draw_scene's draws with a flush after the spheres (as pbr::render's transmission pass
+  // flushes after the opaque objects), on 1 and 4 samples, kept and transient targets.
+  const Scene s = make_scene();
+  const auto draw = [&](raster::Renderer& r, raster::Target& t, bool flush, std::size_t* tiles) {
+    r.begin_frame(t, raster::ClearValues{{0.1f, 0.1f, 0.1f, 1.0f}, 1.0f});
+    raster::DrawState culled;
+    culled.cull = raster::Cull::Back;
+    for (const glm::vec3& o : s.offsets)
+      r.draw(TexturedShader{s.view_projection, o, {2, 3, 4}}, std::span<const pbr::MeshVertex>(s.sphere.vertices),
+             s.sphere.indices, culled);
+    std::atomic<std::size_t> seen{0};
+    if (flush) r.flush([&](const raster::TileRect&, bool, const raster::TargetPixels&) { seen.fetch_add(1); });
+    raster::DrawState over;
+    over.blend = raster::Blend::Over;
+    over.depth_write = false;
+    r.draw(TintShader{s.view_projection}, std::span<const TintShader::Vertex>(s.translucent), over);
+    // The image as the command keeps it: resolved per tile by the callback.
+    std::vector<glm::vec4> image(static_cast<std::size_t>(kW) * kH);
+    r.end_frame([&](const raster::TileRect& rect, bool, const raster::TargetPixels& px) {
+      raster::resolve_box(px, rect.x0, rect.y0, rect.x1, rect.y1,
+                          image.data() + static_cast<std::size_t>(rect.y0) * kW + rect.x0, kW);
+    });
+    if (tiles != nullptr) *tiles = seen.load();
+    return image;
+  };
+  const auto same = [](const std::vector<glm::vec4>& a, const std::vector<glm::vec4>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec4)) == 0;
+  };
+  for (const int samples : {1, 4}) {
+    for (const unsigned threads : {1u, 3u}) {
+      CAPTURE(samples);
+      CAPTURE(threads);
+      raster::Renderer r({.threads = threads, .tile_size = 32});
+      raster::Target kept(kW, kH, samples, &r.pool());
+      const std::vector<glm::vec4> reference = draw(r, kept, false, nullptr);
+      std::size_t tiles = 0;
+      CHECK(same(draw(r, kept, true, &tiles), reference));
+      CHECK(tiles == static_cast<std::size_t>((kW + 31) / 32) * static_cast<std::size_t>((kH + 31) / 32));
+      raster::Target transient(kW, kH, samples, &r.pool(), raster::SampleStorage::Transient);
+      CHECK(same(draw(r, transient, true, nullptr), reference));
     }
   }
 }

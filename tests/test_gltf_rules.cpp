@@ -3,6 +3,8 @@
 // holds many as int), the node hierarchy, transforms, accessor types, and the references
 // of skins, animations and extensions. Each hostile file is one line with its JSON pointer;
 // each valid variant loads. Files are built here as small JSON documents (and .glb bytes).
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -270,6 +272,76 @@ TEST_CASE("glTF instancing: the draws of every mesh instance are counted from th
   CAPTURE(message);
   CHECK(message.rfind("many.gltf: /scenes/0/nodes: its nodes place 2000 mesh instances, whose draws need an estimated ", 0) == 0);
   CHECK(message.find("over the memory limit of 32.0 MiB (counted before any mesh is built)") != std::string::npos);
+}
+
+TEST_CASE("glTF material extensions: transmission and volume are read, required or not, each value checked") {
+  const auto with_material = [](const Json& extensions, bool required = false) {
+    Json j = Json::parse(kTriangle);
+    j["materials"] = Json::array({Json{{"extensions", extensions}}});
+    j["meshes"][0]["primitives"][0]["material"] = 0;
+    Json used = Json::array();
+    for (const auto& item : extensions.items()) used.push_back(item.key());
+    j["extensionsUsed"] = used;
+    if (required) j["extensionsRequired"] = used;
+    return bytes_of(j.dump());
+  };
+  const Json glass = {{"KHR_materials_transmission", {{"transmissionFactor", 0.9}}},
+                      {"KHR_materials_volume",
+                       {{"thicknessFactor", 0.25}, {"attenuationDistance", 0.5}, {"attenuationColor", {0.9, 0.5, 0.2}}}}};
+  const pbr::GltfScene g = pbr::load_gltf(with_material(glass, true), "glass.gltf", "/nonexistent-folder");
+  REQUIRE(g.objects.size() == 1);
+  const pbr::Material& m = g.objects[0].material;
+  CHECK(m.transmission.factor == 0.9f);
+  CHECK(m.volume.thickness == 0.25f);
+  CHECK(m.volume.attenuation_distance == 0.5f);
+  CHECK(m.volume.attenuation_color == glm::vec3(0.9f, 0.5f, 0.2f));
+  CHECK(m.transmissive());
+  CHECK(m.layered());
+  for (const std::string& w : g.warnings) CHECK(w.find("not supported") == std::string::npos);
+  // Defaults: no transmission, a thin wall, no attenuation.
+  const pbr::GltfScene d = pbr::load_gltf(
+      with_material({{"KHR_materials_transmission", Json::object()}, {"KHR_materials_volume", Json::object()}}),
+      "defaults.gltf", "/nonexistent-folder");
+  const pbr::Material& dm = d.objects[0].material;
+  CHECK_FALSE(dm.transmissive());
+  CHECK_FALSE(dm.layered());
+  CHECK(dm.volume.thickness == 0.0f);
+  CHECK(std::isinf(dm.volume.attenuation_distance));
+  const std::vector<std::string>& rendered = pbr::gltf_extensions_rendered();
+  for (const char* e : {"KHR_materials_transmission", "KHR_materials_volume"})
+    CHECK(std::find(rendered.begin(), rendered.end(), e) != rendered.end());
+  const struct {
+    Json extensions;
+    const char* message;
+  } bad[] = {
+      {{{"KHR_materials_transmission", {{"transmissionFactor", "x"}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_transmission/transmissionFactor: expected a finite number"},
+      {{{"KHR_materials_volume", {{"attenuationDistance", 0}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_volume/attenuationDistance: must be a finite number > 0"},
+      {{{"KHR_materials_volume", {{"attenuationDistance", -2.0}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_volume/attenuationDistance: must be a finite number > 0"},
+      {{{"KHR_materials_volume", {{"attenuationDistance", 1e-300}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_volume/attenuationDistance: must be a finite number > 0"},
+      {{{"KHR_materials_volume", {{"thicknessFactor", "thick"}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_volume/thicknessFactor: expected a finite number"},
+      {{{"KHR_materials_volume", {{"attenuationColor", {1, 1}}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_volume/attenuationColor: expected three numbers"},
+      {{{"KHR_materials_transmission", {{"transmissionTexture", {{"index", 4}}}}}},
+       "bad.gltf: /materials/0/extensions/KHR_materials_transmission/transmissionTexture/index: texture 4 does not exist"},
+  };
+  for (const auto& b : bad) {
+    CAPTURE(b.extensions.dump());
+    CHECK(load_error(with_material(b.extensions), "bad.gltf") == b.message);
+  }
+  // Out-of-range values are clamped as the schema's ranges (a negative thickness is 0, a
+  // colour channel above 1 is 1), as the other extensions' factors are.
+  const pbr::GltfScene c = pbr::load_gltf(
+      with_material({{"KHR_materials_transmission", {{"transmissionFactor", 7}}},
+                     {"KHR_materials_volume", {{"thicknessFactor", -3}, {"attenuationColor", {2, 0.5, -1}}}}}),
+      "clamped.gltf", "/nonexistent-folder");
+  CHECK(c.objects[0].material.transmission.factor == 1.0f);
+  CHECK(c.objects[0].material.volume.thickness == 0.0f);
+  CHECK(c.objects[0].material.volume.attenuation_color == glm::vec3(1.0f, 0.5f, 0.0f));
 }
 
 TEST_CASE("glTF material extensions: ior, specular, clearcoat and sheen are read into the layers, each checked") {

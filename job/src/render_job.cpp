@@ -338,6 +338,11 @@ MemoryEstimate estimate_memory(const pbr::LoadedScene& f, const pbr::RenderSetti
   std::uint64_t image = pbr::image_memory(s.width, s.height, s.msaa);
   if (f.scene.environment.map && f.scene.environment.occlusion) image += pbr::occlusion_memory(s.width, s.height);
   image += pbr::shadow_memory(f.scene);
+  for (const pbr::Object& o : f.scene.objects)
+    if (o.material.transmissive()) {
+      image += pbr::transmission_memory(s.width, s.height);
+      break;
+    }
   return {image, f.mesh_bytes, f.texture_bytes, f.environment_bytes};
 }
 

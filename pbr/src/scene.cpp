@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -37,6 +38,17 @@ namespace {
 void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target& target,
                   const raster::Renderer::TileCallback& after_tile);
 }  // namespace
+
+std::uint64_t transmission_memory(int width, int height) {
+  if (width < 1 || height < 1) return 0;
+  // The resolved copy and its texture (every level, counted level by level).
+  std::uint64_t bytes = 16 * static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+  for (int w = width, h = height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+    bytes += 16 * static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h);
+    if (w == 1 && h == 1) break;
+  }
+  return bytes;
+}
 
 std::uint64_t shadow_memory(const Scene& scene) {
   std::uint64_t bytes = 0;
@@ -436,8 +448,11 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       scene.camera.view();
   // An orthographic camera's one direction towards the camera (validate(): not zero).
   const glm::vec3 view_direction = glm::normalize(scene.camera.position - scene.camera.target);
-  std::vector<ObjectDraw> opaque, blended;
-  // Object `o` (scene.objects[i], or the ground) as a draw in `opaque` or `blended`.
+  std::vector<ObjectDraw> opaque, blended, transmissive;
+  // What the transmissive draws read: the opaque pass's colour (filled after that pass).
+  TransmissionSource source;
+  // Object `o` (scene.objects[i], or the ground) as a draw in `opaque`, `transmissive` or
+  // `blended`.
   const auto add_draw = [&](const Object& o, std::size_t i) {
     const std::string where = "objects[" + std::to_string(i) + "]";
     if (!o.mesh) throw std::invalid_argument(where + ": has no mesh");
@@ -455,7 +470,9 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       s.view_direction = view_direction;
       s.ambient = scene.ambient;
       s.lights = o.receive_shadows ? std::shared_ptr<const std::vector<PreparedLight>>(lights) : unshadowed_lights;
-      s.environment = occluding && o.material.alpha_mode != AlphaMode::Blend ? &occluded : env;
+      // Transmissive objects are not in the occlusion pass (they are seen through).
+      s.environment =
+          occluding && o.material.alpha_mode != AlphaMode::Blend && !o.material.transmissive() ? &occluded : env;
     };
     if (!needs_textured_shader(o)) {
       d.plain.material = with_context(where, [&] { return prepare_material(o.material); });
@@ -497,24 +514,33 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       }
       d.vertices = with_context(where, [&] { return textured_vertices(*d.mesh); });
       set_up(d.textured);
-      if (d.kind == ObjectDraw::Kind::Layered) set_up(d.layered);
+      if (d.kind == ObjectDraw::Kind::Layered) {
+        set_up(d.layered);
+        if (material->layers.transmission)
+          d.layered.transmission = transmission_uniforms(material->layers, &source, view_projection, o.transform);
+      }
     }
     if (o.material.double_sided) d.state.cull = raster::Cull::None;
     if (o.material.alpha_mode == AlphaMode::Blend) {
       d.state.blend = raster::Blend::Over;
       d.state.depth_write = false;
+    }
+    if (o.material.alpha_mode == AlphaMode::Blend || o.material.transmissive()) {
       const Bounds b = bounds(*o.mesh);
       const glm::vec3 centre = b.empty() ? glm::vec3(0.0f) : glm::vec3(o.transform * glm::vec4(b.centre(), 1.0f));
       const glm::vec3 to_eye = centre - scene.camera.position;
       // Orthographic: the distance along the view direction, farthest first as well.
       d.distance2 = scene.camera.orthographic ? -glm::dot(to_eye, view_direction) : glm::dot(to_eye, to_eye);
     }
-    (o.material.alpha_mode == AlphaMode::Blend ? blended : opaque).push_back(std::move(d));
+    (o.material.transmissive() ? transmissive : o.material.alpha_mode == AlphaMode::Blend ? blended : opaque)
+        .push_back(std::move(d));
   };
   for (std::size_t i = 0; i < scene.objects.size(); ++i) add_draw(scene.objects[i], i);
-  // Blended objects after every opaque one, farthest first (ties: scene order).
-  std::stable_sort(blended.begin(), blended.end(),
-                   [](const ObjectDraw& a, const ObjectDraw& b) { return a.distance2 > b.distance2; });
+  // Blended objects after every opaque one, farthest first (ties: scene order); the
+  // transmissive ones between the two, farthest first too (the glTF Sample Viewer's order).
+  const auto farthest_first = [](const ObjectDraw& a, const ObjectDraw& b) { return a.distance2 > b.distance2; };
+  std::stable_sort(blended.begin(), blended.end(), farthest_first);
+  std::stable_sort(transmissive.begin(), transmissive.end(), farthest_first);
 
   ShadowFrame shadow_frame;  // the maps live until the frame is drawn
   Object ground;             // the ground's draw points into it
@@ -529,7 +555,7 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   }
   // What the draws will bin, so that a transient target's frame that fits is one pass.
   std::size_t geometry = raster::draw_geometry_bytes(3, 1, raster::kVaryingCount<BackgroundShader::Varyings>);
-  for (const auto* list : {&opaque, &blended})
+  for (const auto* list : {&opaque, &transmissive, &blended})
     for (const ObjectDraw& d : *list)
       geometry += raster::draw_geometry_bytes(d.mesh->vertices.size(), d.mesh->indices.size() / 3, d.varying_count());
   if (occluding) {
@@ -539,6 +565,16 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
     occluded.occlusion_height = target.height();
     occluded.specular_occlusion = kSpecularOcclusion;
   }
+  // What resolve_box makes of a pixel holding only the clear value (the transmission's copy).
+  glm::vec4 cleared_color = scene.background;
+  if (!transmissive.empty()) {
+    std::array<glm::vec4, raster::kMaxSamples> colors;
+    std::array<float, raster::kMaxSamples> depths{};
+    colors.fill(scene.background);
+    raster::resolve_box(raster::TargetPixels{colors.data(), depths.data(), 1, 1, target.samples(), 1, 0}, 0, 0, 1, 1,
+                        &cleared_color, 1);
+  }
+  std::optional<raster::Texture> opaque_copy;  // the transmission's source, until the frame ends
   renderer.begin_frame(target, raster::ClearValues{scene.background, 1.0f}, geometry);
   try {
     const auto draw_objects = [&](const std::vector<ObjectDraw>& list) {
@@ -574,6 +610,36 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
       state.depth_test = raster::DepthTest::LessEqual;
       state.depth_write = false;
       renderer.draw(bg, std::span<const BackgroundShader::Vertex>(tri), state);
+    }
+    if (!transmissive.empty()) {
+      // The transmission pass (docs/design.md, "Shading"): what the opaque draws and the
+      // background left, resolved tile by tile by the threads that drew them, becomes a
+      // float texture with its mip chain (built on the renderer's threads; the same bits
+      // for any thread count), which the transmissive draws read. Non-finite colours
+      // (a shader's overflow) read as 0 there.
+      const int w = target.width(), h = target.height();
+      std::vector<glm::vec4> copy(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+      const std::size_t width = static_cast<std::size_t>(w);
+      renderer.flush([&](const raster::TileRect& r, bool only_clear, const raster::TargetPixels& px) {
+        glm::vec4* const at = copy.data() + static_cast<std::size_t>(r.y0) * width + static_cast<std::size_t>(r.x0);
+        const std::size_t n = static_cast<std::size_t>(r.x1 - r.x0);
+        if (only_clear) {
+          for (int y = r.y0; y < r.y1; ++y) std::fill_n(at + static_cast<std::size_t>(y - r.y0) * width, n, cleared_color);
+        } else {
+          raster::resolve_box(px, r.x0, r.y0, r.x1, r.y1, at, width);
+        }
+        for (int y = r.y0; y < r.y1; ++y)
+          for (glm::vec4& c : std::span<glm::vec4>(at + static_cast<std::size_t>(y - r.y0) * width, n))
+            for (int k = 0; k < 4; ++k)
+              if (!std::isfinite(c[k])) c[k] = 0.0f;
+      });
+      const image::ImageViewF view(w, h, std::span<const float>(&copy[0].x, copy.size() * 4));
+      opaque_copy.emplace(view, raster::TextureOptions{}, &renderer.pool());
+      std::vector<glm::vec4>().swap(copy);
+      source.texture = &*opaque_copy;
+      source.sampler.wrap_u = source.sampler.wrap_v = raster::Wrap::ClampToEdge;
+      source.levels = static_cast<float>(dmath::log(static_cast<double>(std::max(w, h))) / dmath::log(2.0));
+      draw_objects(transmissive);
     }
     draw_objects(blended);
   } catch (...) {

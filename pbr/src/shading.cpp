@@ -1,6 +1,8 @@
 // Material validation for shading (see shading.h).
 #include "softpbr/pbr/shading.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -118,6 +120,14 @@ PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<con
           "must be a finite number ≥ 0");
   require(m.iridescence.thickness_max >= 0.0f && std::isfinite(m.iridescence.thickness_max), "iridescence.thickness_max",
           "must be a finite number ≥ 0");
+  require(in01(m.transmission.factor), "transmission.factor", "must be a number in [0, 1]");
+  require(m.volume.thickness >= 0.0f && std::isfinite(m.volume.thickness), "volume.thickness",
+          "must be a finite number ≥ 0");
+  require(m.volume.attenuation_distance > 0.0f, "volume.attenuation_distance", "must be a number > 0 (or +∞)");
+  require(in01(m.volume.attenuation_color.r) && in01(m.volume.attenuation_color.g) &&
+              in01(m.volume.attenuation_color.b),
+          "volume.attenuation_color", "must be in [0, 1]");
+  require(m.dispersion >= 0.0f && std::isfinite(m.dispersion), "dispersion", "must be a finite number ≥ 0");
   PreparedLayers l;
   l.f0_ior = f0_from_ior(m.ior);
   l.specular = m.specular.factor;
@@ -163,6 +173,46 @@ PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<con
     keep_slot(m.iridescence.texture);
     keep_slot(m.iridescence.thickness_texture);
   }
+  l.transmission = m.transmissive();
+  if (l.transmission) {
+    l.transmission_factor = m.transmission.factor;
+    l.thickness = m.volume.thickness;
+    l.transmission_slot = prepare_slot(m.transmission.texture, "transmission");
+    l.thickness_slot = prepare_slot(m.volume.thickness_texture, "volume_thickness");
+    keep_slot(m.transmission.texture);
+    keep_slot(m.volume.thickness_texture);
+    // refract()'s η = 1/ior (an ior of 0 stands for +∞: η = 0, the ray along −n), and the
+    // Sample Viewer's applyIorToRoughness: LOD × clamp(2 ior − 2, 0, 1).
+    const auto eta_of = [](double ior) { return ior == 0.0 ? 0.0f : static_cast<float>(1.0 / ior); };
+    const auto lod_scale_of = [](double ior) {
+      return ior == 0.0 ? 1.0f : static_cast<float>(std::clamp(2.0 * ior - 2.0, 0.0, 1.0));
+    };
+    l.eta = eta_of(m.ior);
+    l.lod_scale = lod_scale_of(m.ior);
+    // KHR_materials_dispersion (with a volume: a thin wall does not refract): red and blue
+    // at ior ∓ (ior − 1) · 0.025 · dispersion (the Sample Viewer's), green at ior. An ior of
+    // 0 (+∞) does not disperse.
+    l.dispersed = m.dispersion > 0.0f && m.volume.thickness > 0.0f && m.ior != 0.0f && std::isfinite(m.ior);
+    if (l.dispersed) {
+      const double ior = m.ior, half_spread = (ior - 1.0) * 0.025 * static_cast<double>(m.dispersion);
+      const double iors[3] = {std::max(1.0, ior - half_spread), ior, ior + half_spread};
+      for (int c = 0; c < 3; ++c) {
+        l.eta_rgb[c] = eta_of(iors[c]);
+        l.lod_scale_rgb[c] = lod_scale_of(iors[c]);
+      }
+    }
+    // Beer–Lambert: colour^(d / distance) = exp(−σ d), σ = −ln(colour) / distance (dmath,
+    // in double, rounded once), capped so that a black colour keeps σ · 0 = 0.
+    l.attenuated = std::isfinite(m.volume.attenuation_distance) && m.volume.attenuation_color != glm::vec3(1.0f);
+    if (l.attenuated) {
+      for (int c = 0; c < 3; ++c) {
+        const double colour = m.volume.attenuation_color[c];
+        const double sigma = colour <= 0.0 ? static_cast<double>(kMaxSigma)
+                                            : -dmath::log(colour) / static_cast<double>(m.volume.attenuation_distance);
+        l.sigma[c] = static_cast<float>(std::min(sigma, static_cast<double>(kMaxSigma)));
+      }
+    }
+  }
   if (l.sheen) {
     l.sheen_color_slot = prepare_slot(m.sheen.color_texture, "sheen_color");
     l.sheen_roughness_slot = prepare_slot(m.sheen.roughness_texture, "sheen_roughness");
@@ -170,6 +220,25 @@ PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<con
     keep_slot(m.sheen.roughness_texture);
   }
   return l;
+}
+
+TransmissionUniforms transmission_uniforms(const PreparedLayers& layers, const TransmissionSource* source,
+                                           const glm::mat4& view_projection, const glm::mat4& model) {
+  TransmissionUniforms t;
+  t.source = source;
+  t.view_projection = view_projection;
+  for (int c = 0; c < 3; ++c) {
+    const glm::vec3 column(model[c]);
+    t.scale[c] = std::sqrt(column.x * column.x + column.y * column.y + column.z * column.z);
+  }
+  t.eta = layers.eta;
+  t.lod_scale = layers.lod_scale;
+  t.attenuated = layers.attenuated;
+  t.sigma = layers.sigma;
+  t.dispersed = layers.dispersed;
+  t.eta_rgb = layers.eta_rgb;
+  t.lod_scale_rgb = layers.lod_scale_rgb;
+  return t;
 }
 
 TexturedStreams textured_streams(const TexturedMaterial& m, bool vertex_colors) {

@@ -218,6 +218,12 @@ void Renderer::require_frame() const {
 
 void Renderer::end_frame() { end_frame(nullptr); }
 
+void Renderer::flush(const TileCallback& after_tile) {
+  if (!target_) throw std::logic_error("Renderer::flush: no frame is open");
+  rasterize_pending(*target_, after_tile ? &after_tile : nullptr, false);
+  frame_budget_ = geometry_budget_;  // the target's planes exist now: the usual passes
+}
+
 void Renderer::end_frame(const TileCallback& after_tile) {
   if (!target_) throw std::logic_error("Renderer::end_frame: no frame is open");
   Target& target = *target_;

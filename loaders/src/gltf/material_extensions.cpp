@@ -1,6 +1,7 @@
 // The glTF reader's material extensions (see materials.h): KHR_materials_ior,
 // KHR_materials_specular, KHR_materials_clearcoat, KHR_materials_sheen,
-// KHR_materials_anisotropy and KHR_materials_iridescence, each to its
+// KHR_materials_anisotropy, KHR_materials_iridescence, KHR_materials_transmission,
+// KHR_materials_volume and KHR_materials_dispersion, each to its
 // ratified specification (KhronosGroup/glTF, extensions/2.0/Khronos/), into the layers of
 // pbr::Material. Factors must be finite numbers (else an error at their JSON pointer) and
 // are clamped to their ranges, as the core material's are.
@@ -161,6 +162,27 @@ void Materials::layers(Material& m, const tg::Material& g, const std::string& po
     m.iridescence.thickness_max = number(*x, xp, "iridescenceThicknessMaximum", 400.0, 0.0, 1e6);
     texture(m.iridescence.thickness_texture, *x, xp, "iridescenceThicknessTexture", CS::Linear);
   }
+  if (const tg::Value* x = extension("KHR_materials_transmission", xp)) {
+    m.transmission.factor = number(*x, xp, "transmissionFactor", 0.0, 0.0, 1.0);
+    texture(m.transmission.texture, *x, xp, "transmissionTexture", CS::Linear);
+  }
+  if (const tg::Value* x = extension("KHR_materials_volume", xp)) {
+    // The thickness in the mesh's coordinates (≥ 0; 0: thin-walled); the attenuation
+    // distance > 0, +∞ (no attenuation) when absent — JSON has no infinity, so a present
+    // value must be a finite number above 0.
+    m.volume.thickness = number(*x, xp, "thicknessFactor", 0.0, 0.0, 1e30);
+    texture(m.volume.thickness_texture, *x, xp, "thicknessTexture", CS::Linear);
+    if (x->Has("attenuationDistance")) {
+      const tg::Value& v = x->Get("attenuationDistance");
+      const double distance = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+      if (!(distance > 0.0 && std::isfinite(distance) && static_cast<float>(distance) > 0.0f))
+        fail(xp + "/attenuationDistance", "must be a finite number > 0");
+      m.volume.attenuation_distance = static_cast<float>(std::min(distance, 1e30));
+    }
+    m.volume.attenuation_color = color(*x, xp, "attenuationColor", glm::vec3(1.0f), 1.0);
+  }
+  if (const tg::Value* x = extension("KHR_materials_dispersion", xp))
+    m.dispersion = number(*x, xp, "dispersion", 0.0, 0.0, 1e6);
 }
 
 }  // namespace softpbr::pbr::gltf

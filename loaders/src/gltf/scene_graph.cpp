@@ -502,6 +502,7 @@ const std::vector<std::string>& gltf_extensions_rendered() {
                                   "KHR_mesh_quantization", "KHR_lights_punctual", "KHR_materials_unlit",
                                   "KHR_materials_ior", "KHR_materials_specular", "KHR_materials_clearcoat",
                                   "KHR_materials_sheen", "KHR_materials_anisotropy", "KHR_materials_iridescence",
+                                  "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_dispersion",
                                   gltf::kMeshopt, gltf::kDraco, gltf::kInstancing};
     std::sort(v.begin(), v.end());
     return v;

@@ -17,7 +17,7 @@ Material read_material(const Reader& r, const Node& spec, TextureLibrary& textur
   r.object(spec, {"preset", "base_color", "metallic", "roughness", "ao", "emissive", "alpha", "alpha_mode",
                   "alpha_cutoff", "double_sided", "base_color_texture", "metallic_roughness_texture",
                   "normal_texture", "normal_scale", "occlusion_texture", "occlusion_strength", "emissive_texture",
-                  "ior", "specular", "clearcoat", "sheen", "anisotropy", "iridescence"});
+                  "ior", "specular", "clearcoat", "sheen", "anisotropy", "iridescence", "transmission", "volume", "dispersion"});
   Material m;
   if (auto p = r.member(spec, "preset")) {
     if (!p->value.is_string()) r.fail(*p, "expected a preset name, got " + json_reader::show(p->value));
@@ -89,6 +89,19 @@ Material read_material(const Reader& r, const Node& spec, TextureLibrary& textur
     if (auto t = r.member(*s, "thickness_texture"))
       m.iridescence.thickness_texture = textures.slot(*t, ColorSpace::Linear);
   }
+  if (auto s = r.member(spec, "transmission")) {
+    r.object(*s, {"factor", "texture"});
+    if (auto c = r.member(*s, "factor")) m.transmission.factor = r.number_f(*c, 0, 1);
+    if (auto t = r.member(*s, "texture")) m.transmission.texture = textures.slot(*t, ColorSpace::Linear);
+  }
+  if (auto s = r.member(spec, "volume")) {
+    r.object(*s, {"thickness", "thickness_texture", "attenuation_distance", "attenuation_color"});
+    if (auto c = r.member(*s, "thickness")) m.volume.thickness = r.number_f(*c, 0, 1e30);
+    if (auto c = r.member(*s, "attenuation_distance")) m.volume.attenuation_distance = r.number_f(*c, 0, 1e30, true);
+    if (auto c = r.member(*s, "attenuation_color")) m.volume.attenuation_color = r.vec3(*c, 0, 1);
+    if (auto t = r.member(*s, "thickness_texture")) m.volume.thickness_texture = textures.slot(*t, ColorSpace::Linear);
+  }
+  if (auto c = r.member(spec, "dispersion")) m.dispersion = r.number_f(*c, 0, 1e6);
   return m;
 }
 

@@ -148,7 +148,8 @@ pbr::RenderSettings resolve(const pbr::RenderSettings& scene, const Settings& se
 struct MemoryEstimate {
   std::uint64_t image = 0;        // the target (pbr::image_memory: every sample, and the resolve),
                                   // with an environment's occlusion its buffers (pbr::occlusion_memory),
-                                  // and the lights' shadow maps (pbr::shadow_memory)
+                                  // the lights' shadow maps and the ground (pbr::shadow_memory),
+                                  // with a transmissive object the opaque copy (pbr::transmission_memory)
   std::uint64_t mesh = 0;         // meshes and their draws (LoadedScene::mesh_bytes)
   std::uint64_t texture = 0;      // textures' texels (LoadedScene::texture_bytes)
   std::uint64_t environment = 0;  // the environment's maps (LoadedScene::environment_bytes)

@@ -1,5 +1,6 @@
 // softpbr/pbr/layered_shading.h — the reflectance equation with glTF's material extensions:
-// KHR_materials_ior and _specular (the dielectric's F0 and F90), _sheen and _clearcoat.
+// KHR_materials_ior and _specular (the dielectric's F0 and F90), _sheen and _clearcoat,
+// _anisotropy, _iridescence, _transmission, _volume and _dispersion.
 //
 // The layers stack as the extensions' specifications and the glTF Sample Viewer stack them:
 //
@@ -25,6 +26,14 @@
 // the mirror direction (as Filament's cloth does; there is no Charlie-prefiltered map),
 // times colour · E(n·v).
 //
+// The transmission (KHR_materials_transmission, _volume; the glTF Sample Viewer's screen-space
+// technique, as three.js and Filament): the diffuse lobe becomes mix(f_diffuse, f_transmission, T),
+//   f_transmission = (1 − (F0_d A + w B)) · c (1 − metallic) · ao · τ · L_behind
+// with L_behind what the opaque pass left on screen where the refracted ray leaves the
+// volume (TransmissionSource: its mip chain read at LOD levels · roughness · clamp(2 ior − 2,
+// 0, 1)), the environment along the refracted ray where that point is off screen, and
+// τ = exp(−σ d) per channel over the ray's length d in the volume (Beer–Lambert).
+//
 // Each layer is off for a whole draw when its factor is 0 (a uniform: LayerLanes::coat,
 // ::sheen), and its operations then do not run. A coat whose factor is 0 only at some
 // pixels (a texture) gives f_base · (1 − 0) + 0 there: the base's bits. With F0(ior) = 0.04,
@@ -36,9 +45,14 @@
 #include <span>
 #include <type_traits>
 
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
 #include "softpbr/pbr/brdf.h"
 #include "softpbr/pbr/environment_lookup.h"
+#include "softpbr/pbr/lane_math.h"
 #include "softpbr/pbr/shading.h"
+#include "softpbr/raster/texture.h"
 
 namespace softpbr::pbr {
 
@@ -74,6 +88,39 @@ struct FilmLanes {
   float ior;    // the film's index (uniform)
 };
 
+template <class F>
+struct TransmissionLanes {
+  F factor;     // T, in [0, 1]
+  F thickness;  // the volume's thickness, in the mesh's units (≥ 0)
+  F roughness;  // the base's perceptual roughness before kMinRoughness, in [0, 1]
+};
+
+// What the transmissive draws of a frame see behind them: the opaque pass's resolved
+// linear colour (render(): the opaque objects and the background) as a float texture with
+// its mip chain, read through a clamp-to-edge trilinear sampler.
+struct TransmissionSource {
+  const raster::Texture* texture = nullptr;  // null: nothing on screen (the environment only)
+  raster::Sampler sampler;
+  float levels = 0.0f;  // log₂ of the texture's larger side: the LOD of roughness 1
+};
+
+// A transmissive draw's uniforms: the frame's source, the projection that finds a point on
+// it, the object's scale (the thickness is in the mesh's units: glTF scales it by the node's
+// scale, the lengths of the model matrix's columns, as the Sample Viewer does), and the
+// material's refraction and attenuation (PreparedLayers).
+struct TransmissionUniforms {
+  const TransmissionSource* source = nullptr;
+  glm::mat4 view_projection{1.0f};
+  glm::vec3 scale{1.0f};
+  float eta = 1.0f / 1.5f;    // 1 / ior (0 for an ior of 0, i.e. +∞)
+  float lod_scale = 0.0f;     // clamp(2 ior − 2, 0, 1): an ior of 1 refracts without blur
+  bool attenuated = false;    // a finite attenuation distance
+  glm::vec3 sigma{0.0f};      // −ln(attenuation colour) / attenuation distance, ≤ kMaxSigma
+  bool dispersed = false;     // KHR_materials_dispersion above 0: a ray per channel
+  glm::vec3 eta_rgb{1.0f / 1.5f}, lod_scale_rgb{0.0f};  // eta and lod_scale per channel
+};
+inline constexpr float kMaxSigma = 1e30f;  // a black attenuation colour: σ finite, so σ · 0 = 0
+
 // The layers of a material per lane. `coat`, `sheen`, `anisotropy` and `film` say whether
 // the layer is on for the draw (uniform); their lanes are read only then.
 template <class F>
@@ -83,10 +130,13 @@ struct LayerLanes {
   bool sheen = false;
   bool anisotropy = false;
   bool film = false;
+  bool transmission = false;
   CoatLanes<F> coat_lanes;
   SheenLanes<F> sheen_lanes;
   AnisotropyLanes<F> anisotropy_lanes;
   FilmLanes<F> film_lanes;
+  TransmissionLanes<F> transmission_lanes;
+  const TransmissionUniforms* transmission_uniforms = nullptr;  // with `transmission`
   Vec3L<F> dielectric_color;  // min(F0(ior) · specular colour, 1), unweighted (the film's base)
 };
 
@@ -142,14 +192,93 @@ inline F max3(const Vec3L<F>& c) {
   return simd::max(simd::max(c.x, c.y), c.z);
 }
 
+// The radiance seen through a transmissive surface at `position` (unit normal n, unit v,
+// n_dot_v = n·v): the refracted direction refract(−v, n, 1/ior) as GLSL's refract, the
+// point it leaves the volume, position + dir · thickness · scale, projected onto the
+// source (u = (x/w + 1)/2, v = (1 − y/w)/2: row 0 at the top) and read at LOD
+// source.levels · roughness · lod_scale; where that point is off screen (or behind the
+// eye), the environment's prefiltered radiance along dir at the same roughness when there
+// is one; then τ = exp(−σ d) per channel, d the distance travelled (Beer–Lambert; exp_lanes).
+// With dispersion (KHR_materials_dispersion) each channel is read along its own ray, of
+// index ior ∓ (ior − 1) · 0.025 · dispersion for red and blue (the Sample Viewer's), and d
+// is the green ray's.
+template <class F>
+inline Vec3L<F> transmitted_light(const TransmissionUniforms& t, const TransmissionLanes<F>& tl,
+                                  const Vec3L<F>& position, const Vec3L<F>& n, const Vec3L<F>& v, F n_dot_v,
+                                  const PreparedEnvironment* env) {
+  const F zero(0.0f), one(1.0f), half(0.5f);
+  // refract(I = −v, n, η) = η I − (η (n·I) + √k) n, k = 1 − η² (1 − (n·I)²); η ≤ 1, so k ≥ 1 − η² ≥ 0.
+  const auto refracted = [&](float eta_uniform, Vec3L<F>& dir, Vec3L<F>& ray) {
+    const F eta(eta_uniform);
+    const F k = simd::max(one - eta * eta * (one - n_dot_v * n_dot_v), zero);
+    dir = normalize_or(n * (eta * n_dot_v - simd::sqrt(k)) - v * eta, -n);
+    ray = Vec3L<F>(dir.x * (tl.thickness * F(t.scale.x)), dir.y * (tl.thickness * F(t.scale.y)),
+                   dir.z * (tl.thickness * F(t.scale.z)));
+  };
+  // What is seen where `ray` leaves the volume: the source there, else the environment along dir.
+  const auto seen_along = [&](const Vec3L<F>& dir, const Vec3L<F>& ray, F roughness) {
+    const Vec3L<F> exit = position + ray;
+    const glm::mat4& m = t.view_projection;
+    const F cx = F(m[0][0]) * exit.x + F(m[1][0]) * exit.y + F(m[2][0]) * exit.z + F(m[3][0]);
+    const F cy = F(m[0][1]) * exit.x + F(m[1][1]) * exit.y + F(m[2][1]) * exit.z + F(m[3][1]);
+    const F cw = F(m[0][3]) * exit.x + F(m[1][3]) * exit.y + F(m[2][3]) * exit.z + F(m[3][3]);
+    const auto ahead = cw > zero;
+    const F w = simd::select(ahead, cw, one);
+    const F u = (cx / w + one) * half;
+    const F vv = (one - cy / w) * half;
+    const auto inside =
+        simd::both(simd::both(ahead, simd::both(u >= zero, u <= one)), simd::both(vv >= zero, vv <= one));
+    Vec3L<F> seen(zero);
+    if (t.source != nullptr && t.source->texture != nullptr) {
+      const raster::Color<F> c = raster::sample_lod(*t.source->texture, t.source->sampler, simd::select(inside, u, half),
+                                                    simd::select(inside, vv, half), roughness * F(t.source->levels));
+      seen = Vec3L<F>(simd::select(inside, c.r, zero), simd::select(inside, c.g, zero), simd::select(inside, c.b, zero));
+    }
+    if (env != nullptr && simd::any(simd::select(inside, zero, one) > zero)) {
+      const EnvVec3<F> pre = env_radiance(*env, to_environment(*env, dir.x, dir.y, dir.z), roughness);
+      seen = Vec3L<F>(simd::select(inside, seen.x, pre.x), simd::select(inside, seen.y, pre.y),
+                      simd::select(inside, seen.z, pre.z));
+    }
+    return seen;
+  };
+  Vec3L<F> dir, ray, seen;
+  if (!t.dispersed) {
+    refracted(t.eta, dir, ray);
+    seen = seen_along(dir, ray, tl.roughness * F(t.lod_scale));
+  } else {
+    Vec3L<F> dir_c, ray_c;
+    refracted(t.eta_rgb.x, dir_c, ray_c);
+    seen.x = seen_along(dir_c, ray_c, tl.roughness * F(t.lod_scale_rgb.x)).x;
+    refracted(t.eta_rgb.z, dir_c, ray_c);
+    seen.z = seen_along(dir_c, ray_c, tl.roughness * F(t.lod_scale_rgb.z)).z;
+    refracted(t.eta_rgb.y, dir, ray);
+    seen.y = seen_along(dir, ray, tl.roughness * F(t.lod_scale_rgb.y)).y;
+  }
+  if (t.attenuated) {
+    const F d = simd::sqrt(simd::dot(ray, ray));
+    seen = Vec3L<F>(seen.x * exp_lanes(F(-t.sigma.x) * d), seen.y * exp_lanes(F(-t.sigma.y) * d),
+                    seen.z * exp_lanes(F(-t.sigma.z) * d));
+  }
+  return seen;
+}
+
 // Outgoing radiance with the layers: shade() (shading.h) of the layered material. m.f0
 // must be layered_f0(layers.dielectric, …).
 template <class F>
-inline Vec3L<F> shade_layered(const MaterialLanes<F>& m, const LayerLanes<F>& layers,
+inline Vec3L<F> shade_layered(const MaterialLanes<F>& m_in, const LayerLanes<F>& layers,
                               std::span<const PreparedLight> lights, const glm::vec3& ambient, const Vec3L<F>& position,
                               const Vec3L<F>& n_in, const Vec3L<F>& v, const PreparedEnvironment* env,
                               const std::type_identity_t<F>* occlusion) {
   const F zero(0.0f), one(1.0f);
+  // A transmission takes T of the diffuse lobe (mix(f_diffuse, f_transmission, T)): the
+  // diffuse terms below read the albedo times 1 − T; the film and the transmitted light
+  // read the material's own (m_in).
+  MaterialLanes<F> m_t;
+  if (layers.transmission) {
+    m_t = m_in;
+    m_t.albedo = m_in.albedo * (one - layers.transmission_lanes.factor);
+  }
+  const MaterialLanes<F>& m = layers.transmission ? m_t : m_in;
   DielectricLanes<F> d = layers.dielectric;
   const MaterialTerms<F> mt = material_terms(m);
   // F90 − F0 and the diffuse weight's (1 − F90) m⁵ part, c/π (1 − metallic) max(1 − F90, 0).
@@ -195,7 +324,7 @@ inline Vec3L<F> shade_layered(const MaterialLanes<F>& m, const LayerLanes<F>& la
     const FilmLanes<F>& fl = layers.film_lanes;
     const ThinFilm<F> tf = thin_film(vt.NoV, F(fl.ior), fl.thickness);
     const Vec3L<F> fd = F_iridescence(tf, layers.dielectric_color) * d.weight;
-    const Vec3L<F> fm = F_iridescence(tf, m.albedo);
+    const Vec3L<F> fm = F_iridescence(tf, m_in.albedo);
     d.film = true;
     // A film of thickness 0 is none (as the Sample Viewer and three.js: the formula's
     // Schlick terms do not vanish there).
@@ -269,6 +398,16 @@ inline Vec3L<F> shade_layered(const MaterialLanes<F>& m, const LayerLanes<F>& la
 
   // Image-based (or the constant ambient) light, then emission.
   Vec3L<F> indirect = env != nullptr ? ibl<F, true>(m, *env, n, v, occlusion, &d) : lanes<F>(ambient) * m.albedo * m.ao;
+  // The transmitted light, in the diffuse lobe's place (before the sheen and the coat).
+  if (layers.transmission) {
+    const TransmissionLanes<F>& tl = layers.transmission_lanes;
+    F A, B;
+    env_dfg(vt.NoV, m.roughness, A, B);
+    const Vec3L<F> reflected = d.f0 * A + Vec3L<F>(d.weight * B);
+    const Vec3L<F> seen = transmitted_light(*layers.transmission_uniforms, tl, position, n, v, vt.n_dot_v, env);
+    indirect = indirect + (Vec3L<F>(one) - reflected) * m_in.albedo * seen *
+                              (tl.factor * m_in.one_minus_metallic * m_in.ao);
+  }
   // What the layers' image-based light is multiplied by: ao and the specular occlusion.
   F specular_ao = m.ao;
   if (env != nullptr && occlusion != nullptr) specular_ao = (one - (one - *occlusion) * F(env->specular_occlusion)) * m.ao;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -98,6 +99,25 @@ struct Iridescence {
   TextureSlot thickness_texture;        // linear G: mix(min, max, G)
 };
 
+// KHR_materials_transmission: the fraction of light the dielectric lets through (thin,
+// optically clear: glass, water, plastic film), instead of scattering it diffusely. Drawn
+// after the opaque objects, reading what they left on screen (docs/design.md, "Shading").
+struct Transmission {
+  float factor = 0.0f;                  // in [0, 1]; 0: opaque (no transmission)
+  TextureSlot texture;                  // linear R × factor
+};
+
+// KHR_materials_volume: the medium inside a transmissive surface. The thickness is in the
+// mesh's own coordinates (the object's scale applies); 0 is a thin wall (no refraction
+// offset, no attenuation). Light crossing a distance d is attenuated by Beer–Lambert:
+// attenuation_color^(d / attenuation_distance) = exp(−σ d), σ = −ln(colour)/distance.
+struct Volume {
+  float thickness = 0.0f;               // ≥ 0, finite
+  TextureSlot thickness_texture;        // linear G × thickness
+  float attenuation_distance = std::numeric_limits<float>::infinity();  // > 0; +∞: none
+  glm::vec3 attenuation_color{1.0f, 1.0f, 1.0f};                         // linear, in [0, 1]
+};
+
 // The metal/roughness material of glTF 2.0. Each factor multiplies its texture when the
 // slot has one (the texture's linear value: colour textures are decoded from sRGB).
 struct Material {
@@ -129,15 +149,23 @@ struct Material {
   Specular specular;
   Anisotropy anisotropy;
   Iridescence iridescence;
+  Transmission transmission;
+  Volume volume;  // read only with a transmission
+  // KHR_materials_dispersion, read with a transmission and a volume: 20 / the Abbe number
+  // (≥ 0; 0: none). The indices of red and blue become ior ∓ (ior − 1) · 0.025 · dispersion.
+  float dispersion = 0.0f;
 
   // Whether any layer of the extensions is on: a coat or a sheen, or a dielectric F0 other
   // than the core material's 0.04 (an IOR other than 1.5, a specular factor or colour), an
-  // anisotropy or a thin film.
+  // anisotropy, a thin film or a transmission.
   bool layered() const {
     return clearcoat.factor != 0.0f || sheen.color != glm::vec3(0.0f) || ior != 1.5f || specular.factor != 1.0f ||
            specular.texture || specular.color != glm::vec3(1.0f) || specular.color_texture ||
-           anisotropy.strength != 0.0f || iridescence.factor != 0.0f;
+           anisotropy.strength != 0.0f || iridescence.factor != 0.0f || transmissive();
   }
+  // Whether the material transmits light (KHR_materials_transmission's factor above 0): it
+  // is drawn after the opaque objects, over a copy of them.
+  bool transmissive() const { return transmission.factor != 0.0f; }
 
   // Whether any slot holds a texture.
   bool textured() const {

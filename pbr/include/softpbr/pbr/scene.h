@@ -62,6 +62,12 @@ struct Scene {
   Ground ground;
 };
 
+// Bytes a frame of width × height pixels holds besides its target when the scene has a
+// transmissive object: the opaque pass's resolved copy (16 bytes a pixel) and its float
+// texture with the mip chain. (A transient multisampled target's sample planes, which such
+// a frame allocates, are what a kept target holds: image_memory counts them.)
+std::uint64_t transmission_memory(int width, int height);
+
 // Bytes a frame of width × height pixels holds besides its target when the scene's
 // environment has occlusion on: the 1-sample depth and normal target and two floats a pixel.
 std::uint64_t occlusion_memory(int width, int height);
@@ -73,7 +79,10 @@ std::uint64_t shadow_memory(const Scene& scene);
 
 // Clears the target to the background (depth to 1), draws the environment as the
 // background when background_mode asks for it, then every object with PbrShader (or
-// TexturedPbrShader), back faces culled, in one frame of `renderer`. Throws
+// TexturedPbrShader), back faces culled, in one frame of `renderer`: the opaque and masked
+// objects, the background, then — when there are any — the transmissive objects (farthest
+// first) over a mip-mapped copy of what those left (Renderer::flush), then the blended ones
+// (farthest first). Throws
 // std::invalid_argument naming the object, light or field when a value is invalid
 // (a background mode other than Color without an environment included); nothing is drawn then.
 void render(const Scene& scene, raster::Renderer& renderer, raster::Target& target);

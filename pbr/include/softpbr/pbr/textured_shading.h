@@ -94,6 +94,14 @@ struct PreparedLayers {
   bool film = false;  // iridescence factor > 0
   float film_factor = 0.0f, film_ior = 1.3f, film_thickness_min = 100.0f, film_thickness_max = 400.0f;
   PreparedSlot film_slot, film_thickness_slot;
+  bool transmission = false;  // transmission factor > 0 (Material::transmissive())
+  float transmission_factor = 0.0f, thickness = 0.0f;
+  PreparedSlot transmission_slot, thickness_slot;
+  float eta = 1.0f / 1.5f, lod_scale = 0.0f;  // TransmissionUniforms' (layered_shading.h)
+  bool attenuated = false;
+  glm::vec3 sigma{0.0f};
+  bool dispersed = false;  // dispersion > 0
+  glm::vec3 eta_rgb{1.0f / 1.5f}, lod_scale_rgb{0.0f};
 };
 
 struct TexturedMaterial {
@@ -120,6 +128,12 @@ TexturedMaterial prepare_textured_material(const Material& m);
 // The layers of a layered material (prepare_textured_material calls it): validates the
 // extensions' factors and slots; adds the slots' textures to `keep`.
 PreparedLayers prepare_layers(const Material& m, std::vector<std::shared_ptr<const raster::Texture>>& keep);
+
+// The uniforms of a draw of a transmissive material (layers.transmission) with model matrix
+// `model`: the frame's `source` and view-projection, the model's scale (the lengths of its
+// columns), the material's refraction and attenuation.
+TransmissionUniforms transmission_uniforms(const PreparedLayers& layers, const TransmissionSource* source,
+                                           const glm::mat4& view_projection, const glm::mat4& model);
 
 // Which vertex streams the textured shader carries to its pixels. Every varying costs
 // interpolation per pixel (and its derivatives, for the UVs): the full set is 18 floats,
@@ -178,6 +192,9 @@ struct BasicTexturedPbrShader {
   // MASK on a multisampled target: alpha is sharpened for the draw's alpha to coverage
   // (raster::DrawState::alpha_to_coverage) instead of cut to 0 or 1. render() sets both.
   bool alpha_to_coverage = false;
+  // A transmissive material's uniforms (LayeredPbrShader; render() sets them): its source,
+  // the view-projection, the object's scale; the material's part is copied from its layers.
+  TransmissionUniforms transmission;
   static constexpr float kMinAlphaWidth = 1.0f / 1024.0f;  // fwidth(alpha)'s floor
 
   glm::vec4 vertex(const Vertex& in, Varyings& out) const {
@@ -269,6 +286,7 @@ struct BasicTexturedPbrShader {
       roughness = roughness * c.g;
       metallic = metallic * c.b;
     }
+    [[maybe_unused]] const F roughness_in = roughness;  // the transmission's LOD reads it unclamped
     roughness = simd::clamp(roughness, F(kMinRoughness), F(1.0f));
     metallic = simd::clamp(metallic, F(0.0f), F(1.0f));
     MaterialLanes<F> ml;
@@ -278,6 +296,10 @@ struct BasicTexturedPbrShader {
     if constexpr (kLayered) {
       layers = layer_lanes(m.layers, lookup, metallic);
       ml.f0 = layered_f0(layers.dielectric, base, metallic);
+      if (layers.transmission) {
+        layers.transmission_lanes.roughness = simd::clamp(roughness_in, F(0.0f), F(1.0f));
+        layers.transmission_uniforms = &transmission;
+      }
     } else {
       ml.f0 = f0_of(base, metallic);
     }
@@ -335,7 +357,7 @@ struct BasicTexturedPbrShader {
   // The layers' lanes at this pixel: the factors times their textures (layered_shading.h).
   template <class F, class Lookup>
   static LayerLanes<F> layer_lanes(const PreparedLayers& L, const Lookup& lookup, F metallic) {
-    LayerLanes<F> out;
+    LayerLanes<F> out{};  // the layers that are off stay zero (GCC: -Wmaybe-uninitialized)
     Vec3L<F> specular_color = lanes<F>(L.specular_color);
     F weight(L.specular);
     if (L.specular_color_slot.texture != nullptr) {
@@ -381,6 +403,14 @@ struct BasicTexturedPbrShader {
       fl.ior = L.film_ior;
       const Vec3L<F> f0 = specular_color * F(L.f0_ior);
       out.dielectric_color = Vec3L<F>(simd::min(f0.x, F(1.0f)), simd::min(f0.y, F(1.0f)), simd::min(f0.z, F(1.0f)));
+    }
+    out.transmission = L.transmission;
+    if (L.transmission) {
+      TransmissionLanes<F>& tl = out.transmission_lanes;
+      tl.factor = F(L.transmission_factor);
+      if (L.transmission_slot.texture != nullptr) tl.factor = tl.factor * lookup(L.transmission_slot, raster::Texture::kRed).r;
+      tl.thickness = F(L.thickness);
+      if (L.thickness_slot.texture != nullptr) tl.thickness = tl.thickness * lookup(L.thickness_slot, raster::Texture::kGreen).g;
     }
     return out;
   }

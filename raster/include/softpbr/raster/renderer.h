@@ -173,6 +173,15 @@ class Renderer {
     draw(shader, vertices, indices, state);
   }
 
+  // Rasterizes the frame's draws so far into every tile, the frame staying open (later
+  // draws apply over them, as a pass over the geometry budget does), calling
+  // after_tile(rect, only_clear, pixels) for every tile as end_frame() does: for a copy
+  // of what those draws left (pbr::render's transmission reads the opaque objects' image).
+  // A transient target's planes are allocated for such a frame. The same bits as without
+  // the flush. Throws std::logic_error outside a frame.
+  using TileCallback = std::function<void(const TileRect& rect, bool only_clear, const TargetPixels& pixels)>;
+  void flush(const TileCallback& after_tile);
+
   // Rasterizes the frame's draws into the target and closes the frame.
   void end_frame();
 
@@ -188,7 +197,6 @@ class Renderer {
   // A transient target (SampleStorage::Transient) is read here or nowhere; when its frame
   // is drawn in blocks alone, an only_clear tile has no pixels anywhere (pixels.colors and
   // pixels.depths are null): the clear values are its contents.
-  using TileCallback = std::function<void(const TileRect& rect, bool only_clear, const TargetPixels& pixels)>;
   void end_frame(const TileCallback& after_tile);
 
   // What the last frame shaded (since begin_frame(); complete once end_frame() returns):
