@@ -457,3 +457,20 @@ def test_the_ground_keyword_is_the_ground_option(cli, tmp_path):
     assert_same(softpbr.render(grounded, ground="none"), plain)
     with pytest.raises(ValueError, match="ground: expected shadow or none"):
         softpbr.render(floating, ground="soft")
+
+
+# ---- Glass --------------------------------------------------------------------------------
+
+def test_glass_renders_as_the_command(cli, tmp_path):
+    # examples/scenes/glass.json: transmission, roughness, volume attenuation.
+    glass = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "scenes", "glass.json")
+    png, exr = cli_render(cli, glass, tmp_path, "--width", 200, "--height", 160)
+    assert_same(softpbr.render(glass, width=200, height=160), png)
+    assert_same(softpbr.render_hdr(glass, width=200, height=160), exr)
+    # The same cubes made opaque (transmission 0) look different: the glass is seen through.
+    with open(glass) as f:
+        scene = json.load(f)
+    for o in scene["objects"]:
+        o.get("material", {}).pop("transmission", None)
+    opaque = softpbr.render(scene, width=200, height=160, base_dir=os.path.dirname(glass))
+    assert not numpy.array_equal(opaque, png)
