@@ -24,6 +24,9 @@
 // samples live in tile blocks only and are not written back; llvmpipe keeps its FBO's).
 // Scenes with an environment render without softpbr's screen-space occlusion (on by default
 // in softpbr, absent from the GLSL): the same work on both sides.
+// The scenes: scenes.h's all_scenes(), then gallery_shadows_1080p (one directional light
+// with a 2048² shadow map, redrawn every frame on both sides inside the timed region: see
+// llvmpipe.h) and gallery_noshadows_1080p (the same light without shadows).
 // --images DIR writes both images of every scene as PNGs (NAME_softpbr.png,
 // NAME_llvmpipe.png) to look at the differences.
 #include <sys/wait.h>
@@ -108,7 +111,10 @@ void run_child(const Options& o, unsigned threads) {
   const std::string lp = std::to_string(threads);
   setenv("LP_NUM_THREADS", lp.c_str(), 1);  // before the first GL context of this process
   bool said = false;
-  for (bench::BenchScene& s : bench::all_scenes(bench::default_shared_models())) {
+  // scenes.h's scenes, then the shadowed gallery and the same without its shadows (issue 51).
+  std::vector<bench::BenchScene> scenes = bench::all_scenes(bench::default_shared_models());
+  for (bench::BenchScene& s : bench::shadow_gallery_scenes(1920, 1080)) scenes.push_back(std::move(s));
+  for (bench::BenchScene& s : scenes) {
     if (!o.filter.empty() && s.name.find(o.filter) == std::string::npos) continue;
     // The same work on both sides: the GLSL has no screen-space occlusion, so softpbr renders
     // without it too (bench_scenes' gallery_ibl_noocclusion against gallery_ibl is its cost).

@@ -6,7 +6,9 @@
 #include <GL/glext.h>
 
 #include <algorithm>
+#include <cmath>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <span>
 #include <stdexcept>
@@ -14,6 +16,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
 #include <glm/matrix.hpp>
 
 #include "softpbr/dmath/dmath.h"
@@ -170,13 +173,62 @@ uniform float u_k;
 uniform float u_ao;
 uniform vec3 u_emissive;
 uniform int u_light_count;
-uniform vec3 u_light_position[8];
+uniform vec3 u_light_position[8];  // a point light's position; DIRECTIONAL: a directional light's unit direction to it
 uniform vec3 u_light_radiance[8];
+#ifdef DIRECTIONAL
+uniform bool u_light_directional[8];
+#endif
 #ifdef IBL
 uniform float u_roughness;
 #endif
 const float kPi = 3.14159265358979323846;
 const float kMinNoV = 1e-4;
+#ifdef SHADOWS
+// pbr/shadow.h's shadow_visibility() for an orthographic map (a directional light), term for
+// term: the point moved 4 sin θ texels along n and 1.5 texels towards the light (a texel
+// u_shadow_texel wide, w = 1), projected by the map's matrix; window coordinates as
+// softpbr's viewport transform (row 0 at the top) less the half texel, clamped to
+// [1, size − 3]; the 4×4 texels from ⌊g⌋ − 1 read with texelFetch (GL's rows count from the
+// bottom: softpbr's row r is GL's size − 1 − r), each passing when z ≤ its depth, columns
+// weighted 1 − fx, 1, 1, fx and rows likewise; lit / (lit + shadowed). No hardware
+// comparison or filtering: the same filter as softpbr.
+uniform sampler2DArray u_shadow_maps;  // GL_DEPTH_COMPONENT32F, one layer a map
+uniform int u_light_shadow[8];          // the light's layer, or −1 without a map
+uniform mat4 u_shadow_matrix[8];        // world → the map's clip space
+uniform float u_shadow_texel[8];        // ShadowMap::texel
+uniform float u_shadow_size;            // texels a side
+uniform bool u_receive_shadows;         // the object's receive_shadows
+float shadow_visibility(int i, vec3 position, vec3 n, vec3 l, float n_dot_l) {
+  float texel = u_shadow_texel[i];
+  float c = clamp(n_dot_l, 0.0, 1.0);
+  float sin_theta = sqrt(max(1.0 - c * c, 0.0));
+  vec3 p = position + n * (sin_theta * texel * 4.0) + l * (texel * 1.5);
+  vec4 clip = u_shadow_matrix[i] * vec4(p, 1.0);
+  float z = min(clip.z * 0.5 + 0.5, 1.0);
+  float fs = u_shadow_size, half_size = 0.5 * fs;
+  float gx = clamp((clip.x + 1.0) * half_size - 0.5, 1.0, fs - 3.0);
+  float gy = clamp((1.0 - clip.y) * half_size - 0.5, 1.0, fs - 3.0);
+  float ix = floor(gx), iy = floor(gy);
+  float fx = gx - ix, fy = gy - iy;
+  int x0 = int(ix) - 1;
+  int y0 = int(fs) - int(iy);  // GL's row of softpbr's row ⌊gy⌋ − 1
+  int layer = u_light_shadow[i];
+  vec4 wx = vec4(1.0 - fx, 1.0, 1.0, fx);
+  vec4 wy = vec4(1.0 - fy, 1.0, 1.0, fy);
+  float lit = 0.0, shadowed = 0.0;
+  for (int r = 0; r < 4; ++r) {
+    float row_lit = 0.0, row_shadowed = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      bool passes = z <= texelFetch(u_shadow_maps, ivec3(x0 + k, y0 - r, layer), 0).r;
+      row_lit = row_lit + (passes ? wx[k] : 0.0);
+      row_shadowed = row_shadowed + (passes ? 0.0 : wx[k]);
+    }
+    lit = lit + row_lit * wy[r];
+    shadowed = shadowed + row_shadowed * wy[r];
+  }
+  return lit / (lit + shadowed);
+}
+#endif
 
 vec3 normalize_or(vec3 v, vec3 fallback) {
   float len2 = dot(v, v);
@@ -251,12 +303,30 @@ void main() {
   vec3 n = normalize_or(v_normal, v);
   vec3 lo = vec3(0.0);
   for (int i = 0; i < u_light_count; ++i) {
-    vec3 d = u_light_position[i] - v_world;
-    float dist2 = max(dot(d, d), 1e-8);
-    float inv_dist = 1.0 / sqrt(dist2);
-    vec3 l = d * inv_dist;
+    // pbr/light.h's sample_light(): a directional light's direction to it with falloff 1, a
+    // point light's inverse square.
+    vec3 l;
+    float falloff;
+#ifdef DIRECTIONAL
+    if (u_light_directional[i]) {
+      l = u_light_position[i];
+      falloff = 1.0;
+    } else
+#endif
+    {
+      vec3 d = u_light_position[i] - v_world;
+      float dist2 = max(dot(d, d), 1e-8);
+      float inv_dist = 1.0 / sqrt(dist2);
+      l = d * inv_dist;
+      falloff = inv_dist * inv_dist;
+    }
     float NoL = dot(n, l);
-    if (NoL > 0.0) lo += brdf(n, l, v, albedo, f0) * (u_light_radiance[i] * (inv_dist * inv_dist)) * NoL;
+    if (NoL > 0.0) {
+#ifdef SHADOWS
+      if (u_receive_shadows && u_light_shadow[i] >= 0) falloff = falloff * shadow_visibility(i, v_world, n, l, NoL);
+#endif
+      lo += brdf(n, l, v, albedo, f0) * (u_light_radiance[i] * falloff) * NoL;
+    }
   }
 #ifdef IBL
   vec3 c = ibl(n, v, albedo, f0) + lo + u_emissive;
@@ -325,6 +395,84 @@ GLenum gl_min_filter(const raster::Sampler& s) {
   }
 }
 
+// The shadow maps' depth pass: the casters' positions as the object shader's
+// (view_projection · (model · p)), no colour.
+const char* kDepthVertexShader = R"(
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_model;
+uniform mat4 u_view_projection;
+void main() {
+  gl_Position = u_view_projection * (u_model * vec4(a_position, 1.0));
+}
+)";
+const char* kDepthFragmentShader = R"(
+void main() {}
+)";
+
+// pbr/src/shadows.h's constants (internal to softpbr::pbr, so repeated here): a directional
+// light's map is 2048² texels, fitted with 4 texels free around the scene's bounds.
+constexpr int kShadowMapSize = 2048;
+constexpr int kShadowBorder = 4;
+// The texture unit of the shadow maps (0: the base colour texture, 1–10: the environment).
+constexpr int kShadowUnit = 11;
+
+// pbr/src/scene.cpp's scene_bounds(): the corners of each object's mesh bounds transformed
+// to world space, in float.
+pbr::Bounds world_bounds(const pbr::Scene& scene) {
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  pbr::Bounds world{glm::vec3(inf), glm::vec3(-inf)};
+  for (const pbr::Object& o : scene.objects) {
+    const pbr::Bounds b = pbr::bounds(*o.mesh);
+    if (b.empty()) continue;
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec3 corner((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y, (i & 4) ? b.max.z : b.min.z);
+      const glm::vec3 w(o.transform * glm::vec4(corner, 1.0f));
+      world = pbr::merge(world, pbr::Bounds{w, w});
+    }
+  }
+  return world;
+}
+
+// pbr/src/shadows.cpp's shadow_setup() for a directional light (internal to softpbr::pbr, so
+// copied): axes u, v across the light as glm::lookAt's, the bounds' corners' extent across
+// it widened by the border, their depth range along it with a 1% margin; in double, rounded
+// once to float. False for empty bounds (softpbr then draws no map either).
+bool fit_directional(const glm::vec3& unit_direction, const pbr::Bounds& world, glm::mat4& view_projection,
+                     float& texel) {
+  if (world.empty()) return false;
+  using D3 = glm::dvec3;
+  const auto dot = [](const D3& a, const D3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; };
+  const D3 f(unit_direction.x, unit_direction.y, unit_direction.z);
+  const D3 up = std::abs(f.y) < 0.99 ? D3(0.0, 1.0, 0.0) : D3(1.0, 0.0, 0.0);
+  const D3 c(f.y * up.z - f.z * up.y, f.z * up.x - f.x * up.z, f.x * up.y - f.y * up.x);
+  const D3 u = c / std::sqrt(c.x * c.x + c.y * c.y + c.z * c.z);
+  const D3 v(u.y * f.z - u.z * f.y, u.z * f.x - u.x * f.z, u.x * f.y - u.y * f.x);
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  double u0 = inf, u1 = -inf, v0 = inf, v1 = -inf, s0 = inf, s1 = -inf;
+  for (int i = 0; i < 8; ++i) {
+    const D3 q((i & 1) ? world.max.x : world.min.x, (i & 2) ? world.max.y : world.min.y,
+               (i & 4) ? world.max.z : world.min.z);
+    u0 = std::min(u0, dot(u, q)), u1 = std::max(u1, dot(u, q));
+    v0 = std::min(v0, dot(v, q)), v1 = std::max(v1, dot(v, q));
+    s0 = std::min(s0, dot(f, q)), s1 = std::max(s1, dot(f, q));
+  }
+  const double border = static_cast<double>(kShadowMapSize) / static_cast<double>(kShadowMapSize - 2 * kShadowBorder);
+  const double extent = std::max({u1 - u0, v1 - v0, s1 - s0, 1e-6});
+  const double half = 0.5 * std::max(u1 - u0, v1 - v0) * border + 1e-6 * extent;
+  const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1);
+  const double margin = 0.01 * extent;
+  s0 -= margin, s1 += margin;
+  const D3 r0 = u / half, r1 = v / half, r2 = f * (2.0 / (s1 - s0));
+  const double rows[4][4] = {{r0.x, r0.y, r0.z, -cu / half},
+                             {r1.x, r1.y, r1.z, -cv / half},
+                             {r2.x, r2.y, r2.z, -(s0 + s1) / (s1 - s0)},
+                             {0.0, 0.0, 0.0, 1.0}};
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 4; ++k) view_projection[k][r] = static_cast<float>(rows[r][k]);
+  texel = static_cast<float>(2.0 * half / kShadowMapSize);
+  return true;
+}
+
 bool has_extension(const char* name) {
   GLint n = 0;
   glGetIntegerv(GL_NUM_EXTENSIONS, &n);
@@ -345,7 +493,7 @@ struct LlvmpipeRenderer::Impl {
   struct Program {
     GLuint id = 0;
     GLint u_model = -1, u_normal_matrix = -1, u_albedo = -1, u_f0 = -1, u_metallic = -1, u_alpha = -1, u_k = -1,
-          u_ao = -1, u_emissive = -1, u_roughness = -1;
+          u_ao = -1, u_emissive = -1, u_roughness = -1, u_receive_shadows = -1;
   };
   std::map<std::string, Program> programs;
   // The environment: its levels and the DFG table as textures, the background pass.
@@ -372,8 +520,19 @@ struct LlvmpipeRenderer::Impl {
     glm::mat4 model;
     glm::mat3 normal_matrix;
     pbr::ShadingMaterial material;
+    bool cast_shadows;     // drawn into the shadow maps
+    bool receive_shadows;  // reads them
   };
   std::vector<Draw> draws;
+  // The shadow maps: one GL_DEPTH_COMPONENT32F layer of shadow_texture a directional light
+  // with shadows, drawn each frame through its depth-only framebuffer (shadow_fbos[layer])
+  // by depth_program with the light's fitted matrix.
+  GLuint depth_program = 0;
+  GLint depth_u_model = -1, depth_u_view_projection = -1;
+  GLuint shadow_texture = 0;
+  int shadow_layers = 0;  // layers allocated in shadow_texture
+  std::vector<GLuint> shadow_fbos;
+  std::vector<glm::mat4> shadow_passes;  // this scene's maps: layer i's view-projection
   glm::vec4 clear{0, 0, 0, 1};
   std::string anisotropy_extension;  // "" when llvmpipe reports none
   float max_anisotropy = 1.0f;
@@ -422,10 +581,55 @@ struct LlvmpipeRenderer::Impl {
     pr.u_ao = glGetUniformLocation(p, "u_ao");
     pr.u_emissive = glGetUniformLocation(p, "u_emissive");
     pr.u_roughness = glGetUniformLocation(p, "u_roughness");
+    pr.u_receive_shadows = glGetUniformLocation(p, "u_receive_shadows");
     glUseProgram(p);
     if (defines.find("#define TEXTURED") != std::string::npos)
       glUniform1i(glGetUniformLocation(p, "u_base_color_texture"), 0);
+    if (defines.find("#define SHADOWS") != std::string::npos)
+      glUniform1i(glGetUniformLocation(p, "u_shadow_maps"), kShadowUnit);
     return pr;
+  }
+
+  // `layers` shadow maps of kShadowMapSize² depths (a GL_TEXTURE_2D_ARRAY, nearest, one
+  // level, no comparison mode: the shader compares), each a framebuffer with it as its only
+  // attachment; bound to kShadowUnit.
+  void allocate_shadow_maps(int layers) {
+    if (depth_program == 0) {
+      depth_program = link(compile(GL_VERTEX_SHADER, "", {kDepthVertexShader}),
+                           compile(GL_FRAGMENT_SHADER, "", {kDepthFragmentShader}));
+      depth_u_model = glGetUniformLocation(depth_program, "u_model");
+      depth_u_view_projection = glGetUniformLocation(depth_program, "u_view_projection");
+    }
+    if (layers > shadow_layers) {
+      if (!shadow_fbos.empty()) glDeleteFramebuffers(static_cast<GLsizei>(shadow_fbos.size()), shadow_fbos.data());
+      shadow_fbos.clear();
+      if (shadow_texture != 0) glDeleteTextures(1, &shadow_texture);
+      glGenTextures(1, &shadow_texture);
+      glActiveTexture(GL_TEXTURE0 + kShadowUnit);
+      glBindTexture(GL_TEXTURE_2D_ARRAY, shadow_texture);
+      glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, kShadowMapSize, kShadowMapSize, layers, 0,
+                   GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_BASE_LEVEL, 0);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAX_LEVEL, 0);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+      glActiveTexture(GL_TEXTURE0);
+      shadow_fbos.assign(static_cast<std::size_t>(layers), 0);
+      glGenFramebuffers(layers, shadow_fbos.data());
+      for (int i = 0; i < layers; ++i) {
+        glBindFramebuffer(GL_FRAMEBUFFER, shadow_fbos[static_cast<std::size_t>(i)]);
+        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, shadow_texture, 0, i);
+        glDrawBuffer(GL_NONE);
+        glReadBuffer(GL_NONE);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+          throw std::runtime_error("llvmpipe: the shadow map's framebuffer is incomplete");
+      }
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      shadow_layers = layers;
+    }
   }
 
   // A float texture of one level as GL_RGBA32F, linear, clamp to edge.
@@ -581,6 +785,10 @@ LlvmpipeRenderer::~LlvmpipeRenderer() {
     glDeleteVertexArrays(1, &impl_->background_vao);
     glDeleteBuffers(1, &impl_->background_vbo);
   }
+  if (!impl_->shadow_fbos.empty())
+    glDeleteFramebuffers(static_cast<GLsizei>(impl_->shadow_fbos.size()), impl_->shadow_fbos.data());
+  if (impl_->shadow_texture != 0) glDeleteTextures(1, &impl_->shadow_texture);
+  if (impl_->depth_program != 0) glDeleteProgram(impl_->depth_program);
   if (impl_->fbo) {
     glDeleteFramebuffers(1, &impl_->fbo);
     glDeleteRenderbuffers(1, &impl_->color_rb);
@@ -614,9 +822,40 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
     throw std::invalid_argument("llvmpipe: only Reinhard or ACES, with the sRGB or a gamma curve, exposure 0");
   if (scene.lights.size() > kMaxLights) throw std::invalid_argument("llvmpipe: at most 8 lights");
   Impl& m = *impl_;
+  // The lights: point lights without range, directional lights; only directional ones may
+  // cast shadows (an orthographic map fitted as softpbr's, one layer each).
+  std::vector<pbr::PreparedLight> lights;
+  bool any_directional = false;
+  for (const pbr::Light& l : scene.lights) {
+    if (!((l.type == pbr::LightType::Point && l.range == 0.0f) || l.type == pbr::LightType::Directional))
+      throw std::invalid_argument("llvmpipe: point lights without range and directional lights only");
+    if (l.shadows && l.type != pbr::LightType::Directional)
+      throw std::invalid_argument("llvmpipe: shadows are ported for directional lights only");
+    any_directional = any_directional || l.type == pbr::LightType::Directional;
+    lights.push_back(pbr::prepare_light(l));
+  }
+  std::vector<int> shadow_layer(lights.size(), -1);
+  std::vector<float> shadow_texel(lights.size(), 0.0f);
+  m.shadow_passes.clear();
+  if (std::any_of(lights.begin(), lights.end(), [](const pbr::PreparedLight& l) { return l.light.shadows; })) {
+    const pbr::Bounds world = world_bounds(scene);
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      glm::mat4 view_projection(1.0f);
+      if (!lights[i].light.shadows || !fit_directional(lights[i].unit_direction, world, view_projection, shadow_texel[i]))
+        continue;
+      shadow_layer[i] = static_cast<int>(m.shadow_passes.size());
+      m.shadow_passes.push_back(view_projection);
+    }
+    if (!m.shadow_passes.empty()) m.allocate_shadow_maps(static_cast<int>(m.shadow_passes.size()));
+  }
   std::string output_defines;
   if (output.tone_map == pbr::ToneMap::Aces) output_defines += "#define ACES 1\n";
   if (output.gamma == 0.0f) output_defines += "#define SRGB 1\n";
+  // The lights' variants, only where a scene has them (the point-light scenes' shader is
+  // unchanged): directional lights, shadow maps.
+  std::string light_defines;
+  if (any_directional) light_defines += "#define DIRECTIONAL 1\n";
+  if (!m.shadow_passes.empty()) light_defines += "#define SHADOWS 1\n";
   pbr::PreparedEnvironment env;
   std::string env_defines;
   if (scene.environment.map) {
@@ -625,13 +864,13 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
     m.upload_environment(*scene.environment.map);
   }
   // The variants this scene draws with: [textured].
-  Impl::Program* variants[2] = {&m.program(output_defines + env_defines), nullptr};
+  Impl::Program* variants[2] = {&m.program(output_defines + env_defines + light_defines), nullptr};
   const bool any_textured =
       std::any_of(scene.objects.begin(), scene.objects.end(), [](const pbr::Object& o) { return check_textured(o); });
   if (any_textured) {
     if (scene.environment.map)
       throw std::invalid_argument("llvmpipe: textured objects under an environment are not ported");
-    variants[1] = &m.program("#define TEXTURED 1\n" + output_defines);
+    variants[1] = &m.program("#define TEXTURED 1\n" + output_defines + light_defines);
   }
   m.background = scene.background_mode != pbr::BackgroundMode::Color;
   if (m.background) {
@@ -686,17 +925,28 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
     glUniform1f(glGetUniformLocation(p, "u_inv_gamma"), output.gamma > 0.0f ? 1.0f / output.gamma : 1.0f);
     glUniform1i(glGetUniformLocation(p, "u_light_count"), static_cast<GLint>(scene.lights.size()));
     if (scene.environment.map && pr == variants[0]) Impl::set_environment_uniforms(p, env);
-    for (std::size_t i = 0; i < scene.lights.size(); ++i) {
-      const pbr::Light& l = scene.lights[i];
-      if (l.type != pbr::LightType::Point || l.range != 0.0f)
-        throw std::invalid_argument("llvmpipe: point lights without range only");
+    glUniform1f(glGetUniformLocation(p, "u_shadow_size"), static_cast<float>(kShadowMapSize));
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      const pbr::Light& l = lights[i].light;
       const glm::vec3 radiance = l.color * l.intensity;
+      const bool directional = l.type == pbr::LightType::Directional;
+      // pbr/light.h's sample_light(): a directional light's to_light is −unit_direction.
+      const glm::vec3 position = directional ? -lights[i].unit_direction : l.position;
       // Appended piece by piece: GCC 12 misreads "[" + std::to_string(i) (-Wrestrict).
       std::string idx = "[";
       idx += std::to_string(i);
       idx += "]";
-      glUniform3fv(glGetUniformLocation(p, ("u_light_position" + idx).c_str()), 1, glm::value_ptr(l.position));
+      glUniform3fv(glGetUniformLocation(p, ("u_light_position" + idx).c_str()), 1, glm::value_ptr(position));
       glUniform3fv(glGetUniformLocation(p, ("u_light_radiance" + idx).c_str()), 1, glm::value_ptr(radiance));
+      // Absent from the variants without them (location −1: ignored).
+      glUniform1i(glGetUniformLocation(p, ("u_light_directional" + idx).c_str()), directional ? 1 : 0);
+      glUniform1i(glGetUniformLocation(p, ("u_light_shadow" + idx).c_str()), shadow_layer[i]);
+      if (shadow_layer[i] >= 0) {
+        const glm::mat4& shadow_matrix = m.shadow_passes[static_cast<std::size_t>(shadow_layer[i])];
+        glUniformMatrix4fv(glGetUniformLocation(p, ("u_shadow_matrix" + idx).c_str()), 1, GL_FALSE,
+                           glm::value_ptr(shadow_matrix));
+        glUniform1f(glGetUniformLocation(p, ("u_shadow_texel" + idx).c_str()), shadow_texel[i]);
+      }
     }
   }
   m.clear = scene.background;
@@ -730,7 +980,7 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
       g.count = static_cast<GLsizei>(o.mesh->indices.size());
     }
     Impl::Draw d{&g, variants[textured], 0, 0, o.transform, glm::transpose(glm::inverse(glm::mat3(o.transform))),
-                 pbr::prepare_material(o.material)};
+                 pbr::prepare_material(o.material), o.cast_shadows, o.receive_shadows};
     if (textured) {
       d.texture = m.upload(*o.material.base_color_texture.texture);
       d.sampler = m.make_sampler(o.material.base_color_texture.sampler);
@@ -742,7 +992,27 @@ void LlvmpipeRenderer::load(const pbr::Scene& scene, const pbr::OutputSettings& 
 
 void LlvmpipeRenderer::render() {
   Impl& m = *impl_;
-  if (m.fbo) glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+  // The shadow maps first, every frame (softpbr redraws its maps every frame too): each
+  // light's layer cleared to depth 1, then the casters' depths with their culling (back
+  // faces: llvmpipe draws single-sided materials only), depth test less.
+  if (!m.shadow_passes.empty()) {
+    glUseProgram(m.depth_program);
+    glViewport(0, 0, kShadowMapSize, kShadowMapSize);
+    glClearDepth(1.0);
+    for (std::size_t layer = 0; layer < m.shadow_passes.size(); ++layer) {
+      glBindFramebuffer(GL_FRAMEBUFFER, m.shadow_fbos[layer]);
+      glClear(GL_DEPTH_BUFFER_BIT);
+      glUniformMatrix4fv(m.depth_u_view_projection, 1, GL_FALSE, glm::value_ptr(m.shadow_passes[layer]));
+      for (const Impl::Draw& d : m.draws) {
+        if (!d.cast_shadows) continue;
+        glUniformMatrix4fv(m.depth_u_model, 1, GL_FALSE, glm::value_ptr(d.model));
+        glBindVertexArray(d.mesh->vao);
+        glDrawElements(GL_TRIANGLES, d.mesh->count, GL_UNSIGNED_INT, nullptr);
+      }
+    }
+    glViewport(0, 0, m.width, m.height);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);  // 0: OSMesa's buffer
   glClearColor(m.clear.r, m.clear.g, m.clear.b, m.clear.a);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -763,6 +1033,7 @@ void LlvmpipeRenderer::render() {
     glUniform1f(p.u_ao, d.material.ao);
     glUniform3fv(p.u_emissive, 1, glm::value_ptr(d.material.emissive));
     if (p.u_roughness >= 0) glUniform1f(p.u_roughness, d.material.roughness);
+    if (p.u_receive_shadows >= 0) glUniform1i(p.u_receive_shadows, d.receive_shadows ? 1 : 0);
     if (d.texture != 0) {
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, d.texture);

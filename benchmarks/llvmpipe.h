@@ -23,6 +23,24 @@
 // for term in place of the ambient term, and the background pass (BackgroundShader: one
 // triangle carrying the camera rays, no depth test) first. The output transform is
 // Reinhard or ACES, then a gamma or the exact sRGB curve, as OutputSettings says.
+//
+// Directional lights (issue 51) are light.h's sample_light(): the direction to the light
+// −normalize(direction) (pbr::prepare_light's unit direction, negated on the CPU) and
+// falloff 1, compiled in (DIRECTIONAL) only for scenes that have one. A directional light
+// with `shadows` gets a shadow map as softpbr's: the same fit (pbr/src/shadows.cpp's
+// shadow_setup(), copied: an orthographic face around the corners of every object's
+// transformed mesh bounds, 4 texels of border, in double rounded once to float) and the
+// same size (2048²), one layer of a GL_DEPTH_COMPONENT32F 2D array texture drawn every
+// frame inside render() — before the lit pass, so its cost is timed as softpbr's, which
+// redraws its maps every frame — through a framebuffer with only that depth attachment:
+// cleared to 1, the objects with cast_shadows with back faces culled (the only culling
+// llvmpipe's side draws), depth test less. The lit pass (SHADOWS) multiplies the light's
+// falloff by shadow.h's shadow_visibility() in GLSL for objects with receive_shadows: the
+// 4 sin θ texel normal offset and 1.5 texel light offset, softpbr's window coordinates
+// (rows from the top, so the GL row is flipped) clamped to [1, size − 3], the 4×4 texels
+// from ⌊g⌋ − 1 by texelFetch compared in the shader (z ≤ depth), weights 1 − f, 1, 1, f
+// per axis, lit / (lit + shadowed) — not GL's hardware comparison or filtering. Spot
+// lights, lights with range and point lights with shadows are not ported.
 #pragma once
 
 #include <cstdint>
@@ -49,13 +67,15 @@ class LlvmpipeRenderer {
   LlvmpipeRenderer& operator=(const LlvmpipeRenderer&) = delete;
 
   // Uploads the scene's meshes, textures and environment, compiles the shader variants it
-  // needs and sets its uniforms (outside any timing). Point lights only, of the textures
+  // needs and sets its uniforms (outside any timing). Point lights without range and
+  // directional lights (with or without shadows; at most 8 lights), of the textures
   // only a base colour texture (uv set 0, no UV transform) on an opaque single-sided
   // material and not under an environment, tone map Reinhard or ACES with exposure 0 (the
   // benchmark scenes have nothing else); throws std::invalid_argument otherwise.
   void load(const pbr::Scene& scene, const pbr::OutputSettings& output);
 
-  // One frame: clear + one draw per object (+ the resolve blit when multisampled) + glFinish.
+  // One frame: the shadow maps' depth passes (a clear + one draw per caster each), clear +
+  // one draw per object (+ the resolve blit when multisampled) + glFinish.
   void render();
 
   // The last frame, RGBA8, row 0 at the top (as softpbr's Image8).
