@@ -205,17 +205,5 @@ TEST_CASE("ground: the same bits for every thread count, tile size, lane width, 
   sun.intensity = 3.0f;
   sun.shadows = true;
   s.lights = {sun};
-  for (const int samples : {1, 4}) {
-    CAPTURE(samples);
-    std::uint64_t reference = 0;
-    bool first = true;
-    test::for_spread_of_render_configs(4, 32, [&](const raster::RendererOptions& options) {
-      raster::Renderer renderer(options);
-      raster::Target t(kSize, kSize, samples);
-      pbr::render(s, renderer, t);
-      const std::uint64_t h = raster::hash_colors(t);
-      if (first) reference = h, first = false;
-      CHECK(h == reference);
-    });
-  }
+  test::check_same_bits_for_every_config(s, kSize);
 }

@@ -530,17 +530,5 @@ TEST_CASE("shadows: the same bits for every thread count, tile size, lane width,
   s.camera.up = {0.0f, 1.0f, 0.0f};
   s.objects[1].material.alpha_mode = pbr::AlphaMode::Mask;  // the textured shader and a masked caster
   s.objects[1].material.alpha = 0.9f;
-  for (const int samples : {1, 4}) {
-    CAPTURE(samples);
-    std::uint64_t reference = 0;
-    bool first = true;
-    test::for_spread_of_render_configs(4, 32, [&](const raster::RendererOptions& options) {
-      raster::Renderer renderer(options);
-      raster::Target t(kSize, kSize, samples);
-      pbr::render(s, renderer, t);
-      const std::uint64_t h = raster::hash_colors(t);
-      if (first) reference = h, first = false;
-      CHECK(h == reference);
-    });
-  }
+  test::check_same_bits_for_every_config(s, kSize);
 }

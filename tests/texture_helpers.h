@@ -14,6 +14,7 @@
 #include "softpbr/dmath/dmath.h"
 #include "softpbr/pbr/mesh.h"
 #include "softpbr/pbr/scene.h"
+#include "softpbr/raster/raster.h"
 #include "softpbr/raster/renderer.h"
 #include "softpbr/raster/texture.h"
 
@@ -44,6 +45,25 @@ namespace pbr = softpbr::pbr;
 namespace raster = softpbr::raster;
 
 // A w × h image of random bytes (colour and alpha), the same for the same seed.
+// Renders `scene` into a size × size target of 1 and of 4 samples under each configuration
+// for_spread_of_render_configs(4, 32, …) gives: every colour hash of a sample count must
+// be its first one's.
+inline void check_same_bits_for_every_config(const pbr::Scene& scene, int size) {
+  for (const int samples : {1, 4}) {
+    CAPTURE(samples);
+    std::uint64_t reference = 0;
+    bool first = true;
+    for_spread_of_render_configs(4, 32, [&](const raster::RendererOptions& options) {
+      raster::Renderer renderer(options);
+      raster::Target t(size, size, samples);
+      pbr::render(scene, renderer, t);
+      const std::uint64_t h = raster::hash_colors(t);
+      if (first) reference = h, first = false;
+      CHECK(h == reference);
+    });
+  }
+}
+
 inline image::Image8 random_image8(int w, int h, unsigned seed) {
   image::Image8 im;
   im.width = w;
