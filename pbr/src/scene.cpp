@@ -352,11 +352,10 @@ void draw_caster_depths(const Scene& scene, raster::Renderer& renderer, std::vec
 }
 
 // The shadow maps (docs/design.md, "Shadows"): for each light with shadows, its faces fitted
-// to the scene's bounds (shadow_setup), each drawn into a depth-only target with the
+// to `world`, the scene's bounds (shadow_setup), each drawn into a depth-only target with the
 // casters, then the light's PreparedLight::shadow set to it.
-void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+void draw_shadow_maps(const Scene& scene, const Bounds& world, raster::Renderer& renderer, std::vector<Caster>& casters,
                       std::vector<PreparedLight>& lights, ShadowFrame& frame) {
-  const Bounds world = scene_bounds(scene);
   for (PreparedLight& light : lights) {
     if (!light.light.shadows) continue;
     detail::ShadowSetup setup;
@@ -377,9 +376,8 @@ void draw_shadow_maps(const Scene& scene, raster::Renderer& renderer, std::vecto
 // The ground's shadow catcher (ground.h), or false when the scene has nothing to stand on
 // it: the casters seen from below, their depths, the lights' maps and a map along the
 // environment's dominant light (when `env` has one) made its texture.
-bool make_ground(const Scene& scene, raster::Renderer& renderer, std::vector<Caster>& casters,
+bool make_ground(const Scene& scene, const Bounds& world, raster::Renderer& renderer, std::vector<Caster>& casters,
                  const std::vector<PreparedLight>& lights, const PreparedEnvironment* env, Object& out) {
-  const Bounds world = scene_bounds(scene);
   // The lights whose shadows fall on the ground: the square holds them.
   std::vector<detail::GroundLight> shadow_lights;
   for (const PreparedLight& l : lights) {
@@ -546,9 +544,10 @@ void render_frame(const Scene& scene, raster::Renderer& renderer, raster::Target
   Object ground;             // the ground's draw points into it
   if (shadowed || scene.ground.shadow) {
     std::vector<Caster> casters = shadow_casters(scene, opaque, blended);
-    if (shadowed) draw_shadow_maps(scene, renderer, casters, *lights, shadow_frame);
+    const Bounds world = scene_bounds(scene);  // the maps and the ground are fitted to it
+    if (shadowed) draw_shadow_maps(scene, world, renderer, casters, *lights, shadow_frame);
     // The ground first of the blended draws: it lies under everything.
-    if (scene.ground.shadow && make_ground(scene, renderer, casters, *lights, env, ground)) {
+    if (scene.ground.shadow && make_ground(scene, world, renderer, casters, *lights, env, ground)) {
       add_draw(ground, scene.objects.size());
       std::rotate(blended.begin(), blended.end() - 1, blended.end());
     }
